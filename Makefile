@@ -1,0 +1,31 @@
+# Thin wrapper: deps -> configure -> build -> run / test / bench.
+BUILD  ?= build
+CONFIG ?= configs/recuperative_drive/rod_length.yaml
+OUT    ?= results
+JOBS   ?= $(shell nproc)
+DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \
+  libsundials-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libcli11-dev \
+  nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath
+
+.PHONY: deps configure build run test bench clean
+
+deps:
+	@bash tools/install_deps.sh $(DEB_PACKAGES)
+
+configure: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+run: build
+	$(BUILD)/bin/mechopt run $(CONFIG) --output $(OUT)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
+
+clean:
+	rm -rf $(BUILD) $(OUT)

@@ -1,0 +1,127 @@
+// mechopt command line: parse, dispatch, print. Exit codes: 0 done, 1 runtime
+// failure, 2 bad input (config or arguments).
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "opt/study.hpp"
+#include "problems/registry.hpp"
+
+namespace {
+
+const char* kUsage = R"(mechopt — optimisation of planar mechanisms of heavy machines
+
+usage:
+  mechopt run CONFIG [--output DIR]       run the config's study; writes DIR/result.json,
+                                          DIR/sweep.csv (sweeps) and DIR/chart.svg
+  mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON;
+                                          --set overrides model.KEY (VALUE may carry a unit)
+  mechopt list                            problems, variables, metrics and algorithms
+  mechopt --help | --version
+
+exit codes: 0 done, 1 runtime failure, 2 bad input
+)";
+
+struct Args {
+  std::string command, config, output;
+  std::vector<std::pair<std::string, std::string>> sets;
+};
+
+[[noreturn]] void usage_error(const std::string& what) {
+  std::cerr << "mechopt: " << what << "\n\n" << kUsage;
+  std::exit(2);
+}
+
+Args parse_args(int argc, char** argv) {
+  Args a;
+  std::vector<std::string> v(argv + 1, argv + argc);
+  if (v.empty()) usage_error("missing command");
+  a.command = v[0];
+  for (size_t i = 1; i < v.size(); ++i) {
+    if (v[i] == "--output" || v[i] == "--set") {
+      if (i + 1 == v.size()) usage_error(v[i] + " needs a value");
+      const std::string val = v[++i];
+      if (v[i - 1] == "--output") {
+        a.output = val;
+      } else {
+        const auto eq = val.find('=');
+        if (eq == std::string::npos || eq == 0) usage_error("--set expects KEY=VALUE, got '" + val + "'");
+        a.sets.emplace_back(val.substr(0, eq), val.substr(eq + 1));
+      }
+    } else if (a.config.empty() && v[i][0] != '-') {
+      a.config = v[i];
+    } else {
+      usage_error("unexpected argument '" + v[i] + "'");
+    }
+  }
+  if ((a.command == "run" || a.command == "eval") && a.config.empty())
+    usage_error(a.command + " needs a CONFIG file");
+  if (!a.sets.empty() && a.command != "eval") usage_error("--set goes with eval");
+  if (!a.output.empty() && a.command != "run") usage_error("--output goes with run");
+  return a;
+}
+
+void list() {
+  std::cout << "problems:\n";
+  for (const auto& e : problems::registry()) {
+    const auto p = e.make(opt::ConfigNode::parse("problem: " + e.name, "<list>"));
+    std::cout << "  " << e.name << " — " << e.summary << "\n    variables:";
+    for (const auto& v : e.variables) std::cout << " " << v.name << " [" << opt::si_unit(v.dimension) << "]";
+    std::cout << "\n    metrics:";
+    for (const auto& m : p->metric_names()) std::cout << " " << m;
+    std::cout << "\n";
+  }
+  std::cout << "drivers:\n  nlopt:";
+  for (const auto& a : opt::nlopt_algorithms()) std::cout << " " << a;
+  std::cout << "\n";
+}
+
+int run(const Args& a) {
+  opt::ConfigNode root = opt::ConfigNode::load(a.config);
+  for (const auto& [key, value] : a.sets) {
+    YAML::Node y = root.yaml();
+    y["model"][key] = value;
+  }
+  const auto problem = problems::make_problem(root);
+  if (a.command == "eval") {
+    nlohmann::json j = opt::metrics_json(*problem, problem->initial_point());
+    j["problem"] = problem->name();
+    j["settings"] = problem->settings();
+    j["mechopt_version"] = MECHOPT_VERSION;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  opt::RunSpec spec = opt::parse_run(root, *problem);
+  if (!a.output.empty()) spec.output_directory = a.output;
+  opt::run_study(*problem, spec, std::cout);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args a = parse_args(argc, argv);
+  if (a.command == "--help" || a.command == "-h" || a.command == "help") {
+    std::cout << kUsage;
+    return 0;
+  }
+  if (a.command == "--version") {
+    std::cout << "mechopt " << MECHOPT_VERSION << "\n";
+    return 0;
+  }
+  try {
+    if (a.command == "list") {
+      list();
+      return 0;
+    }
+    if (a.command == "run" || a.command == "eval") return run(a);
+    usage_error("unknown command '" + a.command + "'");
+  } catch (const opt::ConfigError& e) {
+    std::cerr << "mechopt: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "mechopt: failed: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,82 @@
+// Cycle quantities of a 2*pi-periodic function of the crank angle.
+// Means use the periodic trapezoidal rule (exponentially convergent for smooth
+// periodic integrands); maxima are bracketed on the grid and refined to machine
+// precision by Brent's root finder on the angle derivative.
+#pragma once
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace mech {
+
+inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// Calls f(k, c, s) for phi_k = 2*pi*k/n, k = 0..n-1, with c = cos(phi_k) and
+// s = sin(phi_k) advanced by rotation (no trig call per point; drift ~n*eps).
+template <class F>
+void for_each_grid_angle(int n, F&& f) {
+  const double ch = std::cos(kTwoPi / n), sh = std::sin(kTwoPi / n);
+  double c = 1.0, s = 0.0;
+  for (int k = 0; k < n; ++k) {
+    f(k, c, s);
+    const double cn = c * ch - s * sh;
+    s = s * ch + c * sh;
+    c = cn;
+  }
+}
+
+// Brent's root finder (zeroin) for g on [a, b] with g(a), g(b) of opposite
+// signs; returns the root to within a few ulps of the bracket.
+template <class G>
+double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter = 100) {
+  double c = a, gc = ga, d = b - a, e = d;
+  for (int it = 0; it < max_iter; ++it) {
+    if ((gb > 0) == (gc > 0)) { c = a; gc = ga; d = e = b - a; }
+    if (std::abs(gc) < std::abs(gb)) {
+      a = b; b = c; c = a;
+      ga = gb; gb = gc; gc = ga;
+    }
+    const double tol = 2.0 * 2.2e-16 * std::abs(b) + 1e-300;
+    const double m = 0.5 * (c - b);
+    if (std::abs(m) <= tol || gb == 0.0) return b;
+    if (std::abs(e) >= tol && std::abs(ga) > std::abs(gb)) {
+      double p, q, s = gb / ga;
+      if (a == c) {
+        p = 2.0 * m * s; q = 1.0 - s;
+      } else {
+        const double r = gb / gc, t = ga / gc;
+        p = s * (2.0 * m * t * (t - r) - (b - a) * (r - 1.0));
+        q = (t - 1.0) * (r - 1.0) * (s - 1.0);
+      }
+      if (p > 0) q = -q; else p = -p;
+      if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e * q))) {
+        e = d; d = p / q;
+      } else {
+        d = m; e = m;
+      }
+    } else {
+      d = m; e = m;
+    }
+    a = b; ga = gb;
+    b += (std::abs(d) > tol) ? d : (m > 0 ? tol : -tol);
+    gb = g(b);
+  }
+  return b;
+}
+
+// Angle of the maximum of a periodic f near grid point phi_k (spacing h), given
+// its derivative df. The maximum lies where df changes sign from + to -; if the
+// bracket [phi_k - h, phi_k + h] holds no such change, phi_k is returned.
+template <class DF>
+double refine_max(DF&& df, double phi_k, double h) {
+  const double gk = df(phi_k);
+  if (gk == 0.0) return phi_k;
+  const double a = gk > 0 ? phi_k : phi_k - h;
+  const double b = gk > 0 ? phi_k + h : phi_k;
+  const double ga = gk > 0 ? gk : df(a);
+  const double gb = gk > 0 ? df(b) : gk;
+  if (!(ga > 0 && gb < 0)) return phi_k;
+  return brent_root(df, a, b, ga, gb);
+}
+
+}  // namespace mech

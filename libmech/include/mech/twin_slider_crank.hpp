@@ -1,0 +1,202 @@
+// Twin slider-crank recuperative drive (seed 000): two slider-crank mechanisms
+// on one shaft, cranks shifted by dphi, each driving a forming cart of mass m.
+// Kinetic energy (eqs 9-11), its cycle mean (12), least possible mean (14),
+// ratios k1..k3 (15), static resistance moment (16-17), inertia moment
+// (18-20) and total moment (21). All quantities at constant crank speed w.
+#pragma once
+#include <cmath>
+#include <numbers>
+
+#include "mech/autodiff.hpp"
+#include "mech/cycle.hpp"
+#include "mech/slider_crank.hpp"
+
+namespace mech {
+
+// Second cart on the other side of the shaft (seed 000 eq. 2) or on the same
+// side as the first (seed 001 eqs 36-38).
+enum class Layout { opposed, same_side };
+// Rod as a mass concentrated at its centre (seed 000 eq. 10) or with its own
+// rotational inertia q*l^3/12 added.
+enum class RodModel { point_masses, full };
+// Cart resistance F_B as printed (eq. 16: proportional to the signed cart
+// velocity) or always opposing the cart's motion (|velocity|).
+enum class Resistance { signed_velocity, opposes_motion };
+
+template <class S>
+struct TwinDrive {
+  S crank_radius;          // r [m], (0, inf)
+  S rod_length;            // l [m], (r + |e|, inf)
+  S phase_shift;           // dphi [rad], crank 2 leads crank 1 by dphi
+  S offset;                // e [m], slider-axis offset of both mechanisms
+  S crank_speed;           // w [rad/s], (0, inf)
+  S cart_mass;             // m [kg], [0, inf)
+  S rod_mass_per_length;   // q [kg/m], [0, inf)
+  S efficiency;            // eta, (0, 1]
+  S cart_resistance;       // F_B [N], [0, inf)
+  Layout layout = Layout::opposed;
+  Kinematics kinematics = Kinematics::exact;
+  RodModel rod = RodModel::point_masses;
+  Resistance resistance = Resistance::signed_velocity;
+
+  SliderCrank<S> mechanism(int i) const {
+    const int sigma = (i == 1 && layout == Layout::opposed) ? -1 : 1;
+    return {crank_radius, rod_length, offset, sigma, kinematics};
+  }
+  template <class T>
+  TwinDrive<T> cast() const {
+    return {T(value(crank_radius)), T(value(rod_length)), T(value(phase_shift)),
+            T(value(offset)), T(value(crank_speed)), T(value(cart_mass)),
+            T(value(rod_mass_per_length)), T(value(efficiency)),
+            T(value(cart_resistance)), layout, kinematics, rod, resistance};
+  }
+};
+
+// Physical domain and assembly over the whole revolution.
+template <class S>
+Status check(const TwinDrive<S>& d) {
+  if (!(value(d.crank_radius) > 0) || !(value(d.crank_speed) > 0) ||
+      !(value(d.cart_mass) >= 0) || !(value(d.rod_mass_per_length) >= 0) ||
+      !(value(d.efficiency) > 0 && value(d.efficiency) <= 1) ||
+      !(value(d.cart_resistance) >= 0) || !std::isfinite(value(d.phase_shift)))
+    return Status::invalid_parameter;
+  if (!assembles_over_cycle(d.mechanism(0))) return Status::cannot_assemble;
+  return Status::ok;
+}
+
+template <class S>
+struct DrivePoint {
+  S kinetic_energy;   // T, eq. (11) [J]
+  S inertia_moment;   // M_i = dT/dphi, eqs (18)-(20) [N m]
+  S static_moment;    // M_on, eqs (16)-(17) [N m]
+  S total_moment() const { return inertia_moment + static_moment; }  // eq. (21)
+};
+
+// Energy and moments at crank angle phi given c = cos(phi), s = sin(phi) and
+// the cos/sin of the phase shift (cd, sd). check(d) must be ok.
+template <class S, class A>
+DrivePoint<S> drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S& cd,
+                          const S& sd) {
+  using std::abs;
+  const auto p1 = slider_crank_point(d.mechanism(0), S(c), S(s));
+  const auto p2 = slider_crank_point(d.mechanism(1), S(c * cd - s * sd), S(s * cd + c * sd));
+  const S w2 = d.crank_speed * d.crank_speed;
+  const S rod_mass = d.rod_mass_per_length * d.rod_length;
+  // Sum over both mechanisms of sum(mass * v^2) per unit w^2 and of its half derivative.
+  S mv2 = d.cart_mass * (p1.dx * p1.dx + p2.dx * p2.dx) +
+          rod_mass * (p1.dxs * p1.dxs + p1.dys * p1.dys + p2.dxs * p2.dxs + p2.dys * p2.dys);
+  S mva = d.cart_mass * (p1.dx * p1.ddx + p2.dx * p2.ddx) +
+          rod_mass * (p1.dxs * p1.ddxs + p1.dys * p1.ddys + p2.dxs * p2.ddxs + p2.dys * p2.ddys);
+  if (d.rod == RodModel::full) {
+    const S J = rod_mass * d.rod_length * d.rod_length / 12.0;
+    mv2 += J * (p1.dbeta * p1.dbeta + p2.dbeta * p2.dbeta);
+    mva += J * (p1.dbeta * p1.ddbeta + p2.dbeta * p2.ddbeta);
+  }
+  const S force = d.cart_resistance / d.efficiency;
+  DrivePoint<S> out;
+  out.kinetic_energy = 0.5 * w2 * mv2;
+  out.inertia_moment = w2 * mva;
+  out.static_moment = d.resistance == Resistance::signed_velocity
+                          ? S(force * (p1.dx + p2.dx))
+                          : S(force * (abs(p1.dx) + abs(p2.dx)));
+  return out;
+}
+
+template <class S>
+DrivePoint<S> drive_point(const TwinDrive<S>& d, const S& phi) {
+  using std::cos;
+  using std::sin;
+  return drive_point(d, S(cos(phi)), S(sin(phi)), S(cos(d.phase_shift)), S(sin(d.phase_shift)));
+}
+
+// Least possible mean kinetic energy of both carts, eq. (14): 4 m r^2 w^2 / pi^2.
+template <class S>
+S least_mean_kinetic_energy(const TwinDrive<S>& d) {
+  return 4.0 * d.cart_mass * d.crank_radius * d.crank_radius * d.crank_speed * d.crank_speed /
+         (std::numbers::pi * std::numbers::pi);
+}
+
+// Cycle mean of T, eq. (12), by the n-point periodic trapezoidal rule. check(d) must be ok.
+template <class S>
+S mean_kinetic_energy(const TwinDrive<S>& d, int n) {
+  using std::cos;
+  using std::sin;
+  const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
+  S sum(0.0);
+  for_each_grid_angle(n, [&](int, double c, double s) {
+    sum += drive_point(d, c, s, cd, sd).kinetic_energy;
+  });
+  return sum / double(n);
+}
+
+// Which cycle quantities to compute: the means are cheap, each refined maximum
+// costs a root search.
+struct CycleNeeds {
+  bool peak_energy = true;
+  bool moments = true;
+};
+
+template <class S>
+struct CycleMetrics {
+  S mean_kinetic_energy, peak_kinetic_energy, least_mean_kinetic_energy;
+  S k1, k2, k3;                   // eq. (15)
+  S peak_total_moment;            // max over the cycle of |M| [N m]
+  S mean_total_moment, rms_total_moment;
+  double phi_peak_energy = 0, phi_peak_moment = 0;  // maximising angles [rad]
+};
+
+// All cycle quantities with n grid points. A maximum over the cycle is
+// nonsmooth in the design; its derivative is taken at the maximising angle
+// (Danskin's theorem), which is exact wherever the maximiser is unique.
+// check(d) must be ok.
+template <class S>
+CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {}) {
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
+  CycleMetrics<S> m;
+  S sumT(0.0), sumM(0.0), sumM2(0.0);
+  double bestT = -1, bestM = -1;
+  int kT = 0, kM = 0;
+  for_each_grid_angle(n, [&](int k, double c, double s) {
+    const auto p = drive_point(d, c, s, cd, sd);
+    sumT += p.kinetic_energy;
+    if (value(p.kinetic_energy) > bestT) { bestT = value(p.kinetic_energy); kT = k; }
+    if (needs.moments) {
+      const S M = p.total_moment();
+      sumM += M;
+      sumM2 += M * M;
+      if (abs(value(M)) > bestM) { bestM = abs(value(M)); kM = k; }
+    }
+  });
+  m.mean_kinetic_energy = sumT / double(n);
+  m.least_mean_kinetic_energy = least_mean_kinetic_energy(d);
+  m.k2 = m.mean_kinetic_energy / m.least_mean_kinetic_energy;
+  const double h = kTwoPi / n;
+  // Derivatives in phi of T and |M| at the design's value, by autodiff in phi.
+  const TwinDrive<Dual> dv = d.template cast<Dual>();
+  if (needs.peak_energy) {
+    auto dT = [&](double phi) {
+      return drive_point(dv, seed(phi, 0)).kinetic_energy.derivatives()[0];
+    };
+    m.phi_peak_energy = refine_max(dT, kT * h, h);
+    m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
+    m.k1 = m.peak_kinetic_energy / m.mean_kinetic_energy;
+    m.k3 = m.peak_kinetic_energy / m.least_mean_kinetic_energy;
+  }
+  if (needs.moments) {
+    m.mean_total_moment = sumM / double(n);
+    m.rms_total_moment = sqrt(sumM2 / double(n));
+    auto dabsM = [&](double phi) {
+      const Dual M = drive_point(dv, seed(phi, 0)).total_moment();
+      return (M.value() >= 0 ? 1.0 : -1.0) * M.derivatives()[0];
+    };
+    m.phi_peak_moment = refine_max(dabsM, kM * h, h);
+    m.peak_total_moment = abs(drive_point(d, S(m.phi_peak_moment)).total_moment());
+  }
+  return m;
+}
+
+}  // namespace mech

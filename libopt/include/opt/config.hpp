@@ -1,0 +1,62 @@
+// YAML configs with errors that name the file, line, column and key, what was
+// expected and what came. Unknown keys are errors (with a suggestion).
+#pragma once
+#include <yaml-cpp/yaml.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "opt/units.hpp"
+
+namespace opt {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A node of a config, with the file and key path it came from.
+class ConfigNode {
+ public:
+  ConfigNode(YAML::Node node, std::string file, std::string path, YAML::Mark fallback = {})
+      : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)),
+        mark_(node_.IsDefined() && node_.Mark().line >= 0 ? node_.Mark() : fallback) {}
+
+  // Loads a YAML file; unreadable files and YAML syntax errors are ConfigErrors.
+  static ConfigNode load(const std::string& file);
+  static ConfigNode parse(const std::string& text, const std::string& name);
+
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  const YAML::Node& yaml() const { return node_; }
+  bool is_map() const { return node_.IsMap(); }
+  bool is_sequence() const { return node_.IsSequence(); }
+  bool is_scalar() const { return node_.IsScalar(); }
+
+  bool has(const std::string& key) const;
+  // A required child (error if absent).
+  ConfigNode at(const std::string& key) const;
+  std::vector<std::string> keys() const;
+  std::vector<ConfigNode> items() const;  // elements of a sequence
+  // Errors if this map has a key outside `allowed`.
+  void allow_only(const std::vector<std::string>& allowed) const;
+  void expect_map() const;
+
+  std::string text() const;                                   // a scalar as written
+  std::string choice(const std::vector<std::string>& options) const;
+  double quantity(Dimension d) const;                         // SI value
+  double number() const { return quantity(Dimension::dimensionless); }
+  int integer(int min, int max) const;
+  bool boolean() const;
+
+  // "FILE:LINE:COL: key 'PATH': WHAT" (line and column 1-based).
+  [[noreturn]] void fail(const std::string& what) const;
+
+ private:
+  YAML::Node node_;
+  std::string file_, path_;
+  YAML::Mark mark_;
+};
+
+}  // namespace opt

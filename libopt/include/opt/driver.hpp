@@ -1,0 +1,82 @@
+// One driver interface for every optimisation library: minimise an objective
+// metric of a Problem under metric constraints, and report a Result with an
+// enum status, never an exception for an optimiser outcome.
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "opt/problem.hpp"
+
+namespace opt {
+
+enum class DriverStatus {
+  converged,          // a tolerance was met
+  max_evaluations,    // stopped on the evaluation limit
+  max_time,           // stopped on the time limit
+  infeasible,         // finished, but the final design violates a constraint
+  failure,            // the library gave up (roundoff, bad derivatives, ...)
+  invalid_arguments,  // the library rejected the set-up (e.g. algorithm vs constraints)
+};
+std::string to_string(DriverStatus s);
+
+struct DriverOptions {
+  std::string library = "nlopt";
+  std::string algorithm = "LD_SLSQP";
+  double xtol_rel = 1e-12;
+  double ftol_rel = 0;
+  int max_evaluations = 2000;
+  double max_seconds = 60;
+  double constraint_tol = 1e-9;
+  bool record_history = true;
+};
+
+struct HistoryRow {
+  int evaluation;
+  std::string status;
+  Eigen::VectorXd x;
+  double objective;  // NaN when the design was infeasible
+};
+
+struct Result {
+  DriverStatus status = DriverStatus::failure;
+  std::string message;
+  Eigen::VectorXd x;
+  double objective = 0;
+  std::vector<double> constraint_values;  // metric values of the constraints at x
+  int evaluations = 0;
+  int infeasible_evaluations = 0;
+  double seconds = 0;
+  std::string library, algorithm;
+  std::vector<HistoryRow> history;
+  bool success() const {
+    return status == DriverStatus::converged || status == DriverStatus::max_evaluations ||
+           status == DriverStatus::max_time;
+  }
+};
+
+class Driver {
+ public:
+  virtual ~Driver() = default;
+  virtual Result minimize(const Problem& problem, const Objective& objective,
+                          const std::vector<Constraint>& constraints,
+                          const Eigen::VectorXd& x0) const = 0;
+};
+
+// The algorithms a library offers, for help text and config checks.
+std::vector<std::string> nlopt_algorithms();
+bool algorithm_uses_gradient(const std::string& algorithm);
+bool algorithm_supports_constraints(const std::string& algorithm);
+
+class NloptDriver : public Driver {
+ public:
+  explicit NloptDriver(DriverOptions options) : options_(std::move(options)) {}
+  Result minimize(const Problem& problem, const Objective& objective,
+                  const std::vector<Constraint>& constraints,
+                  const Eigen::VectorXd& x0) const override;
+
+ private:
+  DriverOptions options_;
+};
+
+}  // namespace opt

@@ -1,0 +1,76 @@
+// The Problem interface: named design variables with bounds and units, and
+// named metrics (objectives and constraints are metrics picked by name)
+// evaluated with a status and exact gradients where the model provides them.
+#pragma once
+#include <Eigen/Core>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "opt/units.hpp"
+
+namespace opt {
+
+struct Variable {
+  std::string name;
+  Dimension dimension = Dimension::dimensionless;  // values are SI: m, rad, ...
+  double lower = 0, upper = 0;
+  double initial = 0;
+};
+
+struct MetricValue {
+  double value = 0;
+  Eigen::VectorXd gradient;  // d value / d x, empty when not asked for
+};
+
+// Metrics at one design. status is "ok" or the reason the design is infeasible
+// (e.g. "cannot_assemble"); values are empty unless ok, except metrics that
+// stay defined everywhere (such as the implicit constraints below).
+struct Evaluation {
+  std::string status = "ok";
+  std::map<std::string, MetricValue> metrics;
+  bool ok() const { return status == "ok"; }
+  double at(const std::string& name) const { return metrics.at(name).value; }
+};
+
+// A metric kept below (or above) a bound: metric <= bound or metric >= bound.
+struct Constraint {
+  std::string metric;
+  bool upper = true;
+  double bound = 0;
+  // Signed violation in the form g(x) <= 0.
+  double g(double v) const { return upper ? v - bound : bound - v; }
+};
+
+struct Objective {
+  std::string metric;
+  bool maximize = false;
+};
+
+class Problem {
+ public:
+  virtual ~Problem() = default;
+  virtual std::string name() const = 0;
+  virtual const std::vector<Variable>& variables() const = 0;
+  // Every metric this problem can compute, objectives and constraints alike.
+  virtual std::vector<std::string> metric_names() const = 0;
+  // SI unit of a metric for printing, e.g. "J", "N m", "" for ratios.
+  virtual std::string metric_unit(const std::string& metric) const = 0;
+  // Constraints that keep the model evaluable (e.g. the rod must reach the
+  // slider): defined everywhere, added by every driver.
+  virtual std::vector<Constraint> implicit_constraints() const { return {}; }
+  // Evaluates the metrics named in `wanted` (all if empty) at x, with
+  // gradients if asked.
+  virtual Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+                              bool gradient) const = 0;
+  // Fidelity, numerical settings and fixed model values, for result files.
+  virtual nlohmann::json settings() const = 0;
+
+  Eigen::VectorXd initial_point() const;
+  Eigen::VectorXd lower_bounds() const;
+  Eigen::VectorXd upper_bounds() const;
+  bool has_metric(const std::string& name) const;
+};
+
+}  // namespace opt

@@ -1,0 +1,65 @@
+// Studies orchestrate runs of a Problem: `optimize` (one driver run) and
+// `sweep` (1-D or 2-D grid, like the paper's tables, optionally followed by an
+// optimisation). Every evaluation's status is recorded; results go to
+// result.json, sweep.csv and chart.svg in the output directory.
+#pragma once
+#include <iosfwd>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "opt/config.hpp"
+#include "opt/driver.hpp"
+#include "opt/problem.hpp"
+
+namespace opt {
+
+// A variable a problem can free, with the dimension its bounds are given in.
+struct VariableSpec {
+  std::string name;
+  Dimension dimension;
+};
+
+// Reads `variables: {NAME: {min: .., max: .., initial: ..}}`; the initial value
+// defaults to the model value given in `model_values`.
+std::vector<Variable> parse_variables(const ConfigNode& root,
+                                      const std::vector<VariableSpec>& candidates,
+                                      const std::map<std::string, double>& model_values);
+
+struct GridAxis {
+  std::string variable;
+  std::vector<double> values;  // SI
+};
+
+// Values printed by a paper next to a sweep, for the chart and the printed table.
+struct Reference {
+  std::string source;
+  std::map<std::string, std::vector<double>> columns;  // variable or metric -> values (SI)
+};
+
+struct RunSpec {
+  std::string type = "optimize";  // optimize | sweep
+  Objective objective;
+  std::vector<Constraint> constraints;
+  bool optimize = true;           // sweeps: also run the driver
+  DriverOptions driver;
+  std::vector<GridAxis> grid;     // sweeps
+  std::vector<std::string> columns;  // metrics printed and charted
+  Reference reference;
+  std::string output_directory = "results";
+  bool chart = true;
+};
+
+// Reads objective, constraints, study, output and reference (keys checked
+// against the problem's variables and metrics).
+RunSpec parse_run(const ConfigNode& root, const Problem& problem);
+
+// Runs the study, prints a readable summary to `out`, writes the files, and
+// returns result.json's content.
+nlohmann::json run_study(const Problem& problem, const RunSpec& spec, std::ostream& out);
+
+// Every metric at x as JSON {status, metrics: {name: value}}.
+nlohmann::json metrics_json(const Problem& problem, const Eigen::VectorXd& x);
+
+}  // namespace opt

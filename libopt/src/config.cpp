@@ -1,0 +1,147 @@
+#include "opt/config.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace opt {
+namespace {
+
+// Edit distance, for "did you mean" on misspelt keys.
+size_t distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t prev = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t cur = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, prev + (a[i - 1] != b[j - 1])});
+      prev = cur;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
+  return out;
+}
+
+std::string child_path(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+}  // namespace
+
+ConfigNode ConfigNode::load(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError(file + ": cannot read the config file (does it exist?)");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse(ss.str(), file);
+}
+
+ConfigNode ConfigNode::parse(const std::string& text, const std::string& name) {
+  try {
+    YAML::Node root = YAML::Load(text);
+    if (!root.IsMap())
+      throw ConfigError(name + ":1:1: expected a YAML mapping of keys at the top level");
+    return ConfigNode(root, name, "");
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ":" +
+                      std::to_string(e.mark.column + 1) + ": invalid YAML: " + e.msg);
+  }
+}
+
+void ConfigNode::fail(const std::string& what) const {
+  std::string where = file_;
+  if (mark_.line >= 0)
+    where += ":" + std::to_string(mark_.line + 1) + ":" + std::to_string(mark_.column + 1);
+  throw ConfigError(where + ": " + (path_.empty() ? "" : "key '" + path_ + "': ") + what);
+}
+
+void ConfigNode::expect_map() const {
+  if (!node_.IsMap()) fail("expected a mapping of keys, got '" + YAML::Dump(node_) + "'");
+}
+
+bool ConfigNode::has(const std::string& key) const {
+  return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+}
+
+ConfigNode ConfigNode::at(const std::string& key) const {
+  expect_map();
+  if (!has(key)) fail("missing required key '" + key + "'");
+  return ConfigNode(node_[key], file_, child_path(path_, key), mark_);
+}
+
+std::vector<std::string> ConfigNode::keys() const {
+  expect_map();
+  std::vector<std::string> out;
+  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  return out;
+}
+
+std::vector<ConfigNode> ConfigNode::items() const {
+  if (!node_.IsSequence()) fail("expected a list [a, b, ...], got '" + YAML::Dump(node_) + "'");
+  std::vector<ConfigNode> out;
+  for (size_t i = 0; i < node_.size(); ++i)
+    out.emplace_back(node_[i], file_, path_ + "[" + std::to_string(i) + "]", mark_);
+  return out;
+}
+
+void ConfigNode::allow_only(const std::vector<std::string>& allowed) const {
+  expect_map();
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    std::string hint;
+    size_t best = 3;
+    for (const auto& a : allowed)
+      if (const size_t dist = distance(key, a); dist < best) best = dist, hint = a;
+    ConfigNode(kv.first, file_, child_path(path_, key), mark_)
+        .fail("unknown key" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+              "; expected one of: " + join(allowed));
+  }
+}
+
+std::string ConfigNode::text() const {
+  if (!node_.IsScalar()) fail("expected a single value, got '" + YAML::Dump(node_) + "'");
+  return node_.Scalar();
+}
+
+std::string ConfigNode::choice(const std::vector<std::string>& options) const {
+  const std::string t = text();
+  if (std::find(options.begin(), options.end(), t) == options.end())
+    fail("expected one of: " + join(options) + "; got '" + t + "'");
+  return t;
+}
+
+double ConfigNode::quantity(Dimension d) const {
+  const std::string t = text();
+  const ParsedQuantity q = parse_quantity(t, d);
+  if (!q.error.empty()) {
+    const auto units = units_of(d);
+    fail("expected " + to_string(d) +
+         (units.empty() ? "" : " (a number with unit " + join(units) + ")") + ", got '" + t +
+         "': " + q.error);
+  }
+  return q.si_value;
+}
+
+int ConfigNode::integer(int min, int max) const {
+  const std::string t = text();
+  char* end = nullptr;
+  const long v = std::strtol(t.c_str(), &end, 10);
+  if (t.empty() || *end != '\0' || v < min || v > max)
+    fail("expected a whole number from " + std::to_string(min) + " to " + std::to_string(max) +
+         ", got '" + t + "'");
+  return static_cast<int>(v);
+}
+
+bool ConfigNode::boolean() const {
+  return choice({"true", "false"}) == "true";
+}
+
+}  // namespace opt

@@ -1,0 +1,214 @@
+// NLopt behind the Driver interface (C API: return codes map one to one onto
+// DriverStatus). Gradients come from the problem (autodiff), never from finite
+// differences. Exceptions thrown inside callbacks are caught at the C boundary,
+// the solver is stopped, and the exception is re-thrown after it returns.
+#include <nlopt.h>
+
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+
+#include "opt/driver.hpp"
+
+namespace opt {
+
+std::string to_string(DriverStatus s) {
+  switch (s) {
+    case DriverStatus::converged: return "converged";
+    case DriverStatus::max_evaluations: return "max_evaluations";
+    case DriverStatus::max_time: return "max_time";
+    case DriverStatus::infeasible: return "infeasible";
+    case DriverStatus::failure: return "failure";
+    case DriverStatus::invalid_arguments: return "invalid_arguments";
+  }
+  return "unknown";
+}
+
+std::vector<std::string> nlopt_algorithms() {
+  return {"LN_COBYLA", "LN_BOBYQA", "LN_NELDERMEAD", "LN_SBPLX", "LD_SLSQP",
+          "LD_MMA",    "LD_CCSAQ", "LD_LBFGS",      "GN_DIRECT_L", "GN_DIRECT"};
+}
+
+bool algorithm_uses_gradient(const std::string& a) { return a.size() > 1 && a[1] == 'D'; }
+
+bool algorithm_supports_constraints(const std::string& a) {
+  return a == "LN_COBYLA" || a == "LD_SLSQP" || a == "LD_MMA" || a == "LD_CCSAQ";
+}
+
+namespace {
+
+struct Context {
+  const Problem* problem;
+  const Objective* objective;
+  std::vector<Constraint> constraints;  // user constraints, then implicit ones
+  std::vector<std::string> wanted;
+  bool record_history;
+  // Cache of the last evaluation: NLopt asks for the objective and each
+  // constraint at the same x one after the other.
+  Eigen::VectorXd last_x;
+  bool last_has_gradient = false;
+  Evaluation last;
+  Result* result;
+  nlopt_opt opt;
+  std::exception_ptr error;
+
+  const Evaluation& at(unsigned n, const double* x, bool gradient) {
+    Eigen::Map<const Eigen::VectorXd> xv(x, n);
+    if (last_x.size() == n && last_x == xv && (last_has_gradient || !gradient)) return last;
+    last = problem->evaluate(xv, wanted, gradient);
+    last_x = xv;
+    last_has_gradient = gradient;
+    return last;
+  }
+};
+
+// Objective or constraint value with its gradient; +inf (and a zero gradient)
+// where the design is infeasible, so the algorithm steps back.
+double metric_value(Context& c, unsigned n, const double* x, double* grad,
+                    const std::string& metric, double sign, double shift) {
+  const Evaluation& e = c.at(n, x, grad != nullptr);
+  const auto it = e.metrics.find(metric);
+  if (it == e.metrics.end()) {
+    if (grad) std::fill(grad, grad + n, 0.0);
+    return std::numeric_limits<double>::infinity();
+  }
+  if (grad)
+    for (unsigned i = 0; i < n; ++i) grad[i] = sign * it->second.gradient[i];
+  return sign * it->second.value - shift;
+}
+
+double objective_cb(unsigned n, const double* x, double* grad, void* data) {
+  auto& c = *static_cast<Context*>(data);
+  try {
+    const double f = metric_value(c, n, x, grad, c.objective->metric,
+                                  c.objective->maximize ? -1.0 : 1.0, 0.0);
+    Result& r = *c.result;
+    ++r.evaluations;
+    if (!c.last.ok()) ++r.infeasible_evaluations;
+    if (c.record_history)
+      r.history.push_back({r.evaluations, c.last.status, Eigen::Map<const Eigen::VectorXd>(x, n),
+                           c.last.ok() ? (c.objective->maximize ? -f : f)
+                                       : std::numeric_limits<double>::quiet_NaN()});
+    return f;
+  } catch (...) {
+    c.error = std::current_exception();
+    nlopt_force_stop(c.opt);
+    return 0.0;
+  }
+}
+
+struct ConstraintData {
+  Context* context;
+  size_t index;
+};
+
+double constraint_cb(unsigned n, const double* x, double* grad, void* data) {
+  auto& d = *static_cast<ConstraintData*>(data);
+  Context& c = *d.context;
+  try {
+    const Constraint& k = c.constraints[d.index];
+    return metric_value(c, n, x, grad, k.metric, k.upper ? 1.0 : -1.0,
+                        k.upper ? k.bound : -k.bound);
+  } catch (...) {
+    c.error = std::current_exception();
+    nlopt_force_stop(c.opt);
+    return 0.0;
+  }
+}
+
+DriverStatus map_status(nlopt_result r) {
+  switch (r) {
+    case NLOPT_SUCCESS:
+    case NLOPT_STOPVAL_REACHED:
+    case NLOPT_FTOL_REACHED:
+    case NLOPT_XTOL_REACHED: return DriverStatus::converged;
+    case NLOPT_MAXEVAL_REACHED: return DriverStatus::max_evaluations;
+    case NLOPT_MAXTIME_REACHED: return DriverStatus::max_time;
+    case NLOPT_INVALID_ARGS: return DriverStatus::invalid_arguments;
+    default: return DriverStatus::failure;  // failure, out of memory, roundoff, forced stop
+  }
+}
+
+}  // namespace
+
+Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
+                             const std::vector<Constraint>& constraints,
+                             const Eigen::VectorXd& x0) const {
+  Result result;
+  result.library = "nlopt";
+  result.algorithm = options_.algorithm;
+  const auto start = std::chrono::steady_clock::now();
+  const unsigned n = static_cast<unsigned>(x0.size());
+  const nlopt_algorithm alg = nlopt_algorithm_from_string(options_.algorithm.c_str());
+  if (static_cast<int>(alg) < 0) {
+    result.status = DriverStatus::invalid_arguments;
+    result.message = "unknown NLopt algorithm '" + options_.algorithm + "'";
+    return result;
+  }
+  const bool constrained_alg = algorithm_supports_constraints(options_.algorithm);
+  if (!constraints.empty() && !constrained_alg) {
+    result.status = DriverStatus::invalid_arguments;
+    result.message = options_.algorithm +
+                     " handles bound constraints only; use LN_COBYLA, LD_SLSQP, LD_MMA or "
+                     "LD_CCSAQ for metric constraints";
+    return result;
+  }
+
+  Context c{&problem, &objective, constraints, {}, options_.record_history, {}, false, {},
+            &result, nullptr, nullptr};
+  // Implicit constraints keep the model evaluable; algorithms that take only
+  // bounds see an infinite objective there instead.
+  if (constrained_alg)
+    for (const auto& k : problem.implicit_constraints()) c.constraints.push_back(k);
+  c.wanted.push_back(objective.metric);
+  for (const auto& k : c.constraints) c.wanted.push_back(k.metric);
+
+  nlopt_opt opt = nlopt_create(alg, n);
+  c.opt = opt;
+  const Eigen::VectorXd lb = problem.lower_bounds(), ub = problem.upper_bounds();
+  nlopt_set_lower_bounds(opt, lb.data());
+  nlopt_set_upper_bounds(opt, ub.data());
+  nlopt_set_min_objective(opt, objective_cb, &c);
+  std::vector<ConstraintData> cdata(c.constraints.size());
+  for (size_t i = 0; i < c.constraints.size(); ++i) {
+    cdata[i] = {&c, i};
+    nlopt_add_inequality_constraint(opt, constraint_cb, &cdata[i], options_.constraint_tol);
+  }
+  nlopt_set_xtol_rel(opt, options_.xtol_rel);
+  if (options_.ftol_rel > 0) nlopt_set_ftol_rel(opt, options_.ftol_rel);
+  nlopt_set_maxeval(opt, options_.max_evaluations);
+  nlopt_set_maxtime(opt, options_.max_seconds);
+
+  Eigen::VectorXd x = x0;
+  double f = 0;
+  const nlopt_result code = nlopt_optimize(opt, x.data(), &f);
+  nlopt_destroy(opt);
+  if (c.error) std::rethrow_exception(c.error);
+
+  result.status = map_status(code);
+  result.message = std::string("NLopt: ") + nlopt_result_to_string(code);
+  result.x = x;
+  // Final values from a fresh evaluation at x: the record of the answer.
+  const Evaluation e = problem.evaluate(x, c.wanted, false);
+  if (!e.ok()) {
+    result.status = DriverStatus::infeasible;
+    result.message += "; final design infeasible: " + e.status;
+    result.objective = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    result.objective = e.at(objective.metric);
+    for (const auto& k : constraints) {
+      result.constraint_values.push_back(e.at(k.metric));
+      if (k.g(e.at(k.metric)) > 1e-6 * std::max(1.0, std::abs(k.bound)) &&
+          result.status == DriverStatus::converged) {
+        result.status = DriverStatus::infeasible;
+        result.message += "; constraint " + k.metric + " violated at the final design";
+      }
+    }
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace opt

@@ -1,0 +1,389 @@
+#include "opt/study.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <sstream>
+
+#include "opt/chart.hpp"
+
+namespace opt {
+namespace {
+
+const Variable* find_variable(const Problem& p, const std::string& name) {
+  for (const auto& v : p.variables())
+    if (v.name == name) return &v;
+  return nullptr;
+}
+
+std::string fmt(double v, int precision = 6) {
+  if (!std::isfinite(v)) return "-";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
+  return out;
+}
+
+std::vector<double> parse_values(const ConfigNode& n, Dimension d) {
+  std::vector<double> out;
+  if (n.is_sequence()) {
+    for (const auto& item : n.items()) out.push_back(item.quantity(d));
+  } else {
+    n.allow_only({"from", "to", "step"});
+    const double from = n.at("from").quantity(d), to = n.at("to").quantity(d);
+    const double step = n.at("step").quantity(d);
+    if (!(step > 0) || to < from) n.fail("expected from <= to and step > 0");
+    const int count = static_cast<int>(std::floor((to - from) / step + 1e-9)) + 1;
+    if (count > 100000) n.fail("the grid has more than 100000 points");
+    for (int i = 0; i < count; ++i) out.push_back(from + i * step);
+  }
+  if (out.empty()) n.fail("expected at least one value");
+  return out;
+}
+
+DriverOptions parse_driver(const ConfigNode& n) {
+  n.allow_only({"library", "algorithm", "xtol_rel", "ftol_rel", "max_evaluations",
+                "max_seconds", "constraint_tol"});
+  DriverOptions o;
+  if (n.has("library")) o.library = n.at("library").choice({"nlopt"});
+  if (n.has("algorithm")) o.algorithm = n.at("algorithm").choice(nlopt_algorithms());
+  if (n.has("xtol_rel")) o.xtol_rel = n.at("xtol_rel").number();
+  if (n.has("ftol_rel")) o.ftol_rel = n.at("ftol_rel").number();
+  if (n.has("max_evaluations")) o.max_evaluations = n.at("max_evaluations").integer(1, 100000000);
+  if (n.has("max_seconds")) o.max_seconds = n.at("max_seconds").quantity(Dimension::time);
+  if (n.has("constraint_tol")) o.constraint_tol = n.at("constraint_tol").number();
+  if (o.xtol_rel < 0 || o.ftol_rel < 0 || !(o.max_seconds > 0) || o.constraint_tol < 0)
+    n.fail("tolerances must be >= 0 and max_seconds > 0");
+  return o;
+}
+
+void check_metric(const ConfigNode& n, const Problem& p, const std::string& metric) {
+  if (!p.has_metric(metric))
+    n.fail("unknown metric '" + metric + "'; expected one of: " + join(p.metric_names()));
+}
+
+std::unique_ptr<Driver> make_driver(const DriverOptions& o) {
+  return std::make_unique<NloptDriver>(o);  // the only library so far; checked by parse_driver
+}
+
+nlohmann::json variables_json(const Problem& p, const Eigen::VectorXd& x) {
+  nlohmann::json j = nlohmann::json::object();
+  const auto& vars = p.variables();
+  for (size_t i = 0; i < vars.size(); ++i)
+    j[vars[i].name] = {{"value", x[i]}, {"unit", si_unit(vars[i].dimension)},
+                       {"min", vars[i].lower}, {"max", vars[i].upper}};
+  return j;
+}
+
+void print_variables(std::ostream& out, const Problem& p, const Eigen::VectorXd& x) {
+  const auto& vars = p.variables();
+  for (size_t i = 0; i < vars.size(); ++i)
+    out << "  " << std::left << std::setw(26) << vars[i].name << std::right << std::setw(14)
+        << fmt(x[i], 10) << " " << std::left << std::setw(6) << si_unit(vars[i].dimension)
+        << std::right << " in [" << fmt(vars[i].lower) << ", " << fmt(vars[i].upper) << "]\n";
+}
+
+void print_metrics(std::ostream& out, const Problem& p, const nlohmann::json& m) {
+  for (const auto& [name, v] : m.items())
+    out << "  " << std::left << std::setw(26) << name << std::right << std::setw(14)
+        << fmt(v.get<double>(), 10) << " " << p.metric_unit(name) << "\n";
+}
+
+struct OptimizeOutcome {
+  Result result;
+  nlohmann::json json;
+};
+
+OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out) {
+  const auto driver = make_driver(s.driver);
+  OptimizeOutcome o;
+  o.result = driver->minimize(p, s.objective, s.constraints, p.initial_point());
+  const Result& r = o.result;
+  nlohmann::json cons = nlohmann::json::array();
+  for (size_t i = 0; i < s.constraints.size(); ++i) {
+    const Constraint& k = s.constraints[i];
+    cons.push_back({{"metric", k.metric}, {k.upper ? "max" : "min", k.bound},
+                    {"value", i < r.constraint_values.size() ? nlohmann::json(r.constraint_values[i])
+                                                             : nlohmann::json(nullptr)}});
+  }
+  o.json = {{"status", to_string(r.status)},
+            {"message", r.message},
+            {"driver", {{"library", r.library}, {"algorithm", r.algorithm},
+                        {"xtol_rel", s.driver.xtol_rel}, {"ftol_rel", s.driver.ftol_rel},
+                        {"max_evaluations", s.driver.max_evaluations},
+                        {"max_seconds", s.driver.max_seconds}}},
+            {"variables", variables_json(p, r.x)},
+            {"objective", {{"metric", s.objective.metric},
+                           {"sense", s.objective.maximize ? "maximize" : "minimize"},
+                           {"value", std::isfinite(r.objective) ? nlohmann::json(r.objective)
+                                                                : nlohmann::json(nullptr)}}},
+            {"constraints", cons},
+            {"evaluations", r.evaluations},
+            {"infeasible_evaluations", r.infeasible_evaluations},
+            {"wall_seconds", r.seconds}};
+  const nlohmann::json at = metrics_json(p, r.x);
+  o.json["metrics"] = at["metrics"];
+  o.json["design_status"] = at["status"];
+
+  out << "optimum (" << r.library << " " << r.algorithm << "): " << to_string(r.status) << " — "
+      << r.message << "\n  " << r.evaluations << " evaluations ("
+      << r.infeasible_evaluations << " infeasible), " << fmt(r.seconds * 1e6, 4)
+      << " us wall time\n";
+  print_variables(out, p, r.x);
+  out << "  " << (s.objective.maximize ? "maximize " : "minimize ") << s.objective.metric
+      << " = " << fmt(r.objective, 12) << " " << p.metric_unit(s.objective.metric) << "\n";
+  for (size_t i = 0; i < s.constraints.size() && i < r.constraint_values.size(); ++i)
+    out << "  constraint " << s.constraints[i].metric << " = " << fmt(r.constraint_values[i])
+        << (s.constraints[i].upper ? " <= " : " >= ") << fmt(s.constraints[i].bound) << "\n";
+  out << "metrics at the optimum:\n";
+  print_metrics(out, p, o.json["metrics"]);
+  return o;
+}
+
+// A profile of the objective along the single variable, for the chart.
+Series profile(const Problem& p, const RunSpec& s, int n) {
+  Series line{"objective (continuous)", {}, {}, Series::Style::line};
+  const Variable& v = p.variables()[0];
+  Eigen::VectorXd x = p.initial_point();
+  for (int i = 0; i <= n; ++i) {
+    x[0] = v.lower + (v.upper - v.lower) * i / n;
+    const Evaluation e = p.evaluate(x, {s.objective.metric}, false);
+    line.x.push_back(x[0]);
+    line.y.push_back(e.ok() ? e.at(s.objective.metric) : std::numeric_limits<double>::quiet_NaN());
+  }
+  return line;
+}
+
+void write_chart(const Problem& p, const RunSpec& s, const std::vector<Eigen::VectorXd>& grid_x,
+                 const std::vector<double>& grid_f, const Result* best, const std::string& file) {
+  if (p.variables().size() != 1) return;  // 1-D charts only; 2-D sweeps go to the CSV
+  const Variable& v = p.variables()[0];
+  Chart c;
+  c.title = p.name() + ": " + s.objective.metric + " along " + v.name;
+  c.x_label = v.name + " [" + si_unit(v.dimension) + "]";
+  c.y_label = s.objective.metric + " [" + p.metric_unit(s.objective.metric) + "]";
+  c.series.push_back(profile(p, s, 200));
+  if (!grid_x.empty()) {
+    Series g{"grid points", {}, grid_f, Series::Style::markers};
+    for (const auto& x : grid_x) g.x.push_back(x[0]);
+    c.series.push_back(g);
+  }
+  const auto& ref = s.reference.columns;
+  if (ref.count(v.name) && ref.count(s.objective.metric))
+    c.series.push_back({"paper (" + s.reference.source + ")", ref.at(v.name),
+                        ref.at(s.objective.metric), Series::Style::markers});
+  if (best && best->success())
+    c.series.push_back({"optimum", {best->x[0]}, {best->objective}, Series::Style::star});
+  write_svg(c, file);
+}
+
+// Right-aligned cells, each as wide as its column's header (at least 12).
+void print_row(std::ostream& out, const std::vector<std::string>& cells,
+               const std::vector<std::string>& head) {
+  for (size_t i = 0; i < cells.size(); ++i)
+    out << std::setw(std::max<int>(12, static_cast<int>(head[i].size())) + 1) << cells[i];
+  out << "\n";
+}
+
+}  // namespace
+
+std::vector<Variable> parse_variables(const ConfigNode& root,
+                                      const std::vector<VariableSpec>& candidates,
+                                      const std::map<std::string, double>& model_values) {
+  std::vector<Variable> out;
+  if (!root.has("variables")) return out;
+  const ConfigNode vars = root.at("variables");
+  std::vector<std::string> names;
+  for (const auto& c : candidates) names.push_back(c.name);
+  vars.allow_only(names);
+  for (const auto& c : candidates) {
+    if (!vars.has(c.name)) continue;
+    const ConfigNode n = vars.at(c.name);
+    n.allow_only({"min", "max", "initial"});
+    Variable v{c.name, c.dimension, n.at("min").quantity(c.dimension),
+               n.at("max").quantity(c.dimension), model_values.at(c.name)};
+    if (!(v.lower < v.upper)) n.fail("expected min < max");
+    if (n.has("initial")) v.initial = n.at("initial").quantity(c.dimension);
+    out.push_back(v);
+  }
+  return out;
+}
+
+RunSpec parse_run(const ConfigNode& root, const Problem& p) {
+  RunSpec s;
+  if (root.has("objective")) {
+    const ConfigNode o = root.at("objective");
+    o.allow_only({"minimize", "maximize"});
+    if (o.keys().size() != 1) o.fail("expected exactly one of minimize or maximize");
+    s.objective.maximize = o.has("maximize");
+    const ConfigNode m = o.at(s.objective.maximize ? "maximize" : "minimize");
+    s.objective.metric = m.text();
+    check_metric(m, p, s.objective.metric);
+  }
+  if (root.has("constraints")) {
+    const ConfigNode cs = root.at("constraints");
+    for (const auto& name : cs.keys()) {
+      const ConfigNode c = cs.at(name);
+      check_metric(c, p, name);
+      c.allow_only({"max", "min"});
+      for (const char* side : {"max", "min"})
+        if (c.has(side)) s.constraints.push_back({name, side[1] == 'a', c.at(side).number()});
+      if (!c.has("max") && !c.has("min")) c.fail("expected max: VALUE or min: VALUE");
+    }
+  }
+  if (root.has("study")) {
+    const ConfigNode st = root.at("study");
+    st.allow_only({"type", "driver", "grid", "optimize", "columns"});
+    s.type = st.at("type").choice({"optimize", "sweep"});
+    if (st.has("driver")) s.driver = parse_driver(st.at("driver"));
+    if (st.has("optimize")) s.optimize = st.at("optimize").boolean();
+    if (s.type == "sweep") {
+      const ConfigNode g = st.at("grid");
+      for (const auto& name : g.keys()) {
+        const Variable* v = find_variable(p, name);
+        if (!v) g.fail("grid variable '" + name + "' is not among the config's variables");
+        s.grid.push_back({name, parse_values(g.at(name), v->dimension)});
+      }
+      if (s.grid.empty() || s.grid.size() > 2) g.fail("expected one or two grid variables");
+      if (s.grid.size() != p.variables().size())
+        g.fail("a sweep needs a grid for every variable in 'variables'");
+    }
+    if (st.has("columns"))
+      for (const auto& c : st.at("columns").items()) {
+        check_metric(c, p, c.text());
+        s.columns.push_back(c.text());
+      }
+  }
+  if (s.objective.metric.empty() && (s.type == "optimize" || s.optimize))
+    root.fail("missing required key 'objective' (e.g. objective: {minimize: METRIC})");
+  if (s.type == "optimize" && p.variables().empty())
+    root.fail("missing required key 'variables': an optimisation needs at least one");
+  if (s.columns.empty()) {
+    s.columns.push_back(s.objective.metric);
+    for (const auto& c : s.constraints) s.columns.push_back(c.metric);
+  }
+  if (root.has("output")) {
+    const ConfigNode o = root.at("output");
+    o.allow_only({"directory", "chart"});
+    if (o.has("directory")) s.output_directory = o.at("directory").text();
+    if (o.has("chart")) s.chart = o.at("chart").boolean();
+  }
+  if (root.has("reference")) {
+    const ConfigNode r = root.at("reference");
+    for (const auto& key : r.keys()) {
+      if (key == "source") { s.reference.source = r.at(key).text(); continue; }
+      if (!find_variable(p, key)) check_metric(r.at(key), p, key);
+      for (const auto& item : r.at(key).items()) s.reference.columns[key].push_back(item.number());
+    }
+  }
+  return s;
+}
+
+nlohmann::json metrics_json(const Problem& p, const Eigen::VectorXd& x) {
+  const Evaluation e = p.evaluate(x, {}, false);
+  nlohmann::json m = nlohmann::json::object();
+  for (const auto& [name, v] : e.metrics) m[name] = v.value;
+  return {{"status", e.status}, {"metrics", m}};
+}
+
+nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) {
+  namespace fs = std::filesystem;
+  fs::create_directories(s.output_directory);
+  const std::string dir = s.output_directory + "/";
+  nlohmann::json j = {{"mechopt_version", MECHOPT_VERSION},
+                      {"problem", p.name()},
+                      {"study", s.type},
+                      {"settings", p.settings()}};
+  out << "mechopt " << MECHOPT_VERSION << " — " << p.name() << ", " << s.type << "\n";
+
+  std::vector<Eigen::VectorXd> grid_x;
+  std::vector<double> grid_f;
+  if (s.type == "sweep") {
+    // Cartesian product of the axes, first axis slowest.
+    const size_t n0 = s.grid[0].values.size(), n1 = s.grid.size() > 1 ? s.grid[1].values.size() : 1;
+    std::ofstream csv(dir + "sweep.csv");
+    std::vector<std::string> names = p.metric_names();
+    for (const auto& a : s.grid) csv << a.variable << ",";
+    csv << "status";
+    for (const auto& m : names) csv << "," << m;
+    csv << "\n" << std::setprecision(17);
+    std::vector<std::string> head;
+    for (const auto& a : s.grid) head.push_back(a.variable);
+    for (const auto& c : s.columns) head.push_back(c);
+    out << "sweep over " << n0 * n1 << " points (values in SI):\n";
+    print_row(out, head, head);
+    std::vector<std::vector<double>> printed(s.columns.size());
+    int infeasible = 0;
+    for (size_t i = 0; i < n0; ++i)
+      for (size_t k = 0; k < n1; ++k) {
+        Eigen::VectorXd x(s.grid.size());
+        x[0] = s.grid[0].values[i];
+        if (s.grid.size() > 1) x[1] = s.grid[1].values[k];
+        const Evaluation e = p.evaluate(x, {}, false);
+        infeasible += !e.ok();
+        std::vector<std::string> row;
+        for (int d = 0; d < x.size(); ++d) csv << x[d] << ",", row.push_back(fmt(x[d]));
+        csv << e.status;
+        for (const auto& m : names)
+          csv << "," << (e.metrics.count(m) ? fmt(e.at(m), 17) : std::string());
+        csv << "\n";
+        for (size_t c = 0; c < s.columns.size(); ++c) {
+          const double v = e.metrics.count(s.columns[c]) ? e.at(s.columns[c])
+                                                         : std::numeric_limits<double>::quiet_NaN();
+          printed[c].push_back(v);
+          row.push_back(e.ok() ? fmt(v) : e.status);
+        }
+        print_row(out, row, head);
+        grid_x.push_back(x);
+        grid_f.push_back(e.metrics.count(s.objective.metric)
+                             ? e.at(s.objective.metric)
+                             : std::numeric_limits<double>::quiet_NaN());
+      }
+    // Relative differences from the paper where it printed the same column.
+    const auto& ref = s.reference.columns;
+    if (s.grid.size() == 1 && ref.count(s.grid[0].variable)) {
+      out << "relative difference from " << s.reference.source << " [%] (ours - paper) / paper:\n";
+      print_row(out, head, head);
+      const auto& rx = ref.at(s.grid[0].variable);
+      for (size_t r = 0; r < rx.size(); ++r) {
+        size_t i = 0;
+        while (i < n0 && std::abs(s.grid[0].values[i] - rx[r]) > 1e-9) ++i;
+        if (i == n0) continue;
+        std::vector<std::string> row{fmt(rx[r])};
+        for (size_t c = 0; c < s.columns.size(); ++c) {
+          const auto it = ref.find(s.columns[c]);
+          row.push_back(it == ref.end() || r >= it->second.size()
+                            ? "-"
+                            : fmt(100 * (printed[c][i] - it->second[r]) / it->second[r], 3));
+        }
+        print_row(out, row, head);
+      }
+    }
+    j["sweep"] = {{"points", n0 * n1}, {"infeasible", infeasible}, {"csv", dir + "sweep.csv"}};
+  }
+  const Result* best = nullptr;
+  OptimizeOutcome o;
+  if (s.type == "optimize" || s.optimize) {
+    o = optimize(p, s, out);
+    best = &o.result;
+    j.update(o.json);
+  }
+  if (s.chart && p.variables().size() == 1 && !s.objective.metric.empty()) {
+    write_chart(p, s, grid_x, grid_f, best, dir + "chart.svg");
+    j["chart"] = dir + "chart.svg";
+  }
+  std::ofstream(dir + "result.json") << j.dump(2) << "\n";
+  out << "written: " << dir << "result.json" << (j.contains("sweep") ? ", sweep.csv" : "")
+      << (j.contains("chart") ? ", chart.svg" : "") << "\n";
+  return j;
+}
+
+}  // namespace opt

@@ -1,0 +1,31 @@
+// Problems registered by name for YAML configs: `problem: NAME`.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "opt/config.hpp"
+#include "opt/problem.hpp"
+#include "opt/study.hpp"
+
+namespace problems {
+
+using Factory = std::function<std::unique_ptr<opt::Problem>(const opt::ConfigNode& root)>;
+
+struct Entry {
+  std::string name, summary;
+  std::vector<opt::VariableSpec> variables;  // what a config may free
+  Factory make;
+};
+
+const std::vector<Entry>& registry();
+
+// Builds the problem named by the config's `problem` key from its `model` and
+// `variables` sections; bad input is an opt::ConfigError.
+std::unique_ptr<opt::Problem> make_problem(const opt::ConfigNode& root);
+
+// Top-level keys a config may have.
+const std::vector<std::string>& config_keys();
+
+}  // namespace problems
