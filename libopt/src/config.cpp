@@ -127,7 +127,7 @@ double ConfigNode::quantity(Dimension d) const {
          (units.empty() ? "" : " (a number with unit " + join(units) + ")") + ", got '" + t +
          "': " + q.error);
   }
-  return q.si_value;
+  return q.value;
 }
 
 int ConfigNode::integer(int min, int max) const {

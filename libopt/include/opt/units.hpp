@@ -18,7 +18,7 @@ std::vector<std::string> units_of(Dimension d);
 std::string si_unit(Dimension d);
 
 struct ParsedQuantity {
-  double si_value = 0;
+  double value = 0;
   std::string error;  // empty when parsed
 };
 

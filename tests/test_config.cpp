@@ -1,0 +1,95 @@
+// Bad input: every file in tests/bad_configs/ must make `mechopt run` exit with
+// code 2 and one message naming the file, line:column, key, what was expected
+// and what came. The expected text is the file's first line ("# expect: ...").
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sys/wait.h>
+
+#include "opt/units.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code;
+  std::string output;
+};
+
+Outcome run(const std::string& args) {
+  const std::string cmd = std::string(MECHOPT_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::vector<std::string> bad_configs() {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(std::string(MECHOPT_SOURCE_DIR) + "/tests/bad_configs"))
+    out.push_back(e.path().stem().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+class BadConfig : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BadConfig, ExitsWithCode2AndNamesFileLineKey) {
+  const std::string file = std::string(MECHOPT_SOURCE_DIR) + "/tests/bad_configs/" + GetParam() + ".yaml";
+  std::ifstream in(file);
+  std::string first;
+  std::getline(in, first);
+  const std::string prefix = "# expect: ";
+  ASSERT_EQ(first.rfind(prefix, 0), 0u) << "first line must be '# expect: ...'";
+  const std::string expect = first.substr(prefix.size());
+  const Outcome o = run("run " + file + " --output " + testing::TempDir() + "/bad");
+  EXPECT_EQ(o.exit_code, 2) << o.output;
+  EXPECT_NE(o.output.find("mechopt: error: " + file + ":"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find(expect), std::string::npos) << "expected: " << expect << "\ngot: " << o.output;
+  EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << "one line: " << o.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, BadConfig, ::testing::ValuesIn(bad_configs()),
+                         [](const auto& info) { return info.param; });
+
+TEST(BadConfig, AtLeastTenCases) { EXPECT_GE(bad_configs().size(), 10u); }
+
+TEST(CommandLine, UnreadableFileAndBadArgumentsExitWith2) {
+  Outcome o = run("run /nonexistent/config.yaml");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("/nonexistent/config.yaml: cannot read the config file"), std::string::npos);
+  EXPECT_EQ(run("frobnicate").exit_code, 2);
+  EXPECT_EQ(run("run").exit_code, 2);
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/recuperative_drive/rod_length.yaml";
+  o = run("eval " + cfg + " --set crank_radius=0.2kg");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("key 'model.crank_radius'"), std::string::npos) << o.output;
+}
+
+TEST(CommandLine, VersionHelpList) {
+  EXPECT_EQ(run("--version").output, "mechopt " MECHOPT_VERSION "\n");
+  EXPECT_EQ(run("--help").exit_code, 0);
+  const Outcome o = run("list");
+  EXPECT_NE(o.output.find("recuperative_drive"), std::string::npos);
+  EXPECT_NE(o.output.find("LD_SLSQP"), std::string::npos);
+}
+
+TEST(Units, ConvertToSi) {
+  using opt::Dimension;
+  EXPECT_DOUBLE_EQ(opt::parse_quantity("100 rpm", Dimension::angular_speed).value, 100 * std::numbers::pi / 30);
+  EXPECT_DOUBLE_EQ(opt::parse_quantity("90 deg", Dimension::angle).value, std::numbers::pi / 2);
+  EXPECT_DOUBLE_EQ(opt::parse_quantity("250mm", Dimension::length).value, 0.25);
+  EXPECT_DOUBLE_EQ(opt::parse_quantity("0.2", Dimension::length).value, 0.2);
+  EXPECT_DOUBLE_EQ(opt::parse_quantity("3.562 kN", Dimension::force).value, 3562);
+  EXPECT_FALSE(opt::parse_quantity("1 m", Dimension::mass).error.empty());
+  EXPECT_FALSE(opt::parse_quantity("inf m", Dimension::length).error.empty());
+}
+
+}  // namespace

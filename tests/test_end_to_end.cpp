@@ -1,0 +1,60 @@
+// Every config in configs/ runs through the command line: exit code 0, a
+// result.json whose status is a success, and the files a user expects.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> configs() {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(std::string(MECHOPT_SOURCE_DIR) + "/configs"))
+    if (e.path().extension() == ".yaml")
+      out.push_back(fs::relative(e.path(), std::string(MECHOPT_SOURCE_DIR) + "/configs").string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+class Config : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Config, RunsAndWritesResults) {
+  const std::string dir = testing::TempDir() + "/e2e_" + std::to_string(std::hash<std::string>{}(GetParam()));
+  fs::remove_all(dir);
+  const std::string cmd = std::string(MECHOPT_BINARY) + " run " + MECHOPT_SOURCE_DIR + "/configs/" +
+                          GetParam() + " --output " + dir + " > " + dir + ".log 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "see " << dir << ".log";
+  std::ifstream in(dir + "/result.json");
+  ASSERT_TRUE(in) << "no result.json";
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["problem"], "recuperative_drive");
+  EXPECT_FALSE(j["mechopt_version"].get<std::string>().empty());
+  EXPECT_TRUE(j.contains("settings"));
+  if (j.contains("status")) {
+    EXPECT_EQ(j["status"], "converged") << j["message"];
+    EXPECT_EQ(j["design_status"], "ok");
+    EXPECT_GT(j["evaluations"].get<int>(), 0);
+    for (const auto& [name, v] : j["metrics"].items()) EXPECT_TRUE(v.is_number()) << name;
+  }
+  if (j["study"] == "sweep") {
+    EXPECT_TRUE(fs::exists(dir + "/sweep.csv"));
+  }
+  if (j["variables"].size() == 1) {
+    EXPECT_TRUE(fs::exists(dir + "/chart.svg"));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, Config, ::testing::ValuesIn(configs()), [](const auto& info) {
+  std::string n = info.param;
+  for (char& c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return n;
+});
+
+}  // namespace

@@ -1,0 +1,141 @@
+// Twin slider-crank drive: physics identities, quadrature convergence, and
+// autodiff gradients of every metric against central differences.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "mech/twin_slider_crank.hpp"
+#include "opt/config.hpp"
+#include "problems/recuperative_drive.hpp"
+
+namespace {
+
+using mech::TwinDrive;
+constexpr double kPi = std::numbers::pi;
+
+TwinDrive<double> seed000(double l = 0.8) {
+  return {0.2, l, kPi / 2, 0.0, 100 * kPi / 30, 1000, 80, 0.9, 3562};
+}
+
+TEST(TwinDrive, InertiaMomentIsTheAngleDerivativeOfKineticEnergy) {
+  // At constant speed, eqs (18)-(20) equal dT/dphi; checked by central
+  // differences (h = 1e-5: error ~1e-10 * |T'''| ~ 1e-6 N m on T ~ 3e3 J).
+  for (auto rod : {mech::RodModel::point_masses, mech::RodModel::full})
+    for (auto layout : {mech::Layout::opposed, mech::Layout::same_side}) {
+      auto d = seed000(0.6);
+      d.rod = rod;
+      d.layout = layout;
+      d.offset = 0.05;
+      const double h = 1e-5;
+      for (double phi = 0.05; phi < 6.3; phi += 0.3) {
+        const double fd = (mech::drive_point(d, phi + h).kinetic_energy -
+                           mech::drive_point(d, phi - h).kinetic_energy) / (2 * h);
+        EXPECT_NEAR(mech::drive_point(d, phi).inertia_moment, fd, 1e-5);
+      }
+    }
+}
+
+TEST(TwinDrive, InertiaMomentAndSignedResistanceHaveZeroCycleMean) {
+  // M_i = dT/dphi and M_on ~ dx/dphi are derivatives of periodic functions.
+  auto d = seed000(0.7);
+  d.offset = 0.04;
+  const auto m = mech::cycle_metrics(d, 64);
+  EXPECT_NEAR(m.mean_total_moment, 0.0, 1e-10 * m.rms_total_moment);
+}
+
+TEST(TwinDrive, OpposingResistanceHasClosedFormMean) {
+  // |dx/dphi| integrates to the path per revolution, 2 strokes = 4r, so the
+  // mean static moment of two carts is F/eta * 2 * 4r/(2 pi). The integrand
+  // has kinks at the dead centres: the trapezoidal rule converges as h^2 there,
+  // so 4096 points give ~1e-6 relative.
+  auto d = seed000(0.8);
+  d.resistance = mech::Resistance::opposes_motion;
+  const auto m = mech::cycle_metrics(d, 4096);
+  const double exact = 3562 / 0.9 * 4 * 0.2 / kPi;
+  EXPECT_NEAR(m.mean_total_moment, exact, 2e-6 * exact);
+}
+
+TEST(TwinDrive, LeastMeanKineticEnergyIsEquation14) {
+  // 4 m r^2 w^2 / pi^2 = 1777.8 J at 100 rpm (seed 000 text).
+  EXPECT_NEAR(mech::least_mean_kinetic_energy(seed000()), 1777.7777777777778, 1e-9);
+}
+
+TEST(TwinDrive, CycleMeanConvergesExponentially) {
+  // Errors against a 512-point value shrink at least 10x for every 4 more
+  // points until roundoff (analytic integrand: the error is ~exp(-a n)).
+  const auto d = seed000(0.5);
+  const double ref = mech::mean_kinetic_energy(d, 512);
+  double prev = std::abs(mech::mean_kinetic_energy(d, 4) - ref);
+  for (int n = 8; n <= 20; n += 4) {
+    const double err = std::abs(mech::mean_kinetic_energy(d, n) - ref);
+    EXPECT_LT(err, std::max(prev / 10, 1e-11 * ref)) << "n = " << n;
+    prev = err;
+  }
+  EXPECT_LT(std::abs(mech::mean_kinetic_energy(d, 32) - ref), 1e-13 * ref);
+}
+
+TEST(TwinDrive, PeakIsRefinedBeyondTheGrid) {
+  // The refined peak agrees with a 200000-point grid maximum to its resolution
+  // ((2 pi / 2e5)^2 * |T''| / 8 ~ 1e-6 J), and is never below any grid value.
+  const auto d = seed000(0.8);
+  const auto m = mech::cycle_metrics(d, 16);
+  double grid = 0;
+  for (int k = 0; k < 200000; ++k) grid = std::max(grid, mech::drive_point(d, 2 * kPi * k / 200000).kinetic_energy);
+  EXPECT_GE(m.peak_kinetic_energy, grid - 1e-9);
+  EXPECT_NEAR(m.peak_kinetic_energy, grid, 1e-5);
+}
+
+TEST(TwinDrive, MirroredLayoutAtZeroOffsetHasTheSameEnergyAsShiftedSameSide) {
+  // At zero offset a mirrored slider moves as x_m(psi) = -x_n(psi + pi): its
+  // energy is the normal one shifted by pi, and a cycle mean is shift-invariant.
+  auto a = seed000(0.9), b = seed000(0.9);
+  b.layout = mech::Layout::same_side;
+  EXPECT_NEAR(mech::mean_kinetic_energy(a, 64), mech::mean_kinetic_energy(b, 64), 1e-9);
+}
+
+TEST(TwinDrive, InfeasibleDesignsAreStatuses) {
+  auto d = seed000(0.15);  // rod shorter than the crank
+  EXPECT_EQ(mech::check(d), mech::Status::cannot_assemble);
+  d = seed000(0.8);
+  d.efficiency = 0;
+  EXPECT_EQ(mech::check(d), mech::Status::invalid_parameter);
+}
+
+// Every metric's autodiff gradient against central differences, for every
+// variable, at a design away from ties of the maxima.
+TEST(RecuperativeDriveProblem, GradientsMatchCentralDifferences) {
+  for (const char* resistance : {"signed", "opposes_motion"})
+    for (const char* rod : {"point_masses", "full"}) {
+      const std::string yaml = std::string(R"(
+problem: recuperative_drive
+model: {rod_length: 0.7 m, phase_shift: 80 deg, offset: 0.03 m, crank_radius: 0.2 m,
+        cycle_points: 64, resistance: )") + resistance + ", fidelity: {rod: " + rod + R"(}}
+variables:
+  rod_length: {min: 0.5 m, max: 1.5 m}
+  phase_shift: {min: 0 deg, max: 180 deg}
+  crank_radius: {min: 0.1 m, max: 0.3 m}
+  offset: {min: -0.1 m, max: 0.1 m}
+)";
+      const auto p = problems::make_recuperative_drive(opt::ConfigNode::parse(yaml, "<test>"));
+      const Eigen::VectorXd x = p->initial_point();
+      const auto e = p->evaluate(x, {}, true);
+      ASSERT_TRUE(e.ok());
+      const double h = 1e-6;
+      for (int i = 0; i < x.size(); ++i) {
+        Eigen::VectorXd xp = x, xm = x;
+        xp[i] += h;
+        xm[i] -= h;
+        const auto ep = p->evaluate(xp, {}, false), em = p->evaluate(xm, {}, false);
+        for (const auto& [name, v] : e.metrics) {
+          const double fd = (ep.at(name) - em.at(name)) / (2 * h);
+          // h = 1e-6: truncation ~1e-12 |f'''|, roundoff ~eps |f| / h ~ 1e-10 |f|;
+          // the maxima add the error of the refined angle (~1e-15): 1e-7 relative.
+          EXPECT_NEAR(v.gradient[i], fd, 1e-7 * (1 + std::abs(v.value)))
+              << name << " d/d" << p->variables()[i].name << " " << resistance << " " << rod;
+        }
+      }
+    }
+}
+
+}  // namespace
