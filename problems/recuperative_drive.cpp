@@ -8,7 +8,6 @@
 namespace problems {
 namespace {
 
-using mech::Dual;
 using opt::Dimension;
 
 // Ratio (r + |e|)/l kept at most this far from the dead point (ratio 1), where
@@ -59,8 +58,13 @@ class RecuperativeDrive : public opt::Problem {
 
   opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                            bool gradient) const override {
-    if (gradient) return evaluate_as<Dual>(x, wanted);
-    return evaluate_as<double>(x, wanted);
+    if (!gradient) return evaluate_as<double>(x, wanted);
+    switch (vars_.size()) {  // one derivative per variable
+      case 1: return evaluate_as<mech::DualN<1>>(x, wanted);
+      case 2: return evaluate_as<mech::DualN<2>>(x, wanted);
+      case 3: return evaluate_as<mech::DualN<3>>(x, wanted);
+      default: return evaluate_as<mech::DualN<4>>(x, wanted);
+    }
   }
 
   nlohmann::json settings() const override {
@@ -90,7 +94,7 @@ class RecuperativeDrive : public opt::Problem {
     mech::TwinDrive<S> d = model_.drive.template cast<S>();
     for (size_t i = 0; i < vars_.size(); ++i) {
       S v;
-      if constexpr (std::is_same_v<S, Dual>) v = mech::seed(x[i], static_cast<int>(i));
+      if constexpr (mech::is_dual<S>) v = S(x[i], S::DerType::RowsAtCompileTime, static_cast<int>(i));
       else v = x[i];
       const std::string& n = vars_[i].name;
       if (n == "rod_length") d.rod_length = v;
@@ -106,7 +110,7 @@ class RecuperativeDrive : public opt::Problem {
       if (!want(name)) return;
       opt::MetricValue mv;
       mv.value = mech::value(v);
-      if constexpr (std::is_same_v<S, Dual>) mv.gradient = v.derivatives().head(vars_.size());
+      if constexpr (mech::is_dual<S>) mv.gradient = v.derivatives();
       e.metrics[name] = mv;
     };
     using std::abs;

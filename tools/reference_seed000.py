@@ -55,7 +55,9 @@ def main():
                       "k2": mp.nstr(tcp / tmin, 17), "k3": mp.nstr(tmax / tmin, 17)})
     # Continuous optimum of T_cp over l (phase shift pi/2): dT_cp/dl = 0.
     lstar = mp.findroot(lambda l: mp.diff(mean_energy, l), mp.mpf("0.61"))
-    out = {"crank_speed_rad_s": mp.nstr(W, 17), "least_mean_kinetic_energy": mp.nstr(tmin, 17),
+    l08 = mp.mpf("0.8")
+    out = {"crank_speed_rad_s": mp.nstr(W, 17),
+           "mean_kinetic_energy_gradient_l08": mp.nstr(mp.diff(mean_energy, l08), 17), "least_mean_kinetic_energy": mp.nstr(tmin, 17),
            "table1": table, "rod_length_optimum": mp.nstr(lstar, 17),
            "mean_kinetic_energy_at_optimum": mp.nstr(mean_energy(lstar), 17)}
     json.dump(out, sys.stdout, indent=1)

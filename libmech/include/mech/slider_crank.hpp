@@ -26,13 +26,21 @@ struct SliderCrank {
   Kinematics kinematics = Kinematics::exact;
 };
 
-// Transfer functions of one slider-crank at one crank angle.
+// First-order transfer functions: all that velocities and kinetic energy need.
 template <class S>
-struct SliderCrankPoint {
-  S x, dx, ddx;        // slider position and d/dpsi, d2/dpsi2 (eqs 1-2, 5-6)
-  S dxs, ddxs;         // rod-centre x transfer functions (eqs 3-4, 7-8)
-  S dys, ddys;         // rod-centre y transfer functions (eqs 3-4, 7-8)
-  S dbeta, ddbeta;     // rod angle transfer functions
+struct SliderCrankVelocity {
+  S dx;          // slider d/dpsi (eqs 1-2)
+  S dxs, dys;    // rod-centre d/dpsi (eqs 3-4)
+  S dbeta;       // rod angle d/dpsi
+};
+
+// Transfer functions up to second order at one crank angle.
+template <class S>
+struct SliderCrankPoint : SliderCrankVelocity<S> {
+  S x;             // slider position
+  S ddx;           // eqs 5-6
+  S ddxs, ddys;    // eqs 7-8
+  S ddbeta;
 };
 
 // True when the rod reaches the slider axis at every crank angle.
@@ -42,42 +50,73 @@ bool assembles_over_cycle(const SliderCrank<S>& m) {
   return m.r > 0.0 && m.r + abs(m.e) < m.l;
 }
 
-// Evaluates the transfer functions at crank angle psi given c = cos psi and
-// s = sin psi (passed in so a uniform grid can rotate them without trig calls).
-// The caller guarantees assembly (assembles_over_cycle).
+namespace detail {
+// Rod extent at one angle: vertical h and its derivatives, horizontal D, the
+// inverse extent k used in derivatives (1/D exact, 1/l binomial) and
+// g = -dD/dpsi.
+template <class S>
+struct Extent {
+  S h, dh, ddh, D, k, g;
+};
+
+template <class S>
+Extent<S> extent(const SliderCrank<S>& m, const S& c, const S& s) {
+  using std::sqrt;
+  Extent<S> x;
+  x.h = m.r * s + m.e;
+  x.dh = m.r * c;
+  x.ddh = -m.r * s;
+  if (m.kinematics == Kinematics::exact) {
+    x.D = sqrt(m.l * m.l - x.h * x.h);
+    x.k = 1.0 / x.D;
+  } else {  // binomial: sqrt(l^2 - h^2) ~ l - h^2/(2l), seed 001 eqs (36)-(39)
+    x.k = 1.0 / m.l;
+    x.D = m.l - 0.5 * x.h * x.h * x.k;
+  }
+  x.g = x.h * x.dh * x.k;
+  return x;
+}
+
+template <class S>
+void first_order(const SliderCrank<S>& m, const Extent<S>& x, const S& s,
+                 SliderCrankVelocity<S>& v) {
+  const double sg = m.sigma;
+  v.dx = -m.r * s - sg * x.g;
+  v.dxs = 0.5 * (-m.r * s + v.dx);  // rod centre: midpoint of pin and slider
+  v.dys = 0.5 * x.dh;
+  v.dbeta = -sg * x.dh * x.k;
+}
+}  // namespace detail
+
+// Velocity-level transfer functions at crank angle psi given c = cos psi and
+// s = sin psi (passed in so a uniform grid can rotate them without trig
+// calls). The caller guarantees assembly (assembles_over_cycle).
+template <class S>
+SliderCrankVelocity<S> slider_crank_velocity(const SliderCrank<S>& m, const S& c, const S& s) {
+  SliderCrankVelocity<S> v;
+  detail::first_order(m, detail::extent(m, c, s), s, v);
+  return v;
+}
+
+// All transfer functions up to second order (see slider_crank_velocity).
 template <class S>
 SliderCrankPoint<S> slider_crank_point(const SliderCrank<S>& m, const S& c, const S& s) {
-  using std::sqrt;
   const double sg = m.sigma;
-  const S h = m.r * s + m.e;  // vertical extent of the rod
-  const S dh = m.r * c;
-  const S ddh = -m.r * s;
+  const auto x = detail::extent(m, c, s);
   SliderCrankPoint<S> p;
+  detail::first_order(m, x, s, p);
+  // dg/dpsi; the exact extent adds g^2/D from the derivative of 1/D.
+  S dg = (x.dh * x.dh + x.h * x.ddh) * x.k;
+  S ddbeta_inner = x.ddh;
   if (m.kinematics == Kinematics::exact) {
-    const S D = sqrt(m.l * m.l - h * h);  // horizontal extent of the rod
-    const S invD = 1.0 / D;
-    const S g = h * dh * invD;                                    // d(D)/dpsi = -g
-    const S dg = (dh * dh + h * ddh) * invD + g * g * invD;       // dg/dpsi
-    p.x = m.r * c + sg * D;
-    p.dx = -m.r * s - sg * g;
-    p.ddx = -m.r * c - sg * dg;
-    p.dbeta = -sg * dh * invD;
-    p.ddbeta = -sg * (ddh + dh * g * invD) * invD;
-  } else {  // binomial: sqrt(l^2 - h^2) ~ l - h^2/(2l), seed 001 eqs (36)-(39)
-    const S invl = 1.0 / m.l;
-    const S g = h * dh * invl;
-    const S dg = (dh * dh + h * ddh) * invl;
-    p.x = m.r * c + sg * (m.l - 0.5 * h * h * invl);
-    p.dx = -m.r * s - sg * g;
-    p.ddx = -m.r * c - sg * dg;
-    p.dbeta = -sg * dh * invl;
-    p.ddbeta = -sg * ddh * invl;
+    dg += x.g * x.g * x.k;
+    ddbeta_inner += x.dh * x.g * x.k;
   }
-  // Rod centre: midpoint of pin (r c, r s) and slider (x, -e).
-  p.dxs = 0.5 * (-m.r * s + p.dx);
+  p.x = m.r * c + sg * x.D;
+  p.ddx = -m.r * c - sg * dg;
   p.ddxs = 0.5 * (-m.r * c + p.ddx);
-  p.dys = 0.5 * dh;
-  p.ddys = 0.5 * ddh;
+  p.ddys = 0.5 * x.ddh;
+  p.ddbeta = -sg * ddbeta_inner * x.k;
   return p;
 }
 

@@ -72,6 +72,19 @@ struct DrivePoint {
   S total_moment() const { return inertia_moment + static_moment; }  // eq. (21)
 };
 
+// Sum of mass * (velocity / w)^2 over both carts (eq. 9) and rods (eq. 10,
+// plus the rods' rotation for RodModel::full): T = w^2/2 times this.
+template <class S>
+S mass_velocity_squared(const TwinDrive<S>& d, const SliderCrankVelocity<S>& p1,
+                        const SliderCrankVelocity<S>& p2) {
+  const S rod_mass = d.rod_mass_per_length * d.rod_length;
+  S mv2 = d.cart_mass * (p1.dx * p1.dx + p2.dx * p2.dx) +
+          rod_mass * (p1.dxs * p1.dxs + p1.dys * p1.dys + p2.dxs * p2.dxs + p2.dys * p2.dys);
+  if (d.rod == RodModel::full)
+    mv2 += rod_mass * d.rod_length * d.rod_length / 12.0 * (p1.dbeta * p1.dbeta + p2.dbeta * p2.dbeta);
+  return mv2;
+}
+
 // Energy and moments at crank angle phi given c = cos(phi), s = sin(phi) and
 // the cos/sin of the phase shift (cd, sd). check(d) must be ok.
 template <class S, class A>
@@ -82,19 +95,14 @@ DrivePoint<S> drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S
   const auto p2 = slider_crank_point(d.mechanism(1), S(c * cd - s * sd), S(s * cd + c * sd));
   const S w2 = d.crank_speed * d.crank_speed;
   const S rod_mass = d.rod_mass_per_length * d.rod_length;
-  // Sum over both mechanisms of sum(mass * v^2) per unit w^2 and of its half derivative.
-  S mv2 = d.cart_mass * (p1.dx * p1.dx + p2.dx * p2.dx) +
-          rod_mass * (p1.dxs * p1.dxs + p1.dys * p1.dys + p2.dxs * p2.dxs + p2.dys * p2.dys);
+  // Half the angle derivative of mass_velocity_squared.
   S mva = d.cart_mass * (p1.dx * p1.ddx + p2.dx * p2.ddx) +
           rod_mass * (p1.dxs * p1.ddxs + p1.dys * p1.ddys + p2.dxs * p2.ddxs + p2.dys * p2.ddys);
-  if (d.rod == RodModel::full) {
-    const S J = rod_mass * d.rod_length * d.rod_length / 12.0;
-    mv2 += J * (p1.dbeta * p1.dbeta + p2.dbeta * p2.dbeta);
-    mva += J * (p1.dbeta * p1.ddbeta + p2.dbeta * p2.ddbeta);
-  }
+  if (d.rod == RodModel::full)
+    mva += rod_mass * d.rod_length * d.rod_length / 12.0 * (p1.dbeta * p1.ddbeta + p2.dbeta * p2.ddbeta);
   const S force = d.cart_resistance / d.efficiency;
   DrivePoint<S> out;
-  out.kinetic_energy = 0.5 * w2 * mv2;
+  out.kinetic_energy = 0.5 * w2 * mass_velocity_squared<S>(d, p1, p2);
   out.inertia_moment = w2 * mva;
   out.static_moment = d.resistance == Resistance::signed_velocity
                           ? S(force * (p1.dx + p2.dx))
@@ -122,11 +130,13 @@ S mean_kinetic_energy(const TwinDrive<S>& d, int n) {
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
+  const auto m1 = d.mechanism(0), m2 = d.mechanism(1);
   S sum(0.0);
   for_each_grid_angle(n, [&](int, double c, double s) {
-    sum += drive_point(d, c, s, cd, sd).kinetic_energy;
+    sum += mass_velocity_squared(d, slider_crank_velocity(m1, S(c), S(s)),
+                                 slider_crank_velocity(m2, S(c * cd - s * sd), S(s * cd + c * sd)));
   });
-  return sum / double(n);
+  return 0.5 * d.crank_speed * d.crank_speed * sum / double(n);
 }
 
 // Which cycle quantities to compute: the means are cheap, each refined maximum
@@ -179,7 +189,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   const TwinDrive<Dual> dv = d.template cast<Dual>();
   if (needs.peak_energy) {
     auto dT = [&](double phi) {
-      return drive_point(dv, seed(phi, 0)).kinetic_energy.derivatives()[0];
+      return drive_point(dv, seed(phi)).kinetic_energy.derivatives()[0];
     };
     m.phi_peak_energy = refine_max(dT, kT * h, h);
     m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
@@ -190,7 +200,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     m.mean_total_moment = sumM / double(n);
     m.rms_total_moment = sqrt(sumM2 / double(n));
     auto dabsM = [&](double phi) {
-      const Dual M = drive_point(dv, seed(phi, 0)).total_moment();
+      const Dual M = drive_point(dv, seed(phi)).total_moment();
       return (M.value() >= 0 ? 1.0 : -1.0) * M.derivatives()[0];
     };
     m.phi_peak_moment = refine_max(dabsM, kM * h, h);

@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Runs the Google Benchmark cases and the Python peer in the same run, and
+writes build/bench-results.json: one row per case with mechopt and peer
+medians, their ratio (peer_seconds / mechopt_seconds) and each one's relative
+error against the high-precision reference (tools/reference_seed000.json).
+Usage: /usr/bin/python3 bench/run_bench.py [--build build] [--repetitions 5]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+def google_benchmark(binary, repetitions):
+    out = subprocess.run([binary, "--benchmark_format=json",
+                          f"--benchmark_repetitions={repetitions}",
+                          "--benchmark_min_time=0.1"],
+                         check=True, capture_output=True, text=True).stdout
+    rows = {}
+    for b in json.loads(out)["benchmarks"]:
+        if b.get("aggregate_name") == "median":
+            unit = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
+            rows[b["run_name"]] = {"seconds": b["real_time"] * unit, "value": b.get("value"),
+                                   "gradient": b.get("gradient"),
+                                   "evaluations": b.get("evaluations")}
+    return rows
+
+
+def rel(a, b):
+    return abs(a - b) / abs(b)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--repetitions", type=int, default=5)
+    args = ap.parse_args()
+    ref = json.load(open(os.path.join(ROOT, "tools", "reference_seed000.json")))
+    t08 = next(r for r in ref["table1"] if r["rod_length"] == 0.8)
+    tcp, tmax = float(t08["mean_kinetic_energy"]), float(t08["peak_kinetic_energy"])
+    grad = float(ref["mean_kinetic_energy_gradient_l08"])
+    lstar = float(ref["rod_length_optimum"])
+
+    print("running Google Benchmark cases ...", file=sys.stderr)
+    m = google_benchmark(os.path.join(args.build, "bin", "bench_recuperative"), args.repetitions)
+    print("running the Python peer ...", file=sys.stderr)
+    peer = json.loads(subprocess.run([sys.executable, os.path.join(HERE, "peer_recuperative.py")],
+                                     check=True, capture_output=True, text=True).stdout)
+
+    # case, mechopt benchmark, peer case, reference, what the peer does
+    cases = [
+        ("cycle_mean", "BM_MeanKineticEnergy/32", "cycle_mean", tcp,
+         "numpy trapezoid, 32 points"),
+        ("cycle_mean_16_points", "BM_MeanKineticEnergy/16", "cycle_mean_16", tcp,
+         "numpy trapezoid, 16 points"),
+        ("cycle_mean_vs_quad", "BM_MeanKineticEnergy/32", "cycle_mean_quad", tcp,
+         "scipy.integrate.quad, epsrel 1e-12"),
+        ("cycle_mean_gradient", "BM_MeanKineticEnergyGradient/32", "cycle_mean_gradient", grad,
+         "central differences of the numpy mean"),
+        ("cycle_peak", "BM_CycleMetrics", "cycle_peak", tmax,
+         "numpy grid + scipy minimize_scalar"),
+        ("rod_length_optimum", "BM_RodLengthOptimum/LD_SLSQP", "rod_length_optimum", lstar,
+         "scipy minimize_scalar (bounded), xatol 1e-12"),
+        ("rod_length_optimum_lbfgs", "BM_RodLengthOptimum/LD_LBFGS", "rod_length_optimum", lstar,
+         "scipy minimize_scalar (bounded), xatol 1e-12"),
+    ]
+    rows = []
+    for case, bm, pc, reference, peer_method in cases:
+        a, p = m[bm], peer[pc]
+        value = a["gradient"] if case == "cycle_mean_gradient" else a["value"]
+        rows.append({"case": case, "mechopt_benchmark": bm, "peer_method": peer_method,
+                     "mechopt_seconds": a["seconds"], "peer_seconds": p["seconds"],
+                     "ratio": p["seconds"] / a["seconds"],
+                     "mechopt_error": rel(value, reference),
+                     "peer_error": rel(p["value"], reference)})
+    for name, a in m.items():
+        if name.startswith("BM_RodLengthOptimum/"):
+            rows.append({"case": "optimizer_" + name.split("/")[1], "mechopt_benchmark": name,
+                         "mechopt_seconds": a["seconds"], "evaluations": a["evaluations"],
+                         "mechopt_error": rel(a["value"], lstar)})
+    out = os.path.join(args.build, "bench-results.json")
+    json.dump(rows, open(out, "w"), indent=1)
+    print(f"{'case':28s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
+    for r in rows:
+        fmt = lambda v: "-" if v is None else f"{v:.1e}"
+        peer_s = f"{r['peer_seconds'] * 1e6:9.2f}us" if "peer_seconds" in r else f"{'-':>11s}"
+        ratio = f"{r['ratio']:7.1f}" if "ratio" in r else f"{'-':>7s}"
+        print(f"{r['case']:28s} {r['mechopt_seconds'] * 1e6:9.3f}us {peer_s} {ratio} "
+              f"{fmt(r['mechopt_error']):>9s} {fmt(r.get('peer_error')):>9s}")
+    print(f"written: {out}")
+
+
+if __name__ == "__main__":
+    main()
