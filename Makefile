@@ -1,6 +1,6 @@
 # Thin wrapper: deps -> configure -> build -> run / test / bench.
 BUILD  ?= build
-CONFIG ?= configs/recuperative_drive/rod_length.yaml
+CONFIG ?= configs/recuperative_drive/table1_sweep.yaml
 OUT    ?= results
 JOBS   ?= $(shell nproc)
 DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \

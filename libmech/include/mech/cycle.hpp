@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <utility>
+#include <vector>
 
 namespace mech {
 
@@ -77,6 +78,46 @@ double refine_max(DF&& df, double phi_k, double h) {
   const double gb = gk > 0 ? df(b) : gk;
   if (!(ga > 0 && gb < 0)) return phi_k;
   return brent_root(df, a, b, ga, gb);
+}
+
+// Nodes and weights of the m-point Gauss-Legendre rule on [-1, 1] (Newton on
+// the Legendre recurrence; nodes to ~1e-16).
+inline std::vector<std::pair<double, double>> gauss_legendre(int m) {
+  std::vector<std::pair<double, double>> nw(m);
+  for (int i = 0; i < m; ++i) {
+    double x = std::cos(std::numbers::pi * (i + 0.75) / (m + 0.5)), dp = 1;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1, p1 = x;
+      for (int k = 2; k <= m; ++k) {
+        const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      dp = m * (x * p1 - p0) / (x * x - 1);
+      const double dx = p1 / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    nw[i] = {x, 2 / ((1 - x * x) * dp * dp)};
+  }
+  return nw;
+}
+
+// Sign changes of a periodic g sampled on an n-point grid, refined by Brent:
+// the angles in [0, 2 pi) where g crosses zero.
+template <class G>
+std::vector<double> periodic_roots(G&& g, int n) {
+  std::vector<double> roots;
+  const double h = kTwoPi / n;
+  double g0 = g(0.0), ga = g0;
+  for (int k = 1; k <= n; ++k) {
+    const double a = (k - 1) * h, b = k * h;
+    const double gb = k == n ? g0 : g(b);
+    if (ga == 0.0) roots.push_back(a);
+    else if ((ga < 0) != (gb < 0) && gb != 0.0) roots.push_back(brent_root(g, a, b, ga, gb));
+    ga = gb;
+  }
+  return roots;
 }
 
 }  // namespace mech

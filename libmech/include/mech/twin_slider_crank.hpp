@@ -4,8 +4,10 @@
 // ratios k1..k3 (15), static resistance moment (16-17), inertia moment
 // (18-20) and total moment (21). All quantities at constant crank speed w.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "mech/autodiff.hpp"
 #include "mech/cycle.hpp"
@@ -155,6 +157,50 @@ struct CycleMetrics {
   double phi_peak_energy = 0, phi_peak_moment = 0;  // maximising angles [rad]
 };
 
+// Crank angles phi in [0, 2 pi) of the dead centres of both sliders (where
+// a cart stops and its resistance flips). check(d) must be ok.
+template <class S>
+std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
+  const TwinDrive<double> dv = d.template cast<double>();
+  std::vector<double> out;
+  for (int i = 0; i < 2; ++i) {
+    const auto m = dv.mechanism(i);
+    const double shift = i == 0 ? 0.0 : dv.phase_shift;
+    auto dx = [&](double phi) {
+      return slider_crank_velocity(m, std::cos(phi + shift), std::sin(phi + shift)).dx;
+    };
+    for (double r : periodic_roots(dx, n)) out.push_back(r);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Cycle means of M and M^2, eq. (21), by Gauss-Legendre on each arc between
+// dead centres, where M is smooth: exponential convergence again. The arc ends
+// are held fixed under differentiation; that is exact, since M is continuous
+// there and the Leibniz boundary terms of adjacent arcs cancel.
+template <class S>
+std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n) {
+  using std::cos;
+  using std::sin;
+  const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
+  std::vector<double> ends = dead_centres(d, n);
+  if (ends.empty()) ends.push_back(0.0);
+  const auto rule = gauss_legendre(std::max(12, n / 2));  // 12 nodes: ~1e-14 here
+  S sum(0.0), sum2(0.0);
+  for (size_t j = 0; j < ends.size(); ++j) {
+    const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + kTwoPi;
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    for (const auto& [x, w] : rule) {
+      const double phi = mid + half * x;
+      const S M = drive_point(d, std::cos(phi), std::sin(phi), cd, sd).total_moment();
+      sum += w * half * M;
+      sum2 += w * half * M * M;
+    }
+  }
+  return {sum / kTwoPi, sum2 / kTwoPi};
+}
+
 // All cycle quantities with n grid points. A maximum over the cycle is
 // nonsmooth in the design; its derivative is taken at the maximising angle
 // (Danskin's theorem), which is exact wherever the maximiser is unique.
@@ -197,6 +243,13 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     m.k3 = m.peak_kinetic_energy / m.least_mean_kinetic_energy;
   }
   if (needs.moments) {
+    if (d.resistance == Resistance::opposes_motion) {
+      // |dx/dphi| has kinks at the dead centres, where the trapezoidal rule
+      // drops to O(h^2): integrate piecewise between them instead.
+      const auto [mean, mean2] = piecewise_moment_means(d, n);
+      sumM = mean * double(n);
+      sumM2 = mean2 * double(n);
+    }
     m.mean_total_moment = sumM / double(n);
     m.rms_total_moment = sqrt(sumM2 / double(n));
     auto dabsM = [&](double phi) {
