@@ -3,6 +3,7 @@ BUILD  ?= build
 CONFIG ?= configs/recuperative_drive/table1_sweep.yaml
 OUT    ?= results
 JOBS   ?= $(shell nproc)
+MAKEFLAGS += --no-print-directory
 DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \
   libsundials-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libcli11-dev \
   nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath

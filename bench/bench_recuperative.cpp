@@ -64,7 +64,7 @@ BENCHMARK(BM_CycleMetrics);
 // from the problem layer through the driver, as `mechopt run` does it.
 void BM_RodLengthOptimum(benchmark::State& state, const char* algorithm) {
   const auto p = problems::make_recuperative_drive(opt::ConfigNode::parse(
-      "problem: recuperative_drive\nmodel: {cycle_points: 32}\n"
+      "problem: recuperative_drive\n"
       "variables: {rod_length: {min: 0.5 m, max: 1.5 m}}\n", "<bench>"));
   opt::DriverOptions o;
   o.algorithm = algorithm;

@@ -77,7 +77,12 @@ def main():
                      "ratio": p["seconds"] / a["seconds"],
                      "mechopt_error": rel(value, reference),
                      "peer_error": rel(p["value"], reference)})
+    # Work-precision rows: quadrature points against error, and each optimiser.
     for name, a in m.items():
+        if name.startswith("BM_MeanKineticEnergy/"):
+            rows.append({"case": "cycle_mean_points_" + name.split("/")[1],
+                         "mechopt_benchmark": name, "mechopt_seconds": a["seconds"],
+                         "mechopt_error": rel(a["value"], tcp)})
         if name.startswith("BM_RodLengthOptimum/"):
             rows.append({"case": "optimizer_" + name.split("/")[1], "mechopt_benchmark": name,
                          "mechopt_seconds": a["seconds"], "evaluations": a["evaluations"],

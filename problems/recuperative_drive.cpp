@@ -82,7 +82,8 @@ class RecuperativeDrive : public opt::Problem {
              {{"kinematics", d.kinematics == mech::Kinematics::exact ? "exact" : "binomial"},
               {"rod", d.rod == mech::RodModel::full ? "full" : "point_masses"}}},
             {"numerics",
-             {{"cycle_points", model_.cycle_points},
+             {{"cycle_points", model_.cycle_points ? nlohmann::json(model_.cycle_points)
+                                                   : nlohmann::json("auto: 45/acosh(l/(r+|e|)), >= 16")},
               {"maximum", "grid bracket + Brent root of the angle derivative (autodiff)"},
               {"max_gradient", "Danskin: gradient at the maximising angle"}}},
             {"units", "SI (m, rad, rad/s, kg, N, J, N m)"}};
@@ -128,15 +129,16 @@ class RecuperativeDrive : public opt::Problem {
       put("least_mean_kinetic_energy", mech::least_mean_kinetic_energy(d));
       return e;
     }
+    const int n = model_.cycle_points ? model_.cycle_points : mech::auto_cycle_points(d);
     if (!needs.peak_energy && !needs.moments) {  // the fast path: the cycle mean alone
-      const S mean = mech::mean_kinetic_energy(d, model_.cycle_points);
+      const S mean = mech::mean_kinetic_energy(d, n);
       const S least = mech::least_mean_kinetic_energy(d);
       put("mean_kinetic_energy", mean);
       put("least_mean_kinetic_energy", least);
       put("k2", mean / least);
       return e;
     }
-    const auto m = mech::cycle_metrics(d, model_.cycle_points, needs);
+    const auto m = mech::cycle_metrics(d, n, needs);
     put("mean_kinetic_energy", m.mean_kinetic_energy);
     put("least_mean_kinetic_energy", m.least_mean_kinetic_energy);
     put("k2", m.k2);
@@ -207,7 +209,8 @@ RecuperativeDriveModel parse_recuperative_drive_model(const opt::ConfigNode& roo
       d.rod = f.at("rod").choice({"point_masses", "full"}) == "full" ? mech::RodModel::full
                                                                       : mech::RodModel::point_masses;
   }
-  if (n.has("cycle_points")) m.cycle_points = n.at("cycle_points").integer(4, 100000);
+  if (n.has("cycle_points") && n.at("cycle_points").text() != "auto")
+    m.cycle_points = n.at("cycle_points").integer(4, 100000);
   return m;
 }
 

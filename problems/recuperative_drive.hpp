@@ -13,7 +13,7 @@ namespace problems {
 
 struct RecuperativeDriveModel {
   mech::TwinDrive<double> drive;
-  int cycle_points = 32;  // periodic trapezoidal rule points per revolution
+  int cycle_points = 0;  // points per revolution; 0: auto_cycle_points (~1e-13)
 };
 
 // Reads the `model` section (every key optional, defaults are seed 000's data

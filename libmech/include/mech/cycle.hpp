@@ -80,6 +80,23 @@ double refine_max(DF&& df, double phi_k, double h) {
   return brent_root(df, a, b, ga, gb);
 }
 
+// Angle of the global maximum of a periodic f sampled as v[k] = f(2 pi k / n),
+// given its derivative df: every grid local maximum is refined (two nearly
+// equal peaks can swap order between grid and truth) and the largest kept.
+template <class F, class DF>
+double global_max_angle(const std::vector<double>& v, F&& f, DF&& df) {
+  const int n = static_cast<int>(v.size());
+  const double h = kTwoPi / n;
+  double best_phi = 0, best = -HUGE_VAL;
+  for (int k = 0; k < n; ++k) {
+    const double prev = v[(k + n - 1) % n], next = v[(k + 1) % n];
+    if (v[k] < prev || v[k] < next) continue;
+    const double phi = refine_max(df, k * h, h);
+    if (const double fv = f(phi); fv > best) best = fv, best_phi = phi;
+  }
+  return best_phi;
+}
+
 // Nodes and weights of the m-point Gauss-Legendre rule on [-1, 1] (Newton on
 // the Legendre recurrence; nodes to ~1e-16).
 inline std::vector<std::pair<double, double>> gauss_legendre(int m) {
