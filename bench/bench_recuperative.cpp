@@ -27,7 +27,7 @@ void BM_MeanKineticEnergy(benchmark::State& state) {
   }
   state.counters["value"] = v;
 }
-BENCHMARK(BM_MeanKineticEnergy)->Arg(8)->Arg(12)->Arg(16)->Arg(24)->Arg(32);
+BENCHMARK(BM_MeanKineticEnergy)->Arg(8)->Arg(12)->Arg(16)->Arg(24)->Arg(28)->Arg(32);
 
 void BM_MeanKineticEnergyGradient(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
@@ -45,7 +45,7 @@ void BM_MeanKineticEnergyGradient(benchmark::State& state) {
   state.counters["value"] = v;
   state.counters["gradient"] = g;  // d T_cp / d rod_length
 }
-BENCHMARK(BM_MeanKineticEnergyGradient)->Arg(24)->Arg(32);
+BENCHMARK(BM_MeanKineticEnergyGradient)->Arg(24)->Arg(28)->Arg(32);
 
 void BM_CycleMetrics(benchmark::State& state) {
   double v = 0;
@@ -59,6 +59,24 @@ void BM_CycleMetrics(benchmark::State& state) {
   state.counters["value"] = v;
 }
 BENCHMARK(BM_CycleMetrics);
+
+// One objective evaluation with its gradient through the Problem interface
+// (what a driver pays per evaluation: the model plus the interface's cost).
+void BM_ProblemEvaluate(benchmark::State& state) {
+  const auto p = problems::make_recuperative_drive(opt::ConfigNode::parse(
+      "problem: recuperative_drive\nmodel: {cycle_points: 28}\n"
+      "variables: {rod_length: {min: 0.5 m, max: 1.5 m}}\n", "<bench>"));
+  const Eigen::VectorXd x = Eigen::VectorXd::Constant(1, 0.6);
+  const std::vector<std::string> wanted = {"mean_kinetic_energy", "crank_rod_ratio"};
+  double v = 0;
+  for (auto _ : state) {
+    const auto e = p->evaluate(x, wanted, true);
+    v = e.at("mean_kinetic_energy");
+    benchmark::DoNotOptimize(v);
+  }
+  state.counters["value"] = v;
+}
+BENCHMARK(BM_ProblemEvaluate);
 
 // The continuous optimum of Table 1's rod length (least mean kinetic energy),
 // from the problem layer through the driver, as `mechopt run` does it.

@@ -3,6 +3,7 @@
 // periodic integrands); maxima are bracketed on the grid and refined to machine
 // precision by Brent's root finder on the angle derivative.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -81,16 +82,25 @@ double refine_max(DF&& df, double phi_k, double h) {
 }
 
 // Angle of the global maximum of a periodic f sampled as v[k] = f(2 pi k / n),
-// given its derivative df: every grid local maximum is refined (two nearly
-// equal peaks can swap order between grid and truth) and the largest kept.
+// given its derivative df. Two nearly equal peaks can swap order between the
+// grid and the truth, so every grid local maximum that could be the highest is
+// refined and the largest kept. A peak lies at most h^2 |f''| / 8 above its
+// best grid value; |f''| h^2 is estimated by the largest second difference,
+// and peaks more than twice that bound below the grid maximum are skipped.
 template <class F, class DF>
 double global_max_angle(const std::vector<double>& v, F&& f, DF&& df) {
   const int n = static_cast<int>(v.size());
   const double h = kTwoPi / n;
+  double vmax = -HUGE_VAL, curvature = 0;
+  for (int k = 0; k < n; ++k) {
+    vmax = std::max(vmax, v[k]);
+    curvature = std::max(curvature, std::abs(v[(k + 1) % n] - 2 * v[k] + v[(k + n - 1) % n]));
+  }
+  const double margin = 0.25 * curvature;
   double best_phi = 0, best = -HUGE_VAL;
   for (int k = 0; k < n; ++k) {
     const double prev = v[(k + n - 1) % n], next = v[(k + 1) % n];
-    if (v[k] < prev || v[k] < next) continue;
+    if (v[k] < prev || v[k] < next || v[k] < vmax - margin) continue;
     const double phi = refine_max(df, k * h, h);
     if (const double fv = f(phi); fv > best) best = fv, best_phi = phi;
   }
