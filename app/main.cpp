@@ -85,7 +85,7 @@ int run(const Args& a) {
   }
   const auto problem = problems::make_problem(root);
   if (a.command == "eval") {
-    nlohmann::json j = opt::metrics_json(*problem, problem->initial_point());
+    nlohmann::json j = opt::metrics_json(*problem, problem->initial_point(false));
     j["problem"] = problem->name();
     j["settings"] = problem->settings();
     j["mechopt_version"] = MECHOPT_VERSION;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sys/wait.h>
 
@@ -71,6 +72,23 @@ TEST(CommandLine, UnreadableFileAndBadArgumentsExitWith2) {
   o = run("eval " + cfg + " --set crank_radius=0.2kg");
   EXPECT_EQ(o.exit_code, 2);
   EXPECT_NE(o.output.find("key 'model.crank_radius'"), std::string::npos) << o.output;
+}
+
+TEST(CommandLine, EvalPrintsEveryMetricAsJson) {
+  // --set takes a unit; T_cp at l = 0.6 m is the reference 2390.178022370431 J
+  // (tools/reference_seed000.json).
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/recuperative_drive/rod_length.yaml";
+  const Outcome o = run("eval " + cfg + " --set rod_length=600mm");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto j = nlohmann::json::parse(o.output);
+  EXPECT_EQ(j["status"], "ok");
+  EXPECT_NEAR(j["metrics"]["mean_kinetic_energy"].get<double>(), 2390.178022370431, 1e-9);
+  EXPECT_EQ(j["metrics"].size(), 10u);
+  EXPECT_EQ(j["settings"]["model"]["rod_length"], 0.6);
+  // An infeasible design is a status, not an error.
+  const auto k = nlohmann::json::parse(run("eval " + cfg + " --set rod_length=0.1m").output);
+  EXPECT_EQ(k["status"], "cannot_assemble");
+  EXPECT_FALSE(k["metrics"].contains("mean_kinetic_energy"));
 }
 
 TEST(CommandLine, VersionHelpList) {

@@ -41,6 +41,7 @@ TEST_P(Config, RunsAndWritesResults) {
     EXPECT_EQ(j["design_status"], "ok");
     EXPECT_GT(j["evaluations"].get<int>(), 0);
     for (const auto& [name, v] : j["metrics"].items()) EXPECT_TRUE(v.is_number()) << name;
+    EXPECT_TRUE(fs::exists(dir + "/history.csv"));
   }
   if (j["study"] == "sweep") {
     EXPECT_TRUE(fs::exists(dir + "/sweep.csv"));

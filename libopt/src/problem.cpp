@@ -4,10 +4,11 @@
 
 namespace opt {
 
-Eigen::VectorXd Problem::initial_point() const {
+Eigen::VectorXd Problem::initial_point(bool clamp) const {
   const auto& v = variables();
   Eigen::VectorXd x(v.size());
-  for (size_t i = 0; i < v.size(); ++i) x[i] = std::clamp(v[i].initial, v[i].lower, v[i].upper);
+  for (size_t i = 0; i < v.size(); ++i)
+    x[i] = clamp ? std::clamp(v[i].initial, v[i].lower, v[i].upper) : v[i].initial;
   return x;
 }
 

@@ -102,11 +102,25 @@ struct OptimizeOutcome {
   nlohmann::json json;
 };
 
+// Every evaluation the driver made: evaluation, status, variables, objective.
+void write_history(const Problem& p, const Result& r, const std::string& file) {
+  std::ofstream csv(file);
+  csv << "evaluation,status";
+  for (const auto& v : p.variables()) csv << "," << v.name;
+  csv << ",objective\n" << std::setprecision(17);
+  for (const auto& h : r.history) {
+    csv << h.evaluation << "," << h.status;
+    for (int i = 0; i < h.x.size(); ++i) csv << "," << h.x[i];
+    csv << "," << (std::isfinite(h.objective) ? fmt(h.objective, 17) : std::string()) << "\n";
+  }
+}
+
 OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out) {
   const auto driver = make_driver(s.driver);
   OptimizeOutcome o;
   o.result = driver->minimize(p, s.objective, s.constraints, p.initial_point());
   const Result& r = o.result;
+  write_history(p, r, s.output_directory + "/history.csv");
   nlohmann::json cons = nlohmann::json::array();
   for (size_t i = 0; i < s.constraints.size(); ++i) {
     const Constraint& k = s.constraints[i];
@@ -128,7 +142,8 @@ OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out) 
             {"constraints", cons},
             {"evaluations", r.evaluations},
             {"infeasible_evaluations", r.infeasible_evaluations},
-            {"wall_seconds", r.seconds}};
+            {"wall_seconds", r.seconds},
+            {"history", s.output_directory + "/history.csv"}};
   const nlohmann::json at = metrics_json(p, r.x);
   o.json["metrics"] = at["metrics"];
   o.json["design_status"] = at["status"];
@@ -334,7 +349,7 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
         csv << e.status;
         for (const auto& m : names)
           csv << "," << (e.metrics.count(m) ? fmt(e.at(m), 17) : std::string());
-        csv << "\n";
+        csv << std::endl;  // flushed row by row: an interrupted sweep keeps its rows
         for (size_t c = 0; c < s.columns.size(); ++c) {
           const double v = e.metrics.count(s.columns[c]) ? e.at(s.columns[c])
                                                          : std::numeric_limits<double>::quiet_NaN();
@@ -382,7 +397,8 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
   }
   std::ofstream(dir + "result.json") << j.dump(2) << "\n";
   out << "written: " << dir << "result.json" << (j.contains("sweep") ? ", sweep.csv" : "")
-      << (j.contains("chart") ? ", chart.svg" : "") << "\n";
+      << (j.contains("history") ? ", history.csv" : "") << (j.contains("chart") ? ", chart.svg" : "")
+      << "\n";
   return j;
 }
 

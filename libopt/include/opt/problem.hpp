@@ -67,7 +67,9 @@ class Problem {
   // Fidelity, numerical settings and fixed model values, for result files.
   virtual nlohmann::json settings() const = 0;
 
-  Eigen::VectorXd initial_point() const;
+  // The variables' initial values, clamped into their bounds for drivers;
+  // unclamped, the model's values as written (for `mechopt eval`).
+  Eigen::VectorXd initial_point(bool clamp = true) const;
   Eigen::VectorXd lower_bounds() const;
   Eigen::VectorXd upper_bounds() const;
   bool has_metric(const std::string& name) const;
