@@ -130,6 +130,30 @@ inline std::vector<std::pair<double, double>> gauss_legendre(int m) {
   return nw;
 }
 
+// Cycle means of a periodic f and of f^2 when f is smooth between the angles
+// `ends` (kinks of |.|, switches of a resistance): Gauss-Legendre with m nodes
+// on each arc, so the kinks cost no accuracy. f(phi) returns a scalar S (which
+// may carry design derivatives); the arc ends are held fixed under
+// differentiation, which is exact when f is continuous there (the Leibniz
+// boundary terms of adjacent arcs cancel).
+template <class S, class F>
+std::pair<S, S> piecewise_means(F&& f, std::vector<double> ends, int m) {
+  std::sort(ends.begin(), ends.end());
+  if (ends.empty()) ends.push_back(0.0);
+  const auto rule = gauss_legendre(m);
+  S sum(0.0), sum2(0.0);
+  for (size_t j = 0; j < ends.size(); ++j) {
+    const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + kTwoPi;
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    for (const auto& [x, w] : rule) {
+      const S v = f(mid + half * x);
+      sum += (w * half) * v;
+      sum2 += (w * half) * v * v;
+    }
+  }
+  return {sum / kTwoPi, sum2 / kTwoPi};
+}
+
 // Sign changes of a periodic g sampled on an n-point grid, refined by Brent:
 // the angles in [0, 2 pi) where g crosses zero.
 template <class G>

@@ -185,34 +185,20 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
     };
     for (double r : periodic_roots(dx, n)) out.push_back(r);
   }
-  std::sort(out.begin(), out.end());
   return out;
 }
 
 // Cycle means of M and M^2, eq. (21), by Gauss-Legendre on each arc between
-// dead centres, where M is smooth: exponential convergence again. The arc ends
-// are held fixed under differentiation; that is exact, since M is continuous
-// there and the Leibniz boundary terms of adjacent arcs cancel.
+// dead centres, where M is smooth: exponential convergence again.
 template <class S>
 std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n) {
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
-  std::vector<double> ends = dead_centres(d, n);
-  if (ends.empty()) ends.push_back(0.0);
-  const auto rule = gauss_legendre(std::max(12, n / 2));  // 12 nodes: ~1e-14 here
-  S sum(0.0), sum2(0.0);
-  for (size_t j = 0; j < ends.size(); ++j) {
-    const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + kTwoPi;
-    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-    for (const auto& [x, w] : rule) {
-      const double phi = mid + half * x;
-      const S M = drive_point(d, std::cos(phi), std::sin(phi), cd, sd).total_moment();
-      sum += w * half * M;
-      sum2 += w * half * M * M;
-    }
-  }
-  return {sum / kTwoPi, sum2 / kTwoPi};
+  auto M = [&](double phi) {
+    return drive_point(d, std::cos(phi), std::sin(phi), cd, sd).total_moment();
+  };
+  return piecewise_means<S>(M, dead_centres(d, n), std::max(12, n / 2));  // 12 nodes: ~1e-14
 }
 
 // All cycle quantities with n grid points. A maximum over the cycle is
