@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "opt/study.hpp"
+#include "problems/model_problem.hpp"
 
 namespace problems {
 namespace {
@@ -21,8 +22,7 @@ const std::vector<opt::VariableSpec> kVariables = {
     {"offset", Dimension::length},
 };
 
-// name, unit
-const std::vector<std::pair<std::string, std::string>> kMetrics = {
+const std::vector<MetricSpec> kMetrics = {
     {"peak_kinetic_energy", "J"},        // T_max, eqs (11), (15)
     {"mean_kinetic_energy", "J"},        // T_cp, eq. (12)
     {"least_mean_kinetic_energy", "J"},  // T_min, eq. (14)
@@ -35,36 +35,13 @@ const std::vector<std::pair<std::string, std::string>> kMetrics = {
     {"crank_rod_ratio", ""},             // (r + |e|) / l
 };
 
-class RecuperativeDrive : public opt::Problem {
+class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
  public:
   RecuperativeDrive(RecuperativeDriveModel model, std::vector<opt::Variable> vars)
-      : model_(std::move(model)), vars_(std::move(vars)) {}
+      : ModelProblem("recuperative_drive", kMetrics, std::move(vars)), model_(std::move(model)) {}
 
-  std::string name() const override { return "recuperative_drive"; }
-  const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override {
-    std::vector<std::string> out;
-    for (const auto& m : kMetrics) out.push_back(m.first);
-    return out;
-  }
-  std::string metric_unit(const std::string& metric) const override {
-    for (const auto& m : kMetrics)
-      if (m.first == metric) return m.second;
-    return "";
-  }
   std::vector<opt::Constraint> implicit_constraints() const override {
     return {{"crank_rod_ratio", true, kMaxCrankRodRatio}};
-  }
-
-  opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
-                           bool gradient) const override {
-    if (!gradient) return evaluate_as<double>(x, wanted);
-    switch (vars_.size()) {  // one derivative per variable
-      case 1: return evaluate_as<mech::DualN<1>>(x, wanted);
-      case 2: return evaluate_as<mech::DualN<2>>(x, wanted);
-      case 3: return evaluate_as<mech::DualN<3>>(x, wanted);
-      default: return evaluate_as<mech::DualN<4>>(x, wanted);
-    }
   }
 
   nlohmann::json settings() const override {
@@ -89,74 +66,58 @@ class RecuperativeDrive : public opt::Problem {
             {"units", "SI (m, rad, rad/s, kg, N, J, N m)"}};
   }
 
- private:
   template <class S>
-  opt::Evaluation evaluate_as(const Eigen::VectorXd& x, const std::vector<std::string>& wanted) const {
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     mech::TwinDrive<S> d = model_.drive.template cast<S>();
-    for (size_t i = 0; i < vars_.size(); ++i) {
-      S v;
-      if constexpr (mech::is_dual<S>) v = S(x[i], S::DerType::RowsAtCompileTime, static_cast<int>(i));
-      else v = x[i];
-      const std::string& n = vars_[i].name;
-      if (n == "rod_length") d.rod_length = v;
-      else if (n == "phase_shift") d.phase_shift = v;
-      else if (n == "crank_radius") d.crank_radius = v;
-      else d.offset = v;
+    for (size_t i = 0; i < x.size(); ++i) {
+      const std::string& n = variables()[i].name;
+      if (n == "rod_length") d.rod_length = x[i];
+      else if (n == "phase_shift") d.phase_shift = x[i];
+      else if (n == "crank_radius") d.crank_radius = x[i];
+      else d.offset = x[i];
     }
-    auto want = [&](const char* m) {
-      return wanted.empty() || std::find(wanted.begin(), wanted.end(), m) != wanted.end();
-    };
-    opt::Evaluation e;
-    auto put = [&](const char* name, const S& v) {
-      if (!want(name)) return;
-      opt::MetricValue mv;
-      mv.value = mech::value(v);
-      if constexpr (mech::is_dual<S>) mv.gradient = v.derivatives();
-      e.metrics[name] = mv;
-    };
     using std::abs;
-    put("crank_rod_ratio", (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
+    out.put("crank_rod_ratio", (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
     if (const mech::Status st = mech::check(d); st != mech::Status::ok) {
-      e.status = std::string(mech::to_string(st));
-      return e;
+      out.result.status = std::string(mech::to_string(st));
+      return;
     }
     mech::CycleNeeds needs;
-    needs.peak_energy = want("peak_kinetic_energy") || want("k1") || want("k3");
-    needs.moments = want("peak_total_moment") || want("mean_total_moment") || want("rms_total_moment");
-    const bool need_cycle = needs.peak_energy || needs.moments || want("mean_kinetic_energy") ||
-                            want("k2");
+    needs.peak_energy = out.want_any("peak_kinetic_energy", "k1", "k3");
+    needs.moments = out.want_any("peak_total_moment", "mean_total_moment", "rms_total_moment");
+    const bool need_cycle = needs.peak_energy || needs.moments ||
+                            out.want_any("mean_kinetic_energy", "k2");
     if (!need_cycle) {
-      put("least_mean_kinetic_energy", mech::least_mean_kinetic_energy(d));
-      return e;
+      out.put("least_mean_kinetic_energy", mech::least_mean_kinetic_energy(d));
+      return;
     }
     const int n = model_.cycle_points ? model_.cycle_points : mech::auto_cycle_points(d);
     if (!needs.peak_energy && !needs.moments) {  // the fast path: the cycle mean alone
       const S mean = mech::mean_kinetic_energy(d, n);
       const S least = mech::least_mean_kinetic_energy(d);
-      put("mean_kinetic_energy", mean);
-      put("least_mean_kinetic_energy", least);
-      put("k2", mean / least);
-      return e;
+      out.put("mean_kinetic_energy", mean);
+      out.put("least_mean_kinetic_energy", least);
+      out.put("k2", mean / least);
+      return;
     }
     const auto m = mech::cycle_metrics(d, n, needs);
-    put("mean_kinetic_energy", m.mean_kinetic_energy);
-    put("least_mean_kinetic_energy", m.least_mean_kinetic_energy);
-    put("k2", m.k2);
+    out.put("mean_kinetic_energy", m.mean_kinetic_energy);
+    out.put("least_mean_kinetic_energy", m.least_mean_kinetic_energy);
+    out.put("k2", m.k2);
     if (needs.peak_energy) {
-      put("peak_kinetic_energy", m.peak_kinetic_energy);
-      put("k1", m.k1);
-      put("k3", m.k3);
+      out.put("peak_kinetic_energy", m.peak_kinetic_energy);
+      out.put("k1", m.k1);
+      out.put("k3", m.k3);
     }
     if (needs.moments) {
-      put("peak_total_moment", m.peak_total_moment);
-      put("mean_total_moment", m.mean_total_moment);
-      put("rms_total_moment", m.rms_total_moment);
+      out.put("peak_total_moment", m.peak_total_moment);
+      out.put("mean_total_moment", m.mean_total_moment);
+      out.put("rms_total_moment", m.rms_total_moment);
     }
-    return e;
   }
 
+ private:
   RecuperativeDriveModel model_;
-  std::vector<opt::Variable> vars_;
 };
 
 }  // namespace
@@ -171,26 +132,17 @@ RecuperativeDriveModel parse_recuperative_drive_model(const opt::ConfigNode& roo
   n.allow_only({"crank_radius", "crank_speed", "cart_mass", "rod_mass_per_length", "efficiency",
                 "cart_resistance", "phase_shift", "rod_length", "offset", "layout", "fidelity",
                 "resistance", "cycle_points"});
-  // Reads key into field if present and checks its domain.
-  auto read = [&](const char* key, Dimension dim, double& field, double lo, bool lo_open,
-                  double hi, const char* domain) {
-    if (!n.has(key)) return;
-    const opt::ConfigNode k = n.at(key);
-    field = k.quantity(dim);
-    if ((lo_open ? !(field > lo) : !(field >= lo)) || !(field <= hi))
-      k.fail(std::string("expected a value in ") + domain + ", got '" + k.text() + "'");
-  };
-  const double inf = HUGE_VAL;
-  read("crank_radius", Dimension::length, d.crank_radius, 0, true, inf, "(0, inf) m");
-  read("rod_length", Dimension::length, d.rod_length, 0, true, inf, "(0, inf) m");
-  read("offset", Dimension::length, d.offset, -inf, false, inf, "(-inf, inf) m");
-  read("phase_shift", Dimension::angle, d.phase_shift, -inf, false, inf, "(-inf, inf) rad");
-  read("crank_speed", Dimension::angular_speed, d.crank_speed, 0, true, inf, "(0, inf) rad/s");
-  read("cart_mass", Dimension::mass, d.cart_mass, 0, false, inf, "[0, inf) kg");
-  read("rod_mass_per_length", Dimension::linear_density, d.rod_mass_per_length, 0, false, inf,
-       "[0, inf) kg/m");
-  read("efficiency", Dimension::dimensionless, d.efficiency, 0, true, 1, "(0, 1]");
-  read("cart_resistance", Dimension::force, d.cart_resistance, 0, false, inf, "[0, inf) N");
+  d.crank_radius = n.quantity_or("crank_radius", Dimension::length, d.crank_radius, opt::kPositive);
+  d.rod_length = n.quantity_or("rod_length", Dimension::length, d.rod_length, opt::kPositive);
+  d.offset = n.quantity_or("offset", Dimension::length, d.offset);
+  d.phase_shift = n.quantity_or("phase_shift", Dimension::angle, d.phase_shift);
+  d.crank_speed = n.quantity_or("crank_speed", Dimension::angular_speed, d.crank_speed, opt::kPositive);
+  d.cart_mass = n.quantity_or("cart_mass", Dimension::mass, d.cart_mass, opt::kNonNegative);
+  d.rod_mass_per_length = n.quantity_or("rod_mass_per_length", Dimension::linear_density,
+                                        d.rod_mass_per_length, opt::kNonNegative);
+  d.efficiency = n.quantity_or("efficiency", Dimension::dimensionless, d.efficiency, {0, 1, true, false});
+  d.cart_resistance = n.quantity_or("cart_resistance", Dimension::force, d.cart_resistance,
+                                    opt::kNonNegative);
   if (n.has("layout"))
     d.layout = n.at("layout").choice({"opposed", "same_side"}) == "opposed" ? mech::Layout::opposed
                                                                             : mech::Layout::same_side;

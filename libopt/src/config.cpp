@@ -29,6 +29,12 @@ std::string join(const std::vector<std::string>& v) {
   return out;
 }
 
+std::string fmt_number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
 std::string child_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
@@ -128,6 +134,20 @@ double ConfigNode::quantity(Dimension d) const {
          "': " + q.error);
   }
   return q.value;
+}
+
+double ConfigNode::quantity_or(const std::string& key, Dimension d, double fallback,
+                               const Domain& domain) const {
+  if (!has(key)) return fallback;
+  const ConfigNode k = at(key);
+  const double v = k.quantity(d);
+  if (!domain.contains(v)) {
+    auto end = [&](double x) { return std::isinf(x) ? std::string(x < 0 ? "-inf" : "inf") : fmt_number(x); };
+    k.fail("expected a value in " + std::string(domain.lo_open ? "(" : "[") + end(domain.lo) + ", " +
+           end(domain.hi) + (domain.hi_open ? ")" : "]") +
+           (si_unit(d).empty() ? "" : " " + si_unit(d)) + ", got '" + k.text() + "'");
+  }
+  return v;
 }
 
 int ConfigNode::integer(int min, int max) const {

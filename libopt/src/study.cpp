@@ -250,7 +250,9 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
       check_metric(c, p, name);
       c.allow_only({"max", "min"});
       for (const char* side : {"max", "min"})
-        if (c.has(side)) s.constraints.push_back({name, side[1] == 'a', c.at(side).number()});
+        if (c.has(side))
+          s.constraints.push_back(
+              {name, side[1] == 'a', c.at(side).quantity(dimension_of(p.metric_unit(name)))});
       if (!c.has("max") && !c.has("min")) c.fail("expected max: VALUE or min: VALUE");
     }
   }

@@ -53,6 +53,12 @@ std::string si_unit(Dimension d) {
   return "";
 }
 
+Dimension dimension_of(const std::string& unit) {
+  for (const auto& u : kUnits)
+    if (u.to_si == 1.0 && unit == u.name) return u.dim;
+  return Dimension::dimensionless;
+}
+
 ParsedQuantity parse_quantity(const std::string& text, Dimension d) {
   const char* begin = text.c_str();
   char* end = nullptr;

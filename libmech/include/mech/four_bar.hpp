@@ -208,9 +208,13 @@ S time_ratio(const DeadCentres<S>& dc) {
 // l1 = (|OB'| - |OB''|)/2, l2 = (|OB'| + |OB''|)/2, l3 = |O1B| (eq. 3).
 template <class S>
 struct Synthesis {
-  bool ok = false;  // false: no crank (|OB'| = |OB''|) or O inside the swing arc
+  bool ok = false;  // false: no crank (|OB'| = |OB''|) or B', B'' on two sides of O1O
   FourBar<S> linkage;
   S beta;           // angle between OB' and OB'' [rad]
+  // Least distance of B' and B'' from the line O1O on the branch side [m].
+  // Both dead centres of one assembly branch lie on the same side of that
+  // line (see dead_centres), so a crank-rocker through B' and B'' needs > 0.
+  S side_margin;
 };
 
 template <class S>
@@ -247,7 +251,11 @@ Synthesis<S> synthesize_crank_rocker(const S& gx, const S& gy, const S& along, c
   // Branch: B' (the extended position, the farther one) sits on this side of O1O.
   const S fx = d1 > d2 ? b1x : b2x, fy = d1 > d2 ? b1y : b2y;
   out.linkage.branch = (value(gx) * value(fy) - value(gy) * value(fx)) >= 0 ? 1 : -1;
-  out.ok = value(out.linkage.crank) > 1e-12 * value(far);
+  const S l4 = out.linkage.frame();
+  const S side1 = double(out.linkage.branch) * (gx * b1y - gy * b1x) / l4;
+  const S side2 = double(out.linkage.branch) * (gx * b2y - gy * b2x) / l4;
+  out.side_margin = side1 < side2 ? side1 : side2;
+  out.ok = value(out.linkage.crank) > 1e-12 * value(far) && value(out.side_margin) > 0;
   return out;
 }
 

@@ -3,6 +3,8 @@
 #pragma once
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
+
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,6 +17,18 @@ class ConfigError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// Where a quantity may lie (SI), with open or closed ends.
+struct Domain {
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  bool lo_open = false, hi_open = false;
+  bool contains(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+};
+inline const Domain kAnyValue{};
+inline const Domain kPositive{0, HUGE_VAL, true, false};
+inline const Domain kNonNegative{0, HUGE_VAL, false, false};
 
 // A node of a config, with the file and key path it came from.
 class ConfigNode {
@@ -47,6 +61,10 @@ class ConfigNode {
   std::string choice(const std::vector<std::string>& options) const;
   double quantity(Dimension d) const;                         // SI value
   double number() const { return quantity(Dimension::dimensionless); }
+  // The quantity under `key` if present, else `fallback`; outside `domain`
+  // is an error naming the domain.
+  double quantity_or(const std::string& key, Dimension d, double fallback,
+                     const Domain& domain = kAnyValue) const;
   int integer(int min, int max) const;
   bool boolean() const;
 

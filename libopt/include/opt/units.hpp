@@ -17,6 +17,10 @@ std::vector<std::string> units_of(Dimension d);
 // The SI unit written in result files, e.g. "m", "rad", "rad/s".
 std::string si_unit(Dimension d);
 
+// The dimension whose SI unit is `unit` ("rad" -> angle); dimensionless when
+// none is (e.g. "N m", "J": bounds on such metrics are plain SI numbers).
+Dimension dimension_of(const std::string& unit);
+
 struct ParsedQuantity {
   double value = 0;
   std::string error;  // empty when parsed

@@ -1,0 +1,179 @@
+// Swing mechanism of a radial-rotary conveyor (seed 002): a crank-rocker
+// four-bar whose rocker is the platform carrying the conveyor. The balancing
+// (reduced) moment on the crank at constant crank speed, eqs (6)-(11), by
+// power balance over the links, plus the thrust-bearing friction moment (7).
+//
+// The swing plane is horizontal (a thrust bearing carries the platform's
+// weight G, eq. 7), so gravity does no work and only inertia and friction
+// load the crank. The crank turns uniformly: its inertia costs no moment.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "mech/cycle.hpp"
+#include "mech/four_bar.hpp"
+
+namespace mech {
+
+template <class S>
+struct SwingMechanism {
+  FourBar<S> linkage;
+  S crank_speed;          // w1 [rad/s], > 0
+  S rod_mass_per_length;  // m_n of crank and coupler [kg/m], eq. (10)
+  S platform_mass;        // m3 [kg]
+  S platform_inertia;     // J_s3 about the platform's centre of mass [kg m^2], eq. (11)
+  S platform_cg_radius;   // |O1 S3| [m]
+  S friction_moment;      // M_c = f G D / 2 [N m], eq. (7), opposing the swing
+
+  // Moment of inertia of the platform about its pivot O1 (parallel axes).
+  S platform_pivot_inertia() const {
+    return platform_inertia + platform_mass * platform_cg_radius * platform_cg_radius;
+  }
+  template <class T>
+  SwingMechanism<T> cast() const {
+    return {linkage.template cast<T>(), T(value(crank_speed)), T(value(rod_mass_per_length)),
+            T(value(platform_mass)), T(value(platform_inertia)), T(value(platform_cg_radius)),
+            T(value(friction_moment))};
+  }
+};
+
+// Whether the crank turns fully: the typed reason if not.
+template <class S>
+Status check(const SwingMechanism<S>& m) {
+  const auto& k = m.linkage;
+  if (!(value(k.crank) > 0 && value(k.coupler) > 0 && value(k.rocker) > 0 &&
+        value(m.crank_speed) > 0 && value(m.platform_mass) >= 0 &&
+        value(m.rod_mass_per_length) >= 0 && value(m.friction_moment) >= 0))
+    return Status::invalid_parameter;
+  const double l1 = value(k.crank), l2 = value(k.coupler), l3 = value(k.rocker);
+  const double l4 = value(k.frame());
+  // |O1A| spans [|l4 - l1|, l4 + l1]; the loop closes for [|l2 - l3|, l2 + l3].
+  if (l4 + l1 < std::abs(l2 - l3) || std::abs(l4 - l1) > l2 + l3) return Status::cannot_assemble;
+  if (grashof(l1, l2, l3, l4) == GrashofClass::non_grashof) return Status::not_grashof;
+  if (!(value(rotation_margin(k)) > 0)) return Status::toggle_in_cycle;
+  return Status::ok;
+}
+
+// Kinetic energy of the moving links over w1^2 at crank angle phi, from
+// positions and first transfer functions only (the independent check of
+// the balancing moment: M_inertia = dT/dphi at constant crank speed).
+template <class S>
+S swing_energy_per_w2(const SwingMechanism<S>& m, const FourBarPoint<S>& p) {
+  using std::cos;
+  using std::sin;
+  const auto& k = m.linkage;
+  const S m1 = m.rod_mass_per_length * k.crank, m2 = m.rod_mass_per_length * k.coupler;
+  // Crank: rotation about O (eq. 10 inertia about its centre + m (l/2)^2).
+  const S crank = m1 * k.crank * k.crank / 3.0;
+  // Coupler centre: v = v_A + w2 (l2/2) e2_perp, per unit crank speed.
+  const S vx = -k.crank * sin(p.theta1) - p.w2 * 0.5 * k.coupler * sin(p.theta2);
+  const S vy = k.crank * cos(p.theta1) + p.w2 * 0.5 * k.coupler * cos(p.theta2);
+  const S coupler = m2 * (vx * vx + vy * vy) + m2 * k.coupler * k.coupler / 12.0 * p.w2 * p.w2;
+  return 0.5 * (crank + coupler + m.platform_pivot_inertia() * p.w3 * p.w3);
+}
+
+// Balancing moment on the crank and its parts at one crank angle.
+template <class S>
+struct SwingPoint {
+  S inertia;   // from inertia forces and moments, eqs (8)-(11), by power balance
+  S friction;  // thrust-bearing friction reduced to the crank: M_c |w3|
+  S moment() const { return inertia + friction; }  // eq. (6): positive resists the drive
+  FourBarPoint<S> kinematics;
+};
+
+// Power balance at constant crank speed: M w1 = sum(m a_s . v_s + J eps w)
+// + M_c |w_3|, with a = w1^2 a', v = w1 v' from the transfer functions.
+// check(m) must be ok.
+template <class S>
+SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& phi) {
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  SwingPoint<S> out;
+  auto& p = out.kinematics;
+  four_bar_point(m.linkage, phi, p);
+  const auto& k = m.linkage;
+  const S m2 = m.rod_mass_per_length * k.coupler, h = 0.5 * k.coupler;
+  const S c1 = cos(p.theta1), s1 = sin(p.theta1), c2 = cos(p.theta2), s2 = sin(p.theta2);
+  // Coupler centre velocity and acceleration per unit crank speed.
+  const S vx = -k.crank * s1 - p.w2 * h * s2, vy = k.crank * c1 + p.w2 * h * c2;
+  const S ax = -k.crank * c1 - p.alpha2 * h * s2 - p.w2 * p.w2 * h * c2;
+  const S ay = -k.crank * s1 + p.alpha2 * h * c2 - p.w2 * p.w2 * h * s2;
+  const S power = m2 * (ax * vx + ay * vy) + m2 * k.coupler * k.coupler / 12.0 * p.alpha2 * p.w2 +
+                  m.platform_pivot_inertia() * p.alpha3 * p.w3;
+  out.inertia = m.crank_speed * m.crank_speed * power;
+  out.friction = m.friction_moment * abs(p.w3);
+  return out;
+}
+
+template <class S>
+struct SwingMetrics {
+  S peak_moment;      // max over the cycle of |M| [N m]
+  S mean_abs_moment;  // cycle mean of |M| [N m]
+  S rms_moment;       // [N m]
+  S max_pressure_angle;  // [rad]
+  S swing_angle;      // rocker swing between the dead centres [rad]
+  S time_ratio;       // K, eq. (5)
+  double phi_peak_moment = 0, phi_max_pressure = 0;
+};
+
+// Cycle metrics with n grid points. Maxima over the cycle take their design
+// derivative at the maximising angle (Danskin); |M| and the friction term have
+// kinks (zeros of M, rocker reversals), so means integrate piecewise between
+// them. check(m) must be ok.
+template <class S>
+SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n) {
+  using std::abs;
+  using std::sqrt;
+  SwingMetrics<S> out;
+  const SwingMechanism<double> md = m.template cast<double>();
+  const SwingMechanism<Dual> mv = m.template cast<Dual>();
+  std::vector<double> gridM(n), gridP(n), w3(n), M(n);
+  for_each_grid_angle(n, [&](int k, double, double) {
+    const auto p = swing_point(md, kTwoPi * k / n);
+    M[k] = p.moment();
+    gridM[k] = std::abs(M[k]);
+    gridP[k] = pressure_angle(p.kinematics);
+    w3[k] = p.kinematics.w3;
+  });
+  // Kinks: rocker reversals (w3 = 0) and sign changes of M.
+  auto w3_at = [&](double phi) { return swing_point(md, phi).kinematics.w3; };
+  auto M_at = [&](double phi) { return swing_point(md, phi).moment(); };
+  std::vector<double> kinks = periodic_roots(w3_at, n);
+  const std::vector<double> reversals = kinks;
+  for (double r : periodic_roots(M_at, n)) kinks.push_back(r);
+  const int nodes = std::max(12, n / 2);
+  auto moment = [&](double phi) { return swing_point(m, S(phi)).moment(); };
+  auto abs_moment = [&](double phi) { return abs(swing_point(m, S(phi)).moment()); };
+  out.mean_abs_moment = piecewise_means<S>(abs_moment, kinks, nodes).first;
+  out.rms_moment = sqrt(piecewise_means<S>(moment, reversals, nodes).second);
+  // Maxima: derivative in phi by autodiff.
+  auto dabsM = [&](double phi) {
+    const Dual v = swing_point(mv, seed(phi)).moment();
+    return (v.value() >= 0 ? 1.0 : -1.0) * v.derivatives()[0];
+  };
+  auto absM = [&](double phi) { return std::abs(swing_point(md, phi).moment()); };
+  out.phi_peak_moment = global_max_angle(gridM, absM, dabsM);
+  out.peak_moment = abs(swing_point(m, S(out.phi_peak_moment)).moment());
+  auto dP = [&](double phi) {
+    FourBarPoint<Dual> p;
+    four_bar_point(mv.linkage, seed(phi), p);
+    return pressure_angle(p).derivatives()[0];
+  };
+  auto P = [&](double phi) {
+    FourBarPoint<double> p;
+    four_bar_point(md.linkage, phi, p);
+    return pressure_angle(p);
+  };
+  out.phi_max_pressure = global_max_angle(gridP, P, dP);
+  FourBarPoint<S> pp;
+  four_bar_point(m.linkage, S(out.phi_max_pressure), pp);
+  out.max_pressure_angle = pressure_angle(pp);
+  const auto dc = dead_centres(m.linkage);
+  out.swing_angle = abs(dc.theta3_folded - dc.theta3_extended);
+  out.time_ratio = time_ratio(dc);
+  return out;
+}
+
+}  // namespace mech
