@@ -66,8 +66,21 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
             {"units", "SI (m, rad, rad/s, kg, N, J, N m)"}};
   }
 
+  opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
+    const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
+    if (mech::check(d) != mech::Status::ok) return {};
+    opt::CycleCurves c{{"crank_angle", "kinetic_energy", "total_moment", "inertia_moment",
+                        "static_moment"}, {}};
+    for (int i = 0; i <= n; ++i) {
+      const double phi = mech::kTwoPi * i / n;
+      const auto p = mech::drive_point(d, phi);
+      c.add_row({phi, p.kinetic_energy, p.total_moment(), p.inertia_moment, p.static_moment});
+    }
+    return c;
+  }
+
   template <class S>
-  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
+  mech::TwinDrive<S> drive(const std::vector<S>& x) const {
     mech::TwinDrive<S> d = model_.drive.template cast<S>();
     for (size_t i = 0; i < x.size(); ++i) {
       const std::string& n = variables()[i].name;
@@ -76,6 +89,12 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
       else if (n == "crank_radius") d.crank_radius = x[i];
       else d.offset = x[i];
     }
+    return d;
+  }
+
+  template <class S>
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
+    const mech::TwinDrive<S> d = drive(x);
     using std::abs;
     out.put("crank_rod_ratio", (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
     if (const mech::Status st = mech::check(d); st != mech::Status::ok) {

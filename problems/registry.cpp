@@ -1,5 +1,6 @@
 #include "problems/registry.hpp"
 
+#include "problems/conveyor_swing.hpp"
 #include "problems/recuperative_drive.hpp"
 
 namespace problems {
@@ -10,6 +11,10 @@ const std::vector<Entry>& registry() {
        "twin slider-crank recuperative drive of a roller forming installation (seed 000)",
        recuperative_drive_variables(),
        [](const opt::ConfigNode& root) { return make_recuperative_drive(root); }},
+      {"conveyor_swing",
+       "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)",
+       conveyor_swing_variables(),
+       [](const opt::ConfigNode& root) { return make_conveyor_swing(root); }},
   };
   return entries;
 }

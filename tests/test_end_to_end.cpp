@@ -33,7 +33,7 @@ TEST_P(Config, RunsAndWritesResults) {
   std::ifstream in(dir + "/result.json");
   ASSERT_TRUE(in) << "no result.json";
   const auto j = nlohmann::json::parse(in);
-  EXPECT_EQ(j["problem"], "recuperative_drive");
+  EXPECT_EQ(j["problem"], GetParam().substr(0, GetParam().find('/')));
   EXPECT_FALSE(j["mechopt_version"].get<std::string>().empty());
   EXPECT_TRUE(j.contains("settings"));
   if (j.contains("status")) {
@@ -46,7 +46,8 @@ TEST_P(Config, RunsAndWritesResults) {
   if (j["study"] == "sweep") {
     EXPECT_TRUE(fs::exists(dir + "/sweep.csv"));
   }
-  if (j["variables"].size() == 1) {
+  for (const auto& f : j["charts"]) EXPECT_TRUE(fs::exists(f.get<std::string>())) << f;
+  if (j.contains("variables") && j["variables"].size() == 1) {
     EXPECT_TRUE(fs::exists(dir + "/chart.svg"));
   }
 }

@@ -163,41 +163,99 @@ OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out) 
   return o;
 }
 
-// A profile of the objective along the single variable, for the chart.
-Series profile(const Problem& p, const RunSpec& s, int n) {
-  Series line{"objective (continuous)", {}, {}, Series::Style::line};
+// Metrics along the single variable (n + 1 points), one line each.
+std::map<std::string, Series> profiles(const Problem& p, const std::vector<std::string>& metrics,
+                                       int n) {
+  std::map<std::string, Series> lines;
   const Variable& v = p.variables()[0];
   Eigen::VectorXd x = p.initial_point();
   for (int i = 0; i <= n; ++i) {
     x[0] = v.lower + (v.upper - v.lower) * i / n;
-    const Evaluation e = p.evaluate(x, {s.objective.metric}, false);
-    line.x.push_back(x[0]);
-    line.y.push_back(e.ok() ? e.at(s.objective.metric) : std::numeric_limits<double>::quiet_NaN());
+    const Evaluation e = p.evaluate(x, metrics, false);
+    for (const auto& m : metrics) {
+      Series& line = lines[m];
+      line.label = "continuous";
+      line.x.push_back(x[0]);
+      line.y.push_back(e.ok() && e.metrics.count(m) ? e.at(m) : std::numeric_limits<double>::quiet_NaN());
+    }
   }
-  return line;
+  return lines;
 }
 
-void write_chart(const Problem& p, const RunSpec& s, const std::vector<Eigen::VectorXd>& grid_x,
-                 const std::vector<double>& grid_f, const Result* best, const std::string& file) {
-  if (p.variables().size() != 1) return;  // 1-D charts only; 2-D sweeps go to the CSV
+// One chart per metric along the single variable: the continuous curve, the
+// grid points, the paper's values, the constraint bound and the optimum.
+// Returns the files written.
+std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
+                                      const std::vector<Eigen::VectorXd>& grid_x,
+                                      const std::vector<Evaluation>& grid_e,
+                                      const nlohmann::json* optimum, const std::string& dir) {
+  std::vector<std::string> metrics = s.columns, files;
+  if (!s.objective.metric.empty() &&
+      std::find(metrics.begin(), metrics.end(), s.objective.metric) == metrics.end())
+    metrics.insert(metrics.begin(), s.objective.metric);
+  const auto lines = profiles(p, metrics, 200);
   const Variable& v = p.variables()[0];
-  Chart c;
-  c.title = p.name() + ": " + s.objective.metric + " along " + v.name;
-  c.x_label = v.name + " [" + si_unit(v.dimension) + "]";
-  c.y_label = s.objective.metric + " [" + p.metric_unit(s.objective.metric) + "]";
-  c.series.push_back(profile(p, s, 200));
-  if (!grid_x.empty()) {
-    Series g{"grid points", {}, grid_f, Series::Style::markers};
-    for (const auto& x : grid_x) g.x.push_back(x[0]);
-    c.series.push_back(g);
-  }
   const auto& ref = s.reference.columns;
-  if (ref.count(v.name) && ref.count(s.objective.metric))
-    c.series.push_back({"paper (" + s.reference.source + ")", ref.at(v.name),
-                        ref.at(s.objective.metric), Series::Style::markers});
-  if (best && best->success())
-    c.series.push_back({"optimum", {best->x[0]}, {best->objective}, Series::Style::star});
-  write_svg(c, file);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& m : metrics) {
+    Chart c;
+    c.title = p.name() + ": " + m + " along " + v.name;
+    c.x_label = v.name + " [" + si_unit(v.dimension) + "]";
+    c.y_label = m + " [" + p.metric_unit(m) + "]";
+    c.series.push_back(lines.at(m));
+    if (!grid_x.empty()) {
+      Series g{"grid points", {}, {}, Series::Style::markers};
+      for (size_t i = 0; i < grid_x.size(); ++i) {
+        g.x.push_back(grid_x[i][0]);
+        g.y.push_back(grid_e[i].ok() && grid_e[i].metrics.count(m) ? grid_e[i].at(m) : nan);
+      }
+      c.series.push_back(g);
+    }
+    if (ref.count(v.name) && ref.count(m))
+      c.series.push_back({"paper (" + s.reference.source + ")", ref.at(v.name), ref.at(m),
+                          Series::Style::markers});
+    for (const auto& k : s.constraints)
+      if (k.metric == m)
+        c.series.push_back({std::string(k.upper ? "max " : "min ") + "(constraint)",
+                            {v.lower, v.upper}, {k.bound, k.bound}, Series::Style::line});
+    if (optimum && (*optimum)["metrics"].contains(m))
+      c.series.push_back({"optimum", {(*optimum)["variables"][v.name]["value"].get<double>()},
+                          {(*optimum)["metrics"][m].get<double>()}, Series::Style::star});
+    const std::string file = dir + (m == s.objective.metric ? "chart.svg" : "chart_" + m + ".svg");
+    if (write_svg(c, file)) files.push_back(file);
+  }
+  return files;
+}
+
+// The problem's headline cycle curve over the crank angle at each design in
+// `xs` (labelled), plus cycle.csv with every curve at the last design.
+std::vector<std::string> write_cycle_chart(const Problem& p,
+                                           const std::vector<std::pair<std::string, Eigen::VectorXd>>& xs,
+                                           const std::string& dir) {
+  Chart c;
+  CycleCurves last;
+  for (const auto& [label, x] : xs) {
+    const CycleCurves curves = p.cycle_curves(x, 360);
+    if (curves.names.size() < 2) continue;
+    c.series.push_back({label, curves.columns[0], curves.columns[1], Series::Style::line});
+    last = curves;
+  }
+  if (c.series.empty()) return {};
+  c.title = p.name() + ": " + last.names[1] + " over one revolution";
+  c.x_label = "crank angle [rad]";
+  c.y_label = last.names[1] + " [SI]";
+  std::vector<std::string> files;
+  if (write_svg(c, dir + "cycle.svg")) files.push_back(dir + "cycle.svg");
+  std::ofstream csv(dir + "cycle.csv");
+  csv << std::setprecision(17);
+  for (size_t k = 0; k < last.names.size(); ++k) csv << (k ? "," : "") << last.names[k];
+  csv << "\n";
+  for (size_t i = 0; i < last.columns[0].size(); ++i) {
+    for (size_t k = 0; k < last.columns.size(); ++k) csv << (k ? "," : "") << last.columns[k][i];
+    csv << "\n";
+  }
+  files.push_back(dir + "cycle.csv");
+  return files;
 }
 
 // Right-aligned cells, each as wide as its column's header (at least 12).
@@ -297,8 +355,10 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     const ConfigNode r = root.at("reference");
     for (const auto& key : r.keys()) {
       if (key == "source") { s.reference.source = r.at(key).text(); continue; }
-      if (!find_variable(p, key)) check_metric(r.at(key), p, key);
-      for (const auto& item : r.at(key).items()) s.reference.columns[key].push_back(item.number());
+      const Variable* v = find_variable(p, key);
+      if (!v) check_metric(r.at(key), p, key);
+      const Dimension d = v ? v->dimension : dimension_of(p.metric_unit(key));
+      for (const auto& item : r.at(key).items()) s.reference.columns[key].push_back(item.quantity(d));
     }
   }
   return s;
@@ -322,7 +382,7 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
   out << "mechopt " << MECHOPT_VERSION << " — " << p.name() << ", " << s.type << "\n";
 
   std::vector<Eigen::VectorXd> grid_x;
-  std::vector<double> grid_f;
+  std::vector<Evaluation> grid_e;
   if (s.type == "sweep") {
     // Cartesian product of the axes, first axis slowest.
     const size_t n0 = s.grid[0].values.size(), n1 = s.grid.size() > 1 ? s.grid[1].values.size() : 1;
@@ -335,6 +395,7 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
     std::vector<std::string> head;
     for (const auto& a : s.grid) head.push_back(a.variable);
     for (const auto& c : s.columns) head.push_back(c);
+    head.push_back("status");
     out << "sweep over " << n0 * n1 << " points (values in SI):\n";
     print_row(out, head, head);
     std::vector<std::vector<double>> printed(s.columns.size());
@@ -356,19 +417,19 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
           const double v = e.metrics.count(s.columns[c]) ? e.at(s.columns[c])
                                                          : std::numeric_limits<double>::quiet_NaN();
           printed[c].push_back(v);
-          row.push_back(e.ok() ? fmt(v) : e.status);
+          row.push_back(fmt(v));
         }
+        row.push_back(e.status);
         print_row(out, row, head);
         grid_x.push_back(x);
-        grid_f.push_back(e.metrics.count(s.objective.metric)
-                             ? e.at(s.objective.metric)
-                             : std::numeric_limits<double>::quiet_NaN());
+        grid_e.push_back(e);
       }
     // Relative differences from the paper where it printed the same column.
     const auto& ref = s.reference.columns;
     if (s.grid.size() == 1 && ref.count(s.grid[0].variable)) {
       out << "relative difference from " << s.reference.source << " [%] (ours - paper) / paper:\n";
-      print_row(out, head, head);
+      const std::vector<std::string> ref_head(head.begin(), head.end() - 1);
+      print_row(out, ref_head, ref_head);
       const auto& rx = ref.at(s.grid[0].variable);
       for (size_t r = 0; r < rx.size(); ++r) {
         size_t i = 0;
@@ -381,26 +442,41 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
                             ? "-"
                             : fmt(100 * (printed[c][i] - it->second[r]) / it->second[r], 3));
         }
-        print_row(out, row, head);
+        print_row(out, row, std::vector<std::string>(head.begin(), head.end() - 1));
       }
     }
     j["sweep"] = {{"points", n0 * n1}, {"infeasible", infeasible}, {"csv", dir + "sweep.csv"}};
   }
-  const Result* best = nullptr;
   OptimizeOutcome o;
-  if (s.type == "optimize" || s.optimize) {
+  const bool optimized = s.type == "optimize" || s.optimize;
+  if (optimized) {
     o = optimize(p, s, out);
-    best = &o.result;
     j.update(o.json);
   }
-  if (s.chart && p.variables().size() == 1 && !s.objective.metric.empty()) {
-    write_chart(p, s, grid_x, grid_f, best, dir + "chart.svg");
-    j["chart"] = dir + "chart.svg";
+  std::vector<std::string> files;
+  if (s.chart && p.variables().size() == 1 && !s.columns.empty())
+    for (const auto& f : write_charts(p, s, grid_x, grid_e, optimized ? &o.json : nullptr, dir))
+      files.push_back(f);
+  if (s.chart) {
+    // Cycle curves at the grid designs (up to 8) and at the optimum.
+    std::vector<std::pair<std::string, Eigen::VectorXd>> designs;
+    if (grid_x.size() <= 8)
+      for (const auto& x : grid_x) {
+        std::string label;
+        for (int d = 0; d < x.size(); ++d)
+          label += (d ? ", " : "") + p.variables()[d].name + " = " + fmt(x[d], 4);
+        designs.emplace_back(label, x);
+      }
+    if (optimized && o.result.success()) designs.emplace_back("optimum", o.result.x);
+    if (designs.empty()) designs.emplace_back("model values", p.initial_point());
+    for (const auto& f : write_cycle_chart(p, designs, dir)) files.push_back(f);
   }
+  j["charts"] = files;
   std::ofstream(dir + "result.json") << j.dump(2) << "\n";
   out << "written: " << dir << "result.json" << (j.contains("sweep") ? ", sweep.csv" : "")
-      << (j.contains("history") ? ", history.csv" : "") << (j.contains("chart") ? ", chart.svg" : "")
-      << "\n";
+      << (j.contains("history") ? ", history.csv" : "");
+  for (const auto& f : files) out << ", " << f.substr(dir.size());
+  out << "\n";
   return j;
 }
 

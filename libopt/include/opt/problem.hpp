@@ -48,6 +48,18 @@ struct Objective {
   bool maximize = false;
 };
 
+// Quantities over one crank revolution, for charts and cycle.csv: column 0
+// is the crank angle [rad], column 1 the problem's headline curve.
+struct CycleCurves {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+  void add_row(std::initializer_list<double> row) {
+    columns.resize(names.size());
+    size_t i = 0;
+    for (double v : row) columns[i++].push_back(v);
+  }
+};
+
 class Problem {
  public:
   virtual ~Problem() = default;
@@ -64,6 +76,12 @@ class Problem {
   // gradients if asked.
   virtual Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                               bool gradient) const = 0;
+  // Curves over one crank revolution at x, at n + 1 angles from 0 to 2 pi;
+  // empty when the design is infeasible or the problem has none.
+  virtual CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const {
+    (void)x, (void)n;
+    return {};
+  }
   // Fidelity, numerical settings and fixed model values, for result files.
   virtual nlohmann::json settings() const = 0;
 
