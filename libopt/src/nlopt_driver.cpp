@@ -42,6 +42,7 @@ namespace {
 struct Context {
   const Problem* problem;
   const Objective* objective;
+  double objective_scale;  // the objective is passed to NLopt divided by |f(x0)|
   std::vector<Constraint> constraints;  // user constraints, then implicit ones
   std::vector<std::string> wanted;
   bool record_history;
@@ -82,14 +83,14 @@ double metric_value(Context& c, unsigned n, const double* x, double* grad,
 double objective_cb(unsigned n, const double* x, double* grad, void* data) {
   auto& c = *static_cast<Context*>(data);
   try {
-    const double f = metric_value(c, n, x, grad, c.objective->metric,
-                                  c.objective->maximize ? -1.0 : 1.0, 0.0);
+    const double sign = c.objective->maximize ? -1.0 : 1.0;
+    const double f = metric_value(c, n, x, grad, c.objective->metric, sign / c.objective_scale, 0.0);
     Result& r = *c.result;
     ++r.evaluations;
     if (!c.last.ok()) ++r.infeasible_evaluations;
     if (c.record_history)
       r.history.push_back({r.evaluations, c.last.status, Eigen::Map<const Eigen::VectorXd>(x, n),
-                           c.last.ok() ? (c.objective->maximize ? -f : f)
+                           c.last.ok() ? sign * f * c.objective_scale
                                        : std::numeric_limits<double>::quiet_NaN()});
     return f;
   } catch (...) {
@@ -156,7 +157,16 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     return result;
   }
 
-  Context c{&problem, &objective, constraints, {}, options_.record_history, {}, false, {},
+  // SLSQP in particular fails on badly scaled objectives (a peak moment of
+  // 1.5e5 N m stops it at the first step with ROUNDOFF_LIMITED): pass the
+  // objective relative to its magnitude at the start.
+  const Evaluation e0 = problem.evaluate(x0, {objective.metric}, false);
+  double scale = 1.0;
+  if (e0.ok() && e0.metrics.count(objective.metric)) {
+    const double f0 = std::abs(e0.at(objective.metric));
+    if (std::isfinite(f0) && f0 > 0) scale = f0;
+  }
+  Context c{&problem, &objective, scale, constraints, {}, options_.record_history, {}, false, {},
             &result, nullptr, nullptr};
   // Implicit constraints keep the model evaluable; algorithms that take only
   // bounds see an infinite objective there instead.

@@ -144,8 +144,8 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n) {
   const std::vector<double> reversals = kinks;
   for (double r : periodic_roots(M_at, n)) kinks.push_back(r);
   const int nodes = std::max(12, n / 2);
-  auto moment = [&](double phi) { return swing_point(m, S(phi)).moment(); };
-  auto abs_moment = [&](double phi) { return abs(swing_point(m, S(phi)).moment()); };
+  auto moment = [&](double phi) -> S { return swing_point(m, S(phi)).moment(); };
+  auto abs_moment = [&](double phi) -> S { return abs(swing_point(m, S(phi)).moment()); };
   out.mean_abs_moment = piecewise_means<S>(abs_moment, kinks, nodes).first;
   out.rms_moment = sqrt(piecewise_means<S>(moment, reversals, nodes).second);
   // Maxima: derivative in phi by autodiff.
