@@ -6,8 +6,6 @@
 #include <numbers>
 
 #include "mech/twin_slider_crank.hpp"
-#include "opt/config.hpp"
-#include "problems/recuperative_drive.hpp"
 
 namespace {
 
@@ -129,42 +127,6 @@ TEST(TwinDrive, InfeasibleDesignsAreStatuses) {
   d = seed000(0.8);
   d.efficiency = 0;
   EXPECT_EQ(mech::check(d), mech::Status::invalid_parameter);
-}
-
-// Every metric's autodiff gradient against central differences, for every
-// variable, at a design away from ties of the maxima.
-TEST(RecuperativeDriveProblem, GradientsMatchCentralDifferences) {
-  for (const char* resistance : {"signed", "opposes_motion"})
-    for (const char* rod : {"point_masses", "full"}) {
-      const std::string yaml = std::string(R"(
-problem: recuperative_drive
-model: {rod_length: 0.7 m, phase_shift: 80 deg, offset: 0.03 m, crank_radius: 0.2 m,
-        cycle_points: 64, resistance: )") + resistance + ", fidelity: {rod: " + rod + R"(}}
-variables:
-  rod_length: {min: 0.5 m, max: 1.5 m}
-  phase_shift: {min: 0 deg, max: 180 deg}
-  crank_radius: {min: 0.1 m, max: 0.3 m}
-  offset: {min: -0.1 m, max: 0.1 m}
-)";
-      const auto p = problems::make_recuperative_drive(opt::ConfigNode::parse(yaml, "<test>"));
-      const Eigen::VectorXd x = p->initial_point();
-      const auto e = p->evaluate(x, {}, true);
-      ASSERT_TRUE(e.ok());
-      const double h = 1e-6;
-      for (int i = 0; i < x.size(); ++i) {
-        Eigen::VectorXd xp = x, xm = x;
-        xp[i] += h;
-        xm[i] -= h;
-        const auto ep = p->evaluate(xp, {}, false), em = p->evaluate(xm, {}, false);
-        for (const auto& [name, v] : e.metrics) {
-          const double fd = (ep.at(name) - em.at(name)) / (2 * h);
-          // h = 1e-6: truncation ~1e-12 |f'''|, roundoff ~eps |f| / h ~ 1e-10 |f|;
-          // the maxima add the error of the refined angle (~1e-15): 1e-7 relative.
-          EXPECT_NEAR(v.gradient[i], fd, 1e-7 * (1 + std::abs(v.value)))
-              << name << " d/d" << p->variables()[i].name << " " << resistance << " " << rod;
-        }
-      }
-    }
 }
 
 }  // namespace

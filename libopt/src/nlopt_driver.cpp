@@ -132,6 +132,63 @@ DriverStatus map_status(nlopt_result r) {
   }
 }
 
+// Phase 1 for a start where the model cannot be evaluated: minimise the
+// squared violation of the implicit constraints (defined everywhere, exact
+// gradients), each pushed inside by a margin of 1e-3 of its bound's scale,
+// with SLSQP inside the bounds. Returns the evaluations it took.
+struct Restoration {
+  const Problem* problem;
+  std::vector<Constraint> constraints;
+  std::vector<std::string> wanted;
+  int evaluations = 0;
+  std::exception_ptr error;
+  nlopt_opt opt;
+};
+
+double violation_cb(unsigned n, const double* x, double* grad, void* data) {
+  auto& r = *static_cast<Restoration*>(data);
+  try {
+    ++r.evaluations;
+    const Evaluation e = r.problem->evaluate(Eigen::Map<const Eigen::VectorXd>(x, n), r.wanted,
+                                             grad != nullptr);
+    double f = 0;
+    if (grad) std::fill(grad, grad + n, 0.0);
+    for (const auto& k : r.constraints) {
+      const auto& m = e.metrics.at(k.metric);
+      const double g = k.g(m.value) + 1e-3 * std::max(1.0, std::abs(k.bound));
+      if (g <= 0) continue;
+      f += g * g;
+      if (grad)
+        for (unsigned i = 0; i < n; ++i) grad[i] += 2 * g * (k.upper ? 1.0 : -1.0) * m.gradient[i];
+    }
+    return f;
+  } catch (...) {
+    r.error = std::current_exception();
+    nlopt_force_stop(r.opt);
+    return 0.0;
+  }
+}
+
+int restore_feasibility(const Problem& problem, Eigen::VectorXd& x) {
+  Restoration r{&problem, problem.implicit_constraints(), {}, 0, nullptr, nullptr};
+  for (const auto& k : r.constraints) r.wanted.push_back(k.metric);
+  if (r.constraints.empty()) return 0;
+  const unsigned n = static_cast<unsigned>(x.size());
+  r.opt = nlopt_create(NLOPT_LD_SLSQP, n);
+  const Eigen::VectorXd lb = problem.lower_bounds(), ub = problem.upper_bounds();
+  nlopt_set_lower_bounds(r.opt, lb.data());
+  nlopt_set_upper_bounds(r.opt, ub.data());
+  nlopt_set_min_objective(r.opt, violation_cb, &r);
+  nlopt_set_stopval(r.opt, 0.0);
+  nlopt_set_xtol_rel(r.opt, 1e-12);
+  nlopt_set_maxeval(r.opt, 500);
+  double f = 0;
+  nlopt_optimize(r.opt, x.data(), &f);
+  nlopt_destroy(r.opt);
+  if (r.error) std::rethrow_exception(r.error);
+  return r.evaluations;
+}
+
 }  // namespace
 
 Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
@@ -157,10 +214,23 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     return result;
   }
 
+  // A start where the model cannot be evaluated is first moved into the
+  // region the implicit constraints describe (phase 1).
+  Eigen::VectorXd x = x0;
+  Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
+  std::string restored;
+  if (!e0.ok()) {
+    const int used = restore_feasibility(problem, x);
+    result.evaluations += used;
+    const std::string was = e0.status;
+    e0 = problem.evaluate(x, {objective.metric}, false);
+    restored = "; the start was infeasible (" + was + "), phase 1 " +
+               (e0.ok() ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
+               " evaluations";
+  }
   // SLSQP in particular fails on badly scaled objectives (a peak moment of
   // 1.5e5 N m stops it at the first step with ROUNDOFF_LIMITED): pass the
   // objective relative to its magnitude at the start.
-  const Evaluation e0 = problem.evaluate(x0, {objective.metric}, false);
   double scale = 1.0;
   if (e0.ok() && e0.metrics.count(objective.metric)) {
     const double f0 = std::abs(e0.at(objective.metric));
@@ -191,14 +261,13 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   nlopt_set_maxeval(opt, options_.max_evaluations);
   nlopt_set_maxtime(opt, options_.max_seconds);
 
-  Eigen::VectorXd x = x0;
   double f = 0;
   const nlopt_result code = nlopt_optimize(opt, x.data(), &f);
   nlopt_destroy(opt);
   if (c.error) std::rethrow_exception(c.error);
 
   result.status = map_status(code);
-  result.message = std::string("NLopt: ") + nlopt_result_to_string(code);
+  result.message = std::string("NLopt: ") + nlopt_result_to_string(code) + restored;
   result.x = x;
   // Final values from a fresh evaluation at x: the record of the answer.
   const Evaluation e = problem.evaluate(x, c.wanted, false);

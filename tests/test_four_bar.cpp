@@ -1,0 +1,191 @@
+// Four-bar linkage and the conveyor swing mechanism: closed forms, limiting
+// cases, finite-difference checks, the two kinetostatic methods, failures.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "mech/conveyor_swing.hpp"
+#include "mech/four_bar.hpp"
+
+namespace {
+
+using mech::FourBar;
+using mech::FourBarPoint;
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180;
+
+// Seed 002's variant 1: synthesis at l_CO1 = 1.2 m.
+FourBar<double> variant(double l_co1) {
+  return mech::synthesize_crank_rocker<double>(1.0, 2.2, l_co1, 1.0, 0.0, 16 * kDeg).linkage;
+}
+
+mech::SwingMechanism<double> swing(const FourBar<double>& k) {
+  // Seed 002 data: w1 = 12 rad/s, m_n = 200 kg/m, m3 = 3200 kg, J_s3 = m3 d^2
+  // (eq. 11, d = 1.2 m), |O1S3| = hypot(1.2, 1.0), M_c = 0.01 * 32000 * 0.3 / 2.
+  return {k, 12.0, 200.0, 3200.0, 3200 * 1.44, std::hypot(1.2, 1.0), 48.0};
+}
+
+TEST(FourBar, ParallelogramTurnsTheRockerWithTheCrank) {
+  // l1 = l3, l2 = l4: the rocker copies the crank (theta3 = phi, w3 = 1,
+  // alpha3 = 0) and the coupler translates (w2 = alpha2 = 0) on the open branch.
+  const double gx = 0.3, gy = 1.1, l = 0.5;
+  for (int branch : {1, -1}) {
+    const FourBar<double> k{l, std::hypot(gx, gy), l, gx, gy, branch};
+    int copies = 0;
+    for (double phi = 0.2; phi < 6.2; phi += 0.5) {
+      FourBarPoint<double> p;
+      ASSERT_TRUE(mech::four_bar_point(k, phi, p));
+      if (std::abs(std::remainder(p.theta3 - phi, 2 * kPi)) > 1e-9) continue;
+      ++copies;
+      EXPECT_NEAR(p.w3, 1.0, 1e-12);
+      EXPECT_NEAR(p.alpha3, 0.0, 1e-12);
+      EXPECT_NEAR(p.w2, 0.0, 1e-12);
+      EXPECT_NEAR(p.alpha2, 0.0, 1e-12);
+    }
+    // The open parallelogram lies on one branch on either side of the frame line.
+    EXPECT_GT(copies, 0) << "branch " << branch;
+  }
+}
+
+TEST(FourBar, TransferFunctionsAreDerivativesOfPositions) {
+  // Central differences, h = 1e-5 rad: truncation ~h^2 |theta'''| ~ 1e-9.
+  const auto k = variant(1.4);
+  const double h = 1e-5;
+  for (double phi = 0.1; phi < 6.3; phi += 0.4) {
+    FourBarPoint<double> p, pp, pm;
+    ASSERT_TRUE(mech::four_bar_point(k, phi, p));
+    mech::four_bar_point(k, phi + h, pp);
+    mech::four_bar_point(k, phi - h, pm);
+    EXPECT_NEAR(p.w2, (pp.theta2 - pm.theta2) / (2 * h), 1e-8);
+    EXPECT_NEAR(p.w3, (pp.theta3 - pm.theta3) / (2 * h), 1e-8);
+    EXPECT_NEAR(p.alpha2, (pp.w2 - pm.w2) / (2 * h), 1e-8);
+    EXPECT_NEAR(p.alpha3, (pp.w3 - pm.w3) / (2 * h), 1e-8);
+    // Loop closure: |AB| = l2 and |O1B| = l3.
+    EXPECT_NEAR(std::hypot(p.B.x - p.A.x, p.B.y - p.A.y), k.coupler, 1e-13);
+    EXPECT_NEAR(std::hypot(p.B.x, p.B.y), k.rocker, 1e-13);
+  }
+}
+
+TEST(FourBar, GrashofClasses) {
+  using G = mech::GrashofClass;
+  EXPECT_EQ(mech::grashof(1, 3, 3, 3.5), G::crank_rocker);   // s + l = 4.5 < 6
+  EXPECT_EQ(mech::grashof(2, 3, 3.5, 1), G::double_crank);   // frame shortest
+  EXPECT_EQ(mech::grashof(3, 2.5, 1, 3.5), G::rocker_crank); // rocker shortest
+  EXPECT_EQ(mech::grashof(3, 1, 3.5, 2.5), G::double_rocker);// coupler shortest
+  EXPECT_EQ(mech::grashof(2, 3, 3.5, 6), G::non_grashof);    // 8 > 6.5
+  EXPECT_EQ(mech::grashof(1, 2, 1, 2), G::change_point);     // 3 = 3
+  // Seed 002 eq. (4) agrees with the general form on the paper's variants.
+  for (double l_co1 : {1.2, 1.4, 1.6, 1.8}) {
+    const auto k = variant(l_co1);
+    EXPECT_TRUE(mech::grashof_seed002(k.crank, k.coupler, k.rocker, k.frame()));
+    EXPECT_EQ(mech::grashof(k.crank, k.coupler, k.rocker, k.frame()), G::crank_rocker);
+  }
+}
+
+TEST(FourBar, SynthesisGivesTheRequestedSwingAndTimeRatio) {
+  // The dead centres of the synthesised linkage are B' and B'' themselves:
+  // the swing is 2 theta = 32 deg to roundoff, and K from a dense search of
+  // the rocker's reversals equals eq. (5).
+  for (double l_co1 : {1.0, 1.2, 1.5, 1.8, 2.4}) {
+    const auto syn = mech::synthesize_crank_rocker<double>(1.0, 2.2, l_co1, 1.0, 0.0, 16 * kDeg);
+    ASSERT_TRUE(syn.ok);
+    const auto dc = mech::dead_centres(syn.linkage);
+    EXPECT_NEAR(std::abs(dc.theta3_folded - dc.theta3_extended), 32 * kDeg, 1e-12);
+    EXPECT_NEAR(mech::time_ratio(dc), (kPi + syn.beta) / (kPi - syn.beta), 1e-12);
+    // Rocker reversals by a 1e5-point search of w3 sign changes.
+    std::vector<double> rev;
+    double prev = 0;
+    for (int i = 0; i <= 100000; ++i) {
+      FourBarPoint<double> p;
+      mech::four_bar_point(syn.linkage, 2 * kPi * i / 100000, p);
+      if (i > 0 && (p.w3 > 0) != (prev > 0)) rev.push_back(2 * kPi * i / 100000);
+      prev = p.w3;
+    }
+    ASSERT_EQ(rev.size(), 2u);
+    const double a = rev[1] - rev[0], b = 2 * kPi - a;
+    EXPECT_NEAR(std::max(a, b) / std::min(a, b), mech::time_ratio(dc), 1e-3);  // grid: 6e-5 rad
+  }
+}
+
+TEST(FourBar, SynthesisFailsWhenExtremesStraddleTheFrameLine) {
+  // l_CO1 = 0.6 m (the paper's variant 0): B' and B'' lie on both sides of
+  // O1O, so no crank-rocker has them as dead centres. The lengths of Table 1
+  // give a linkage that swings 13.04 deg, not 32.
+  const auto syn = mech::synthesize_crank_rocker<double>(1.0, 2.2, 0.6, 1.0, 0.0, 16 * kDeg);
+  EXPECT_FALSE(syn.ok);
+  EXPECT_LT(syn.side_margin, 0.0);
+  const auto dc = mech::dead_centres(syn.linkage);
+  EXPECT_NEAR(std::abs(dc.theta3_folded - dc.theta3_extended) / kDeg, 13.04, 0.01);
+}
+
+TEST(SwingMechanism, PowerBalanceEqualsEnergyDerivative) {
+  // Method 1 (power balance with the acceleration formulas) against method 2
+  // (angle derivative of the kinetic energy by autodiff, first-order
+  // kinematics only): 1e-9 relative.
+  for (double l_co1 : {1.2, 1.5, 1.8}) {
+    const auto m = swing(variant(l_co1));
+    const auto md = m.cast<mech::Dual>();
+    for (double phi = 0.05; phi < 6.3; phi += 0.25) {
+      FourBarPoint<mech::Dual> p;
+      ASSERT_TRUE(mech::four_bar_point(md.linkage, mech::seed(phi), p));
+      const double dT = 144.0 * mech::swing_energy_per_w2(md, p).derivatives()[0];
+      const double Mi = mech::swing_point(m, phi).inertia;
+      EXPECT_NEAR(Mi, dT, 1e-9 * std::max(1.0, std::abs(dT))) << "phi = " << phi;
+    }
+  }
+}
+
+TEST(SwingMechanism, MaximaAreRefinedBeyondTheGrid) {
+  // Refined maxima agree with a 1e5-point search to its resolution and are
+  // never below it.
+  const auto m = swing(variant(1.5));
+  const auto r = mech::swing_metrics(m, 48);
+  double peak = 0, pressure = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const auto p = mech::swing_point(m, 2 * kPi * i / 100000);
+    peak = std::max(peak, std::abs(p.moment()));
+    pressure = std::max(pressure, mech::pressure_angle(p.kinematics));
+  }
+  EXPECT_GE(r.peak_moment, peak - 1e-6);
+  EXPECT_NEAR(r.peak_moment, peak, 1e-6 * peak + 1.0);  // (6e-5)^2 |M''| / 8
+  EXPECT_GE(r.max_pressure_angle, pressure - 1e-12);
+  EXPECT_NEAR(r.max_pressure_angle, pressure, 1e-8);
+}
+
+TEST(SwingMechanism, MeansConvergeDespiteKinks) {
+  // |M| and the friction term have kinks; piecewise Gauss-Legendre makes 48
+  // points agree with 480 to 1e-10.
+  const auto m = swing(variant(1.4));
+  const auto a = mech::swing_metrics(m, 48), b = mech::swing_metrics(m, 480);
+  EXPECT_NEAR(a.mean_abs_moment, b.mean_abs_moment, 1e-10 * b.mean_abs_moment);
+  EXPECT_NEAR(a.rms_moment, b.rms_moment, 1e-10 * b.rms_moment);
+}
+
+TEST(SwingMechanism, FrictionAloneHasClosedFormMean) {
+  // Massless links: M = M_c |w3|, whose cycle mean is M_c * 2 * swing / (2 pi).
+  auto m = swing(variant(1.6));
+  m.rod_mass_per_length = 0;
+  m.platform_mass = 0;
+  m.platform_inertia = 0;
+  const auto r = mech::swing_metrics(m, 48);
+  EXPECT_NEAR(r.mean_abs_moment, 48.0 * 2 * 32 * kDeg / (2 * kPi), 1e-12);
+}
+
+TEST(SwingMechanism, InfeasibleLinkagesAreStatuses) {
+  auto m = swing(variant(1.4));
+  m.linkage.crank = 3.0;  // longest link: s + l > p + q
+  EXPECT_EQ(mech::check(m), mech::Status::not_grashof);
+  m = swing(variant(1.4));
+  m.linkage.coupler = 10;  // the loop cannot close anywhere
+  EXPECT_EQ(mech::check(m), mech::Status::cannot_assemble);
+  // Coupler shortest, 0.5 + 2.417 < 1.5 + 1.6: Grashof, but a double rocker,
+  // so the crank meets a toggle before a full turn.
+  m.linkage = {1.5, 0.5, 1.6, 1.0, 2.2, 1};
+  EXPECT_EQ(mech::grashof(1.5, 0.5, 1.6, m.linkage.frame()), mech::GrashofClass::double_rocker);
+  EXPECT_EQ(mech::check(m), mech::Status::toggle_in_cycle);
+  m.linkage.crank = -0.1;
+  EXPECT_EQ(mech::check(m), mech::Status::invalid_parameter);
+}
+
+}  // namespace
