@@ -107,10 +107,13 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     out.put("swing_angle", abs(dc.theta3_folded - dc.theta3_extended));
     out.put("time_ratio", mech::time_ratio(dc));
     if (!out.want_any("peak_moment", "mean_abs_moment", "rms_moment", "max_pressure_angle")) return;
-    const auto r = mech::swing_metrics(d.mech, model_.cycle_points);
+    const bool means = out.want_any("mean_abs_moment", "rms_moment");
+    const auto r = mech::swing_metrics(d.mech, model_.cycle_points, means);
     out.put("peak_moment", r.peak_moment);
-    out.put("mean_abs_moment", r.mean_abs_moment);
-    out.put("rms_moment", r.rms_moment);
+    if (means) {
+      out.put("mean_abs_moment", r.mean_abs_moment);
+      out.put("rms_moment", r.rms_moment);
+    }
     out.put("max_pressure_angle", r.max_pressure_angle);
   }
 
@@ -123,7 +126,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
       const double phi = mech::kTwoPi * i / n;
       const auto p = mech::swing_point(d.mech, phi);
       c.add_row({phi, p.moment(), p.inertia, p.friction, mech::pressure_angle(p.kinematics),
-                 p.kinematics.theta3});
+                 p.kinematics.theta3()});
     }
     return c;
   }

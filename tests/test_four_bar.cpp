@@ -36,7 +36,7 @@ TEST(FourBar, ParallelogramTurnsTheRockerWithTheCrank) {
     for (double phi = 0.2; phi < 6.2; phi += 0.5) {
       FourBarPoint<double> p;
       ASSERT_TRUE(mech::four_bar_point(k, phi, p));
-      if (std::abs(std::remainder(p.theta3 - phi, 2 * kPi)) > 1e-9) continue;
+      if (std::abs(std::remainder(p.theta3() - phi, 2 * kPi)) > 1e-9) continue;
       ++copies;
       EXPECT_NEAR(p.w3, 1.0, 1e-12);
       EXPECT_NEAR(p.alpha3, 0.0, 1e-12);
@@ -57,8 +57,8 @@ TEST(FourBar, TransferFunctionsAreDerivativesOfPositions) {
     ASSERT_TRUE(mech::four_bar_point(k, phi, p));
     mech::four_bar_point(k, phi + h, pp);
     mech::four_bar_point(k, phi - h, pm);
-    EXPECT_NEAR(p.w2, (pp.theta2 - pm.theta2) / (2 * h), 1e-8);
-    EXPECT_NEAR(p.w3, (pp.theta3 - pm.theta3) / (2 * h), 1e-8);
+    EXPECT_NEAR(p.w2, (pp.theta2() - pm.theta2()) / (2 * h), 1e-8);
+    EXPECT_NEAR(p.w3, (pp.theta3() - pm.theta3()) / (2 * h), 1e-8);
     EXPECT_NEAR(p.alpha2, (pp.w2 - pm.w2) / (2 * h), 1e-8);
     EXPECT_NEAR(p.alpha3, (pp.w3 - pm.w3) / (2 * h), 1e-8);
     // Loop closure: |AB| = l2 and |O1B| = l3.

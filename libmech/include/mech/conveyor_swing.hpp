@@ -60,15 +60,13 @@ Status check(const SwingMechanism<S>& m) {
 // the balancing moment: M_inertia = dT/dphi at constant crank speed).
 template <class S>
 S swing_energy_per_w2(const SwingMechanism<S>& m, const FourBarPoint<S>& p) {
-  using std::cos;
-  using std::sin;
   const auto& k = m.linkage;
   const S m1 = m.rod_mass_per_length * k.crank, m2 = m.rod_mass_per_length * k.coupler;
   // Crank: rotation about O (eq. 10 inertia about its centre + m (l/2)^2).
   const S crank = m1 * k.crank * k.crank / 3.0;
   // Coupler centre: v = v_A + w2 (l2/2) e2_perp, per unit crank speed.
-  const S vx = -k.crank * sin(p.theta1) - p.w2 * 0.5 * k.coupler * sin(p.theta2);
-  const S vy = k.crank * cos(p.theta1) + p.w2 * 0.5 * k.coupler * cos(p.theta2);
+  const S vx = -k.crank * p.e1.y - p.w2 * 0.5 * k.coupler * p.e2.y;
+  const S vy = k.crank * p.e1.x + p.w2 * 0.5 * k.coupler * p.e2.x;
   const S coupler = m2 * (vx * vx + vy * vy) + m2 * k.coupler * k.coupler / 12.0 * p.w2 * p.w2;
   return 0.5 * (crank + coupler + m.platform_pivot_inertia() * p.w3 * p.w3);
 }
@@ -88,14 +86,12 @@ struct SwingPoint {
 template <class S>
 SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& phi) {
   using std::abs;
-  using std::cos;
-  using std::sin;
   SwingPoint<S> out;
   auto& p = out.kinematics;
   four_bar_point(m.linkage, phi, p);
   const auto& k = m.linkage;
   const S m2 = m.rod_mass_per_length * k.coupler, h = 0.5 * k.coupler;
-  const S c1 = cos(p.theta1), s1 = sin(p.theta1), c2 = cos(p.theta2), s2 = sin(p.theta2);
+  const S c1 = p.e1.x, s1 = p.e1.y, c2 = p.e2.x, s2 = p.e2.y;
   // Coupler centre velocity and acceleration per unit crank speed.
   const S vx = -k.crank * s1 - p.w2 * h * s2, vy = k.crank * c1 + p.w2 * h * c2;
   const S ax = -k.crank * c1 - p.alpha2 * h * s2 - p.w2 * p.w2 * h * c2;
@@ -118,12 +114,13 @@ struct SwingMetrics {
   double phi_peak_moment = 0, phi_max_pressure = 0;
 };
 
-// Cycle metrics with n grid points. Maxima over the cycle take their design
+// Cycle metrics with n grid points (the means only if `means`). Maxima over
+// the cycle take their design
 // derivative at the maximising angle (Danskin); |M| and the friction term have
 // kinks (zeros of M, rocker reversals), so means integrate piecewise between
 // them. check(m) must be ok.
 template <class S>
-SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n) {
+SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = true) {
   using std::abs;
   using std::sqrt;
   SwingMetrics<S> out;
@@ -137,17 +134,18 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n) {
     gridP[k] = pressure_angle(p.kinematics);
     w3[k] = p.kinematics.w3;
   });
-  // Kinks: rocker reversals (w3 = 0) and sign changes of M.
+  // Kinks: rocker reversals (w3 = 0, the friction term) and sign changes of M
+  // (for |M|); M is smooth between them.
   auto w3_at = [&](double phi) { return swing_point(md, phi).kinematics.w3; };
   auto M_at = [&](double phi) { return swing_point(md, phi).moment(); };
-  std::vector<double> kinks = periodic_roots(w3_at, n);
-  const std::vector<double> reversals = kinks;
-  for (double r : periodic_roots(M_at, n)) kinks.push_back(r);
-  const int nodes = std::max(12, n / 2);
-  auto moment = [&](double phi) -> S { return swing_point(m, S(phi)).moment(); };
-  auto abs_moment = [&](double phi) -> S { return abs(swing_point(m, S(phi)).moment()); };
-  out.mean_abs_moment = piecewise_means<S>(abs_moment, kinks, nodes).first;
-  out.rms_moment = sqrt(piecewise_means<S>(moment, reversals, nodes).second);
+  if (means) {
+    std::vector<double> kinks = periodic_roots(w3, w3_at);
+    for (double r : periodic_roots(M, M_at)) kinks.push_back(r);
+    auto moment = [&](double phi) -> S { return swing_point(m, S(phi)).moment(); };
+    const auto arcs = piecewise_means<S>(moment, kinks, 2 * n);
+    out.mean_abs_moment = arcs.mean_abs;
+    out.rms_moment = sqrt(arcs.mean_square);
+  }
   // Maxima: derivative in phi by autodiff.
   auto dabsM = [&](double phi) {
     const Dual v = swing_point(mv, seed(phi)).moment();

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "mech/autodiff.hpp"
+
 namespace mech {
 
 inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
@@ -109,7 +111,7 @@ double global_max_angle(const std::vector<double>& v, F&& f, DF&& df) {
 
 // Nodes and weights of the m-point Gauss-Legendre rule on [-1, 1] (Newton on
 // the Legendre recurrence; nodes to ~1e-16).
-inline std::vector<std::pair<double, double>> gauss_legendre(int m) {
+inline std::vector<std::pair<double, double>> compute_gauss_legendre(int m) {
   std::vector<std::pair<double, double>> nw(m);
   for (int i = 0; i < m; ++i) {
     double x = std::cos(std::numbers::pi * (i + 0.75) / (m + 0.5)), dp = 1;
@@ -130,43 +132,67 @@ inline std::vector<std::pair<double, double>> gauss_legendre(int m) {
   return nw;
 }
 
-// Cycle means of a periodic f and of f^2 when f is smooth between the angles
-// `ends` (kinks of |.|, switches of a resistance): Gauss-Legendre with m nodes
-// on each arc, so the kinks cost no accuracy. f(phi) returns a scalar S (which
-// may carry design derivatives); the arc ends are held fixed under
-// differentiation, which is exact when f is continuous there (the Leibniz
-// boundary terms of adjacent arcs cancel).
-template <class S, class F>
-std::pair<S, S> piecewise_means(F&& f, std::vector<double> ends, int m) {
-  std::sort(ends.begin(), ends.end());
-  if (ends.empty()) ends.push_back(0.0);
-  const auto rule = gauss_legendre(m);
-  S sum(0.0), sum2(0.0);
-  for (size_t j = 0; j < ends.size(); ++j) {
-    const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + kTwoPi;
-    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-    for (const auto& [x, w] : rule) {
-      const S v = f(mid + half * x);
-      sum += (w * half) * v;
-      sum2 += (w * half) * v * v;
-    }
-  }
-  return {sum / kTwoPi, sum2 / kTwoPi};
+// The m-point rule for 1 <= m <= kMaxGaussNodes, tabulated once (thread-safe
+// static): 128 nodes integrate an analytic arc to roundoff.
+inline constexpr int kMaxGaussNodes = 128;
+inline const std::vector<std::pair<double, double>>& gauss_legendre(int m) {
+  static const auto table = [] {
+    std::vector<std::vector<std::pair<double, double>>> t(kMaxGaussNodes + 1);
+    for (int k = 1; k <= kMaxGaussNodes; ++k) t[k] = compute_gauss_legendre(k);
+    return t;
+  }();
+  return table[std::clamp(m, 1, kMaxGaussNodes)];
 }
 
-// Sign changes of a periodic g sampled on an n-point grid, refined by Brent:
-// the angles in [0, 2 pi) where g crosses zero.
+// Cycle means of a periodic f, of |f| and of f^2.
+template <class S>
+struct ArcMeans {
+  S mean, mean_abs, mean_square;
+};
+
+// Cycle means when f is smooth between the angles `ends` (its kinks, and its
+// zeros for |f|): Gauss-Legendre on each arc with nodes in proportion to the
+// arc's length (n per revolution, at least 12 per arc), so kinks cost no
+// accuracy. f(phi) returns a scalar S (which may carry design derivatives);
+// the arc ends are held fixed under differentiation, exact when f is
+// continuous there (the Leibniz boundary terms of adjacent arcs cancel).
+// mean_abs is right when `ends` holds every sign change of f.
+template <class S, class F>
+ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
+  std::sort(ends.begin(), ends.end());
+  if (ends.empty()) ends.push_back(0.0);
+  ArcMeans<S> out{S(0.0), S(0.0), S(0.0)};
+  for (size_t j = 0; j < ends.size(); ++j) {
+    const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + kTwoPi;
+    if (b - a <= 0) continue;
+    const int m = std::max(12, static_cast<int>(std::ceil(n * (b - a) / kTwoPi)));
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    S arc(0.0);
+    for (const auto& [x, w] : gauss_legendre(m)) {
+      const S v = f(mid + half * x);
+      arc += (w * half) * v;
+      out.mean_square += (w * half) * v * v;
+    }
+    out.mean += arc;
+    out.mean_abs += value(arc) >= 0 ? arc : S(-arc);
+  }
+  out.mean /= kTwoPi;
+  out.mean_abs /= kTwoPi;
+  out.mean_square /= kTwoPi;
+  return out;
+}
+
+// Sign changes of a periodic g given its samples v[k] = g(2 pi k / n),
+// refined by Brent: the angles in [0, 2 pi) where g crosses zero.
 template <class G>
-std::vector<double> periodic_roots(G&& g, int n) {
+std::vector<double> periodic_roots(const std::vector<double>& v, G&& g) {
   std::vector<double> roots;
+  const int n = static_cast<int>(v.size());
   const double h = kTwoPi / n;
-  double g0 = g(0.0), ga = g0;
-  for (int k = 1; k <= n; ++k) {
-    const double a = (k - 1) * h, b = k * h;
-    const double gb = k == n ? g0 : g(b);
-    if (ga == 0.0) roots.push_back(a);
-    else if ((ga < 0) != (gb < 0) && gb != 0.0) roots.push_back(brent_root(g, a, b, ga, gb));
-    ga = gb;
+  for (int k = 0; k < n; ++k) {
+    const double ga = v[k], gb = v[(k + 1) % n];
+    if (ga == 0.0) roots.push_back(k * h);
+    else if ((ga < 0) != (gb < 0) && gb != 0.0) roots.push_back(brent_root(g, k * h, (k + 1) * h, ga, gb));
   }
   return roots;
 }

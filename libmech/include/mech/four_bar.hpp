@@ -39,27 +39,34 @@ struct FourBar {
   }
 };
 
-// Link angles and their first and second transfer functions at one crank angle.
+// Link directions and their first and second transfer functions at one
+// crank angle. Directions are kept as unit vectors (no trig per point); the
+// angles are there on demand.
 template <class S>
 struct FourBarPoint {
-  S theta1, theta2, theta3;
-  S w2, w3;          // dtheta2/dphi, dtheta3/dphi
-  S alpha2, alpha3;  // d2theta2/dphi2, d2theta3/dphi2
-  Vec2<S> A, B;      // crank pin and rocker pin positions
+  Vec2<S> A, B;          // crank pin and rocker pin positions
+  Vec2<S> e1, e2, e3;    // unit vectors along crank OA, coupler AB, rocker O1B
+  S w2, w3;              // dtheta2/dphi, dtheta3/dphi
+  S alpha2, alpha3;      // d2theta2/dphi2, d2theta3/dphi2
+  S theta2() const { using std::atan2; return atan2(e2.y, e2.x); }
+  S theta3() const { using std::atan2; return atan2(e3.y, e3.x); }
 };
+
+template <class S>
+S cross(const Vec2<S>& a, const Vec2<S>& b) { return a.x * b.y - a.y * b.x; }
+template <class S>
+S dot(const Vec2<S>& a, const Vec2<S>& b) { return a.x * b.x + a.y * b.y; }
 
 // Position, velocity and acceleration analysis at crank angle phi; false when
 // the loop cannot close there (|O1A| outside [|l2 - l3|, l2 + l3]) or sits
 // exactly at a toggle (coupler and rocker collinear).
 template <class S>
 bool four_bar_point(const FourBar<S>& m, const S& phi, FourBarPoint<S>& p) {
-  using std::atan2;
   using std::cos;
   using std::sin;
   using std::sqrt;
-  const S c1 = cos(phi), s1 = sin(phi);
-  p.theta1 = phi;
-  p.A = {m.gx + m.crank * c1, m.gy + m.crank * s1};
+  p.e1 = {cos(phi), sin(phi)};
+  p.A = {m.gx + m.crank * p.e1.x, m.gy + m.crank * p.e1.y};
   // B: intersection of the circles (O1, l3) and (A, l2).
   const S d2 = p.A.x * p.A.x + p.A.y * p.A.y;
   const S along = (m.rocker * m.rocker - m.coupler * m.coupler + d2) / (2.0 * d2);  // fraction of O1A
@@ -67,19 +74,19 @@ bool four_bar_point(const FourBar<S>& m, const S& phi, FourBarPoint<S>& p) {
   if (!(value(h2) > 0)) return false;
   const S h = double(m.branch) * sqrt(h2);
   p.B = {along * p.A.x - h * p.A.y, along * p.A.y + h * p.A.x};
-  p.theta2 = atan2(p.B.y - p.A.y, p.B.x - p.A.x);
-  p.theta3 = atan2(p.B.y, p.B.x);
+  p.e2 = {(p.B.x - p.A.x) / m.coupler, (p.B.y - p.A.y) / m.coupler};
+  p.e3 = {p.B.x / m.rocker, p.B.y / m.rocker};
   // Loop closure O + l1 e1 + l2 e2 - l3 e3 = O1, differentiated once and twice
-  // in phi and projected on e2 and e3.
-  const S s23 = sin(p.theta2 - p.theta3);
+  // in phi and projected on e2 and e3; sin(ti - tj) = cross(ej, ei),
+  // cos(ti - tj) = dot(ei, ej).
+  const S s23 = cross(p.e3, p.e2);
   if (value(s23) == 0) return false;
-  p.w3 = m.crank * sin(p.theta2 - p.theta1) / (m.rocker * s23);
-  p.w2 = m.crank * sin(p.theta3 - p.theta1) / (m.coupler * s23);
-  p.alpha3 = (-m.crank * cos(p.theta1 - p.theta2) - m.coupler * p.w2 * p.w2 +
-              m.rocker * p.w3 * p.w3 * cos(p.theta3 - p.theta2)) /
+  const S c12 = dot(p.e1, p.e2), c13 = dot(p.e1, p.e3), c23 = dot(p.e2, p.e3);
+  p.w3 = m.crank * cross(p.e1, p.e2) / (m.rocker * s23);
+  p.w2 = m.crank * cross(p.e1, p.e3) / (m.coupler * s23);
+  p.alpha3 = (-m.crank * c12 - m.coupler * p.w2 * p.w2 + m.rocker * p.w3 * p.w3 * c23) /
              (m.rocker * s23);
-  p.alpha2 = -(m.crank * cos(p.theta1 - p.theta3) +
-               m.coupler * p.w2 * p.w2 * cos(p.theta2 - p.theta3) - m.rocker * p.w3 * p.w3) /
+  p.alpha2 = -(m.crank * c13 + m.coupler * p.w2 * p.w2 * c23 - m.rocker * p.w3 * p.w3) /
              (m.coupler * s23);
   return true;
 }
@@ -90,8 +97,7 @@ template <class S>
 S pressure_angle(const FourBarPoint<S>& p) {
   using std::abs;
   using std::asin;
-  using std::cos;
-  return asin(abs(cos(p.theta2 - p.theta3)));
+  return asin(abs(dot(p.e2, p.e3)));
 }
 
 enum class GrashofClass {

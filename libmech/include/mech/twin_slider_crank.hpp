@@ -183,7 +183,9 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
     auto dx = [&](double phi) {
       return slider_crank_velocity(m, std::cos(phi + shift), std::sin(phi + shift)).dx;
     };
-    for (double r : periodic_roots(dx, n)) out.push_back(r);
+    std::vector<double> v(n);
+    for (int k = 0; k < n; ++k) v[k] = dx(kTwoPi * k / n);
+    for (double r : periodic_roots(v, dx)) out.push_back(r);
   }
   return out;
 }
@@ -198,7 +200,8 @@ std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n) {
   auto M = [&](double phi) {
     return drive_point(d, std::cos(phi), std::sin(phi), cd, sd).total_moment();
   };
-  return piecewise_means<S>(M, dead_centres(d, n), std::max(12, n / 2));  // 12 nodes: ~1e-14
+  const auto r = piecewise_means<S>(M, dead_centres(d, n), 2 * n);
+  return {r.mean, r.mean_square};
 }
 
 // All cycle quantities with n grid points. A maximum over the cycle is
