@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Runs the Google Benchmark cases and the Python peer in the same run, and
+"""Runs the Google Benchmark cases and the Python peers in the same run, and
 writes build/bench-results.json: one row per case with mechopt and peer
 medians, their ratio (peer_seconds / mechopt_seconds) and each one's relative
-error against the high-precision reference (tools/reference_seed000.json).
+error against the high-precision references (tools/reference_seed000.json,
+tools/reference_seed002.json).
 Usage: /usr/bin/python3 bench/run_bench.py [--build build] [--repetitions 5]
 """
 import argparse
@@ -45,11 +46,19 @@ def main():
     grad = float(ref["mean_kinetic_energy_gradient_l08"])
     lstar = float(ref["rod_length_optimum"])
 
+    ref2 = json.load(open(os.path.join(ROOT, "tools", "reference_seed002.json")))
+    peak_v1 = float(ref2["variants"][0]["peak_moment"])
+    l_co1_star = float(ref2["l_co1_optimum"])
+
     print("running Google Benchmark cases ...", file=sys.stderr)
-    m = google_benchmark(os.path.join(args.build, "bin", "bench_recuperative"), args.repetitions)
-    print("running the Python peer ...", file=sys.stderr)
-    peer = json.loads(subprocess.run([sys.executable, os.path.join(HERE, "peer_recuperative.py")],
-                                     check=True, capture_output=True, text=True).stdout)
+    m = {}
+    for binary in ("bench_recuperative", "bench_conveyor"):
+        m.update(google_benchmark(os.path.join(args.build, "bin", binary), args.repetitions))
+    print("running the Python peers ...", file=sys.stderr)
+    peer = {}
+    for script in ("peer_recuperative.py", "peer_conveyor.py"):
+        peer.update(json.loads(subprocess.run([sys.executable, os.path.join(HERE, script)],
+                                              check=True, capture_output=True, text=True).stdout))
 
     # case, mechopt benchmark, peer case, reference, what the peer does
     cases = [
@@ -67,6 +76,12 @@ def main():
          "scipy minimize_scalar (bounded), xatol 1e-12"),
         ("rod_length_optimum_lbfgs", "BM_RodLengthOptimum/LD_LBFGS", "rod_length_optimum", lstar,
          "scipy minimize_scalar (bounded), xatol 1e-12"),
+        ("swing_peak_moment", "BM_SwingMetrics/48/0", "swing_peak", peak_v1,
+         "numpy loop-closure formulas, 48 points + minimize_scalar refine"),
+        ("swing_all_metrics", "BM_SwingMetrics/48/1", "swing_peak", peak_v1,
+         "as above (the peer computes the peak only)"),
+        ("swing_optimum", "BM_SwingOptimum/LD_SLSQP", "swing_optimum", l_co1_star,
+         "scipy SLSQP, finite-difference gradients, ftol 1e-12"),
     ]
     rows = []
     for case, bm, pc, reference, peer_method in cases:
@@ -83,18 +98,20 @@ def main():
             rows.append({"case": "cycle_mean_points_" + name.split("/")[1],
                          "mechopt_benchmark": name, "mechopt_seconds": a["seconds"],
                          "mechopt_error": rel(a["value"], tcp)})
-        if name.startswith("BM_RodLengthOptimum/"):
-            rows.append({"case": "optimizer_" + name.split("/")[1], "mechopt_benchmark": name,
-                         "mechopt_seconds": a["seconds"], "evaluations": a["evaluations"],
-                         "mechopt_error": rel(a["value"], lstar)})
+        for prefix, reference in (("BM_RodLengthOptimum/", lstar), ("BM_SwingOptimum/", l_co1_star)):
+            if name.startswith(prefix):
+                rows.append({"case": "optimizer_" + name.split("/")[0][3:] + "_" + name.split("/")[1],
+                             "mechopt_benchmark": name, "mechopt_seconds": a["seconds"],
+                             "evaluations": a["evaluations"],
+                             "mechopt_error": rel(a["value"], reference)})
     out = os.path.join(args.build, "bench-results.json")
     json.dump(rows, open(out, "w"), indent=1)
-    print(f"{'case':28s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
+    print(f"{'case':34s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
     for r in rows:
         fmt = lambda v: "-" if v is None else f"{v:.1e}"
         peer_s = f"{r['peer_seconds'] * 1e6:9.2f}us" if "peer_seconds" in r else f"{'-':>11s}"
         ratio = f"{r['ratio']:7.1f}" if "ratio" in r else f"{'-':>7s}"
-        print(f"{r['case']:28s} {r['mechopt_seconds'] * 1e6:9.3f}us {peer_s} {ratio} "
+        print(f"{r['case']:34s} {r['mechopt_seconds'] * 1e6:9.3f}us {peer_s} {ratio} "
               f"{fmt(r['mechopt_error']):>9s} {fmt(r.get('peer_error')):>9s}")
     print(f"written: {out}")
 

@@ -46,6 +46,22 @@ TEST(Seed002Table1, LinkLengthsReproduce) {
   }
 }
 
+TEST(Seed002Reference, PeakMomentsAgreeWithHighPrecisionReference) {
+  // tools/reference_seed002.py: mpmath at 30 digits, angles by circle
+  // intersection, derivatives numerically, M = dT/dphi + M_c |w3| (no shared
+  // code, none of our velocity or acceleration formulas). Both converge to
+  // roundoff, so 1e-10 relative.
+  const double kRef[][2] = {{1.2, 153931.18899275564},
+                            {1.4, 114328.02123318473},
+                            {1.6, 109304.52816473052},
+                            {1.8, 137188.88866149927}};
+  const auto p = family();
+  for (const auto& [l_co1, peak] : kRef)
+    EXPECT_NEAR(at(*p, l_co1).at("peak_moment"), peak, 1e-10 * peak) << l_co1;
+  EXPECT_NEAR(at(*p, 1.2).at("crank_length"), 0.35548393472677394, 1e-14);
+  EXPECT_NEAR(at(*p, 1.2).at("coupler_length"), 1.2716334533860779, 1e-14);
+}
+
 TEST(Seed002Table2, TimeRatioAndPressureAngleOfVariants1To3Reproduce) {
   // K to the printed two decimals (0.01, truncation included); the maximum
   // pressure angle to the graphical method's degree (1 deg).
@@ -101,6 +117,10 @@ variables: {l_co1: {min: 0.9 m, max: 2.4 m}}
     where = r.x[0];
     best = std::min(best, r.objective);
   }
+  // tools/reference_seed002.json: the two moment troughs are equal at
+  // l_CO1 = 1.5224536093493499 m, peak 98310.834286910226 N m.
+  EXPECT_NEAR(where, 1.5224536093493499, 1e-8);
+  EXPECT_NEAR(best, 98310.834286910226, 1e-9 * best);
   for (int i = 2; i <= 4; ++i) {  // variants within the pressure-angle limit
     EXPECT_LT(best, 0.95 * at(*p, kPaper[i].l_co1).at("peak_moment")) << kPaper[i].l_co1;
   }
@@ -127,7 +147,7 @@ variables: {l_co1: {min: 0.3 m, max: 3 m, initial: 0.6 m}}
   const auto r = opt::NloptDriver(o).minimize(*p, {"peak_moment"}, cons, p->initial_point());
   ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
   EXPECT_NE(r.message.find("phase 1 restored it"), std::string::npos) << r.message;
-  EXPECT_NEAR(r.x[0], 1.522453609, 1e-6);  // the optimum from a valid start (above)
+  EXPECT_NEAR(r.x[0], 1.5224536093493499, 1e-8);  // tools/reference_seed002.json
 }
 
 TEST(Seed002Failures, SweepRecordsEveryStatus) {
