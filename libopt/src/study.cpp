@@ -395,7 +395,7 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
     std::vector<std::string> head;
     for (const auto& a : s.grid) head.push_back(a.variable);
     for (const auto& c : s.columns) head.push_back(c);
-    head.push_back("status");
+    head.push_back("          status");  // wide enough for "synthesis_failed"
     out << "sweep over " << n0 * n1 << " points (values in SI):\n";
     print_row(out, head, head);
     std::vector<std::vector<double>> printed(s.columns.size());
