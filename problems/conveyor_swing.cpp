@@ -131,6 +131,26 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     return c;
   }
 
+  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x,
+                                             const std::string& metric) const override {
+    if (design(std::vector<double>(x.data(), x.data() + x.size())).status() != mech::Status::ok)
+      return {};
+    auto model_at = [&](const auto& xs) { return design(xs).mech; };
+    const int n = model_.cycle_points;
+    if (metric == "peak_moment")
+      return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
+        using std::abs;
+        return std::decay_t<decltype(phi)>(abs(mech::swing_point(m, phi).moment()));
+      });
+    if (metric == "max_pressure_angle")
+      return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
+        mech::FourBarPoint<std::decay_t<decltype(phi)>> p;
+        mech::four_bar_point(m.linkage, phi, p);
+        return mech::pressure_angle(p);
+      });
+    return {};
+  }
+
  private:
   // The mechanism at design x: synthesised from l_co1, or with free links.
   template <class S>

@@ -6,10 +6,12 @@
 #pragma once
 #include <algorithm>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "mech/autodiff.hpp"
+#include "mech/cycle.hpp"
 #include "opt/problem.hpp"
 
 namespace problems {
@@ -65,26 +67,56 @@ class ModelProblem : public opt::Problem {
 
   opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                            bool gradient) const override {
-    if (!gradient) return evaluate_as<double>(x, wanted);
-    switch (vars_.size()) {  // one derivative per variable
-      case 1: return evaluate_as<mech::DualN<1>>(x, wanted);
-      case 2: return evaluate_as<mech::DualN<2>>(x, wanted);
-      case 3: return evaluate_as<mech::DualN<3>>(x, wanted);
-      default: return evaluate_as<mech::DualN<mech::kMaxDerivatives>>(x, wanted);
+    return with_scalar(x, gradient, [&](const auto& xs) {
+      MetricSink<typename std::decay_t<decltype(xs)>::value_type> sink(wanted);
+      static_cast<const Derived&>(*this).evaluate_model(xs, sink);
+      return std::move(sink.result);
+    });
+  }
+
+ protected:
+  // Calls f(xs) with the variables as double, or as an autodiff type with one
+  // derivative per variable (each seeded) when a gradient is wanted.
+  template <class F>
+  auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
+    if (!gradient) return f(seeded<double>(x));
+    switch (vars_.size()) {
+      case 1: return f(seeded<mech::DualN<1>>(x));
+      case 2: return f(seeded<mech::DualN<2>>(x));
+      case 3: return f(seeded<mech::DualN<3>>(x));
+      default: return f(seeded<mech::DualN<mech::kMaxDerivatives>>(x));
     }
+  }
+
+  // The local maxima of a cycle integrand g(model, phi) of the model at x
+  // (see opt::Problem::local_maxima); model_at(xs) builds the model.
+  template <class ModelAt, class G>
+  std::vector<opt::MetricValue> cycle_local_maxima(const Eigen::VectorXd& x, int n,
+                                                   ModelAt&& model_at, G&& g) const {
+    const auto angles = mech::cycle_max_angles(model_at(seeded<double>(x)), n, g);
+    return with_scalar(x, true, [&](const auto& xs) {
+      using S = typename std::decay_t<decltype(xs)>::value_type;
+      const auto model = model_at(xs);
+      std::vector<opt::MetricValue> out;
+      for (double phi : angles) {
+        const S v = g(model, S(phi));
+        opt::MetricValue mv{mech::value(v), {}};
+        if constexpr (mech::is_dual<S>) mv.gradient = v.derivatives();
+        out.push_back(mv);
+      }
+      return out;
+    });
   }
 
  private:
   template <class S>
-  opt::Evaluation evaluate_as(const Eigen::VectorXd& x, const std::vector<std::string>& wanted) const {
+  static std::vector<S> seeded(const Eigen::VectorXd& x) {
     std::vector<S> xs(x.size());
     for (int i = 0; i < x.size(); ++i) {
       if constexpr (mech::is_dual<S>) xs[i] = S(x[i], S::DerType::RowsAtCompileTime, i);
       else xs[i] = x[i];
     }
-    MetricSink<S> sink(wanted);
-    static_cast<const Derived&>(*this).evaluate_model(xs, sink);
-    return std::move(sink.result);
+    return xs;
   }
 
   std::string name_;

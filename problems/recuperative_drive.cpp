@@ -79,6 +79,29 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
     return c;
   }
 
+  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x,
+                                             const std::string& metric) const override {
+    const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
+    if (mech::check(d) != mech::Status::ok) return {};
+    auto model_at = [&](const auto& xs) { return drive(xs); };
+    const int n = points(d);
+    if (metric == "peak_kinetic_energy")
+      return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
+        return std::decay_t<decltype(phi)>(mech::drive_point(dr, phi).kinetic_energy);
+      });
+    if (metric == "peak_total_moment")
+      return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
+        using std::abs;
+        return std::decay_t<decltype(phi)>(abs(mech::drive_point(dr, phi).total_moment()));
+      });
+    return {};
+  }
+
+  template <class S>
+  int points(const mech::TwinDrive<S>& d) const {
+    return model_.cycle_points ? model_.cycle_points : mech::auto_cycle_points(d);
+  }
+
   template <class S>
   mech::TwinDrive<S> drive(const std::vector<S>& x) const {
     mech::TwinDrive<S> d = model_.drive.template cast<S>();
@@ -110,7 +133,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
       out.put("least_mean_kinetic_energy", mech::least_mean_kinetic_energy(d));
       return;
     }
-    const int n = model_.cycle_points ? model_.cycle_points : mech::auto_cycle_points(d);
+    const int n = points(d);
     if (!needs.peak_energy && !needs.moments) {  // the fast path: the cycle mean alone
       const S mean = mech::mean_kinetic_energy(d, n);
       const S least = mech::least_mean_kinetic_energy(d);

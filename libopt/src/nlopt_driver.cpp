@@ -191,6 +191,49 @@ int restore_feasibility(const Problem& problem, Eigen::VectorXd& x) {
 
 }  // namespace
 
+namespace detail {
+
+std::string restore_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
+                          Result& result) {
+  const Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
+  if (e0.ok()) return "";
+  const int used = restore_feasibility(problem, x);
+  result.evaluations += used;
+  const bool ok = problem.evaluate(x, {objective.metric}, false).ok();
+  return "; the start was infeasible (" + e0.status + "), phase 1 " +
+         (ok ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
+         " evaluations";
+}
+
+void finish(const Problem& problem, const Objective& objective,
+            const std::vector<Constraint>& constraints, Result& result) {
+  std::vector<std::string> wanted{objective.metric};
+  for (const auto& k : constraints) wanted.push_back(k.metric);
+  const Evaluation e = problem.evaluate(result.x, wanted, false);
+  if (!e.ok()) {
+    result.status = DriverStatus::infeasible;
+    result.message += "; final design infeasible: " + e.status;
+    result.objective = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  result.objective = e.at(objective.metric);
+  for (const auto& k : constraints) {
+    result.constraint_values.push_back(e.at(k.metric));
+    if (k.g(e.at(k.metric)) > 1e-6 * std::max(1.0, std::abs(k.bound)) &&
+        result.status == DriverStatus::converged) {
+      result.status = DriverStatus::infeasible;
+      result.message += "; constraint " + k.metric + " violated at the final design";
+    }
+  }
+}
+
+}  // namespace detail
+
+std::unique_ptr<Driver> make_driver(const DriverOptions& options) {
+  if (options.library == "ipopt") return std::make_unique<IpoptDriver>(options);
+  return std::make_unique<NloptDriver>(options);
+}
+
 Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
                              const std::vector<Constraint>& constraints,
                              const Eigen::VectorXd& x0) const {
@@ -214,20 +257,9 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     return result;
   }
 
-  // A start where the model cannot be evaluated is first moved into the
-  // region the implicit constraints describe (phase 1).
   Eigen::VectorXd x = x0;
-  Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
-  std::string restored;
-  if (!e0.ok()) {
-    const int used = restore_feasibility(problem, x);
-    result.evaluations += used;
-    const std::string was = e0.status;
-    e0 = problem.evaluate(x, {objective.metric}, false);
-    restored = "; the start was infeasible (" + was + "), phase 1 " +
-               (e0.ok() ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
-               " evaluations";
-  }
+  const std::string restored = detail::restore_start(problem, objective, x, result);
+  const Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
   // SLSQP in particular fails on badly scaled objectives (a peak moment of
   // 1.5e5 N m stops it at the first step with ROUNDOFF_LIMITED): pass the
   // objective relative to its magnitude at the start.
@@ -269,23 +301,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   result.status = map_status(code);
   result.message = std::string("NLopt: ") + nlopt_result_to_string(code) + restored;
   result.x = x;
-  // Final values from a fresh evaluation at x: the record of the answer.
-  const Evaluation e = problem.evaluate(x, c.wanted, false);
-  if (!e.ok()) {
-    result.status = DriverStatus::infeasible;
-    result.message += "; final design infeasible: " + e.status;
-    result.objective = std::numeric_limits<double>::quiet_NaN();
-  } else {
-    result.objective = e.at(objective.metric);
-    for (const auto& k : constraints) {
-      result.constraint_values.push_back(e.at(k.metric));
-      if (k.g(e.at(k.metric)) > 1e-6 * std::max(1.0, std::abs(k.bound)) &&
-          result.status == DriverStatus::converged) {
-        result.status = DriverStatus::infeasible;
-        result.message += "; constraint " + k.metric + " violated at the final design";
-      }
-    }
-  }
+  detail::finish(problem, objective, constraints, result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -50,11 +50,23 @@ std::vector<double> parse_values(const ConfigNode& n, Dimension d) {
 }
 
 DriverOptions parse_driver(const ConfigNode& n) {
-  n.allow_only({"library", "algorithm", "xtol_rel", "ftol_rel", "max_evaluations",
-                "max_seconds", "constraint_tol"});
   DriverOptions o;
-  if (n.has("library")) o.library = n.at("library").choice({"nlopt"});
-  if (n.has("algorithm")) o.algorithm = n.at("algorithm").choice(nlopt_algorithms());
+  if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt"});
+  if (o.library == "ipopt") {
+    n.allow_only({"library", "tol", "max_iterations", "max_seconds", "constraint_tol",
+                  "print_level", "epigraph", "hessian"});
+    o.algorithm = "interior-point";
+    if (n.has("tol")) o.tol = n.at("tol").number();
+    if (n.has("max_iterations")) o.max_iterations = n.at("max_iterations").integer(1, 100000000);
+    if (n.has("print_level")) o.print_level = n.at("print_level").integer(0, 12);
+    if (n.has("epigraph")) o.epigraph = n.at("epigraph").boolean();
+    if (n.has("hessian")) n.at("hessian").choice({"limited-memory"});  // no model gives exact Hessians yet
+    if (!(o.tol > 0)) n.at("tol").fail("expected a tolerance > 0");
+  } else {
+    n.allow_only({"library", "algorithm", "xtol_rel", "ftol_rel", "max_evaluations",
+                  "max_seconds", "constraint_tol"});
+  }
+  if (o.library == "nlopt" && n.has("algorithm")) o.algorithm = n.at("algorithm").choice(nlopt_algorithms());
   if (n.has("xtol_rel")) o.xtol_rel = n.at("xtol_rel").number();
   if (n.has("ftol_rel")) o.ftol_rel = n.at("ftol_rel").number();
   if (n.has("max_evaluations")) o.max_evaluations = n.at("max_evaluations").integer(1, 100000000);
@@ -68,10 +80,6 @@ DriverOptions parse_driver(const ConfigNode& n) {
 void check_metric(const ConfigNode& n, const Problem& p, const std::string& metric) {
   if (!p.has_metric(metric))
     n.fail("unknown metric '" + metric + "'; expected one of: " + join(p.metric_names()));
-}
-
-std::unique_ptr<Driver> make_driver(const DriverOptions& o) {
-  return std::make_unique<NloptDriver>(o);  // the only library so far; checked by parse_driver
 }
 
 nlohmann::json variables_json(const Problem& p, const Eigen::VectorXd& x) {

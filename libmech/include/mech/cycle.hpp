@@ -83,29 +83,52 @@ double refine_max(DF&& df, double phi_k, double h) {
   return brent_root(df, a, b, ga, gb);
 }
 
-// Angle of the global maximum of a periodic f sampled as v[k] = f(2 pi k / n),
-// given its derivative df. Two nearly equal peaks can swap order between the
-// grid and the truth, so every grid local maximum that could be the highest is
-// refined and the largest kept. A peak lies at most h^2 |f''| / 8 above its
-// best grid value; |f''| h^2 is estimated by the largest second difference,
-// and peaks more than twice that bound below the grid maximum are skipped.
-template <class F, class DF>
-double global_max_angle(const std::vector<double>& v, F&& f, DF&& df) {
+// Refined angles of the local maxima of a periodic f sampled as
+// v[k] = f(2 pi k / n), given its derivative df: every grid local maximum no
+// lower than max(v) - margin, sorted by angle.
+template <class DF>
+std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df,
+                                     double margin = HUGE_VAL) {
   const int n = static_cast<int>(v.size());
-  const double h = kTwoPi / n;
-  double vmax = -HUGE_VAL, curvature = 0;
-  for (int k = 0; k < n; ++k) {
-    vmax = std::max(vmax, v[k]);
-    curvature = std::max(curvature, std::abs(v[(k + 1) % n] - 2 * v[k] + v[(k + n - 1) % n]));
-  }
-  const double margin = 0.25 * curvature;
-  double best_phi = 0, best = -HUGE_VAL;
+  const double h = kTwoPi / n, vmax = *std::max_element(v.begin(), v.end());
+  std::vector<double> out;
   for (int k = 0; k < n; ++k) {
     const double prev = v[(k + n - 1) % n], next = v[(k + 1) % n];
     if (v[k] < prev || v[k] < next || v[k] < vmax - margin) continue;
-    const double phi = refine_max(df, k * h, h);
-    if (const double fv = f(phi); fv > best) best = fv, best_phi = phi;
+    if (next == v[k] && k + 1 < n) continue;  // a flat top: refine it once
+    out.push_back(refine_max(df, k * h, h));
   }
+  return out;
+}
+
+// Refined angles of every local maximum over the cycle of g(model, phi), a
+// quantity of a model with cast<T>() (double samples on an n-point grid; the
+// angle derivative by autodiff in phi), sorted by angle.
+template <class M, class G>
+std::vector<double> cycle_max_angles(const M& model, int n, G&& g) {
+  const auto md = model.template cast<double>();
+  const auto mv = model.template cast<Dual>();
+  std::vector<double> v(n);
+  for (int k = 0; k < n; ++k) v[k] = g(md, kTwoPi * k / n);
+  return local_max_angles(v, [&](double phi) { return g(mv, seed(phi)).derivatives()[0]; });
+}
+
+// Angle of the global maximum of a periodic f sampled as v[k] = f(2 pi k / n),
+// given f and its derivative df. Two nearly equal peaks can swap order between
+// the grid and the truth, so every grid local maximum that could be the
+// highest is refined and the largest kept. A peak lies at most h^2 |f''| / 8
+// above its best grid value; |f''| h^2 is estimated by the largest second
+// difference, and peaks more than twice that bound below the grid maximum are
+// skipped.
+template <class F, class DF>
+double global_max_angle(const std::vector<double>& v, F&& f, DF&& df) {
+  const int n = static_cast<int>(v.size());
+  double curvature = 0;
+  for (int k = 0; k < n; ++k)
+    curvature = std::max(curvature, std::abs(v[(k + 1) % n] - 2 * v[k] + v[(k + n - 1) % n]));
+  double best_phi = 0, best = -HUGE_VAL;
+  for (double phi : local_max_angles(v, df, 0.25 * curvature))
+    if (const double fv = f(phi); fv > best) best = fv, best_phi = phi;
   return best_phi;
 }
 

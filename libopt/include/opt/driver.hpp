@@ -3,6 +3,7 @@
 // enum status, never an exception for an optimiser outcome.
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,11 @@ struct DriverOptions {
   double max_seconds = 60;
   double constraint_tol = 1e-9;
   bool record_history = true;
+  // Ipopt
+  double tol = 1e-10;         // KKT tolerance
+  int max_iterations = 3000;
+  int print_level = 0;        // 0 silent .. 12
+  bool epigraph = true;       // maxima over the cycle as smooth rows (see ipopt_driver.cpp)
 };
 
 struct HistoryRow {
@@ -78,5 +84,31 @@ class NloptDriver : public Driver {
  private:
   DriverOptions options_;
 };
+
+class IpoptDriver : public Driver {
+ public:
+  explicit IpoptDriver(DriverOptions options) : options_(std::move(options)) {}
+  Result minimize(const Problem& problem, const Objective& objective,
+                  const std::vector<Constraint>& constraints,
+                  const Eigen::VectorXd& x0) const override;
+
+ private:
+  DriverOptions options_;
+};
+
+// The driver for options.library ("nlopt" or "ipopt").
+std::unique_ptr<Driver> make_driver(const DriverOptions& options);
+
+namespace detail {
+// Shared by the drivers. restore_start: if the model cannot be evaluated at
+// x, moves x into the region of the implicit constraints (phase 1, SLSQP on
+// their squared violation); returns a note for the message. finish: the
+// final evaluation at result.x, the objective and constraint values, and the
+// status `infeasible` when the final design violates a constraint.
+std::string restore_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
+                          Result& result);
+void finish(const Problem& problem, const Objective& objective,
+            const std::vector<Constraint>& constraints, Result& result);
+}  // namespace detail
 
 }  // namespace opt

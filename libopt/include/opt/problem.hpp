@@ -82,6 +82,16 @@ class Problem {
     (void)x, (void)n;
     return {};
   }
+  // For a metric that is a maximum over the crank cycle: every local maximum
+  // at x, each the integrand at one refined angle with its gradient taken at
+  // that fixed angle (the local maximum's exact gradient, by the envelope
+  // theorem), sorted by angle. Empty when the metric is not such a maximum or
+  // x is infeasible. Drivers use it for epigraph formulations.
+  virtual std::vector<MetricValue> local_maxima(const Eigen::VectorXd& x,
+                                                const std::string& metric) const {
+    (void)x, (void)metric;
+    return {};
+  }
   // Fidelity, numerical settings and fixed model values, for result files.
   virtual nlohmann::json settings() const = 0;
 

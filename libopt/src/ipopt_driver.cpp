@@ -1,0 +1,343 @@
+// Ipopt behind the Driver interface: exact gradients and a dense constraint
+// Jacobian from the problem's autodiff, the Hessian by limited-memory
+// quasi-Newton (L-BFGS). A design the model cannot evaluate makes the
+// callback return false, and Ipopt cuts its step back.
+//
+// Maxima over the crank cycle (Problem::local_maxima) are nonsmooth where two
+// peaks are equal. With `epigraph` on, the driver minimises a bound t instead
+// of such an objective, with one constraint "local maximum j <= t" per peak,
+// and expands a constrained maximum into one constraint per peak: each row is
+// smooth, and the rows are refreshed at every design (the peaks move with it).
+// The row count is fixed at the start (the peaks at x0, plus two spare rows;
+// missing peaks repeat the largest, and with more peaks than rows the largest
+// are kept).
+#include <IpIpoptApplication.hpp>
+#include <IpTNLP.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#include "opt/driver.hpp"
+
+namespace opt {
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+constexpr double kInf = 1e20;  // Ipopt's default bound infinity is 1e19
+constexpr int kSpareRows = 2;
+
+// One constraint row group: a metric (or its local maxima) against a bound.
+struct Row {
+  Constraint constraint;
+  int peaks = 0;  // 0: the metric itself; > 0: that many local-maximum rows
+};
+
+class Nlp : public Ipopt::TNLP {
+ public:
+  Nlp(const Problem& p, const Objective& obj, std::vector<Row> rows, int objective_peaks,
+      double scale, const Eigen::VectorXd& x0, double t0, Result& result, bool history)
+      : p_(p), obj_(obj), rows_(std::move(rows)), objective_peaks_(objective_peaks),
+        scale_(scale), x0_(x0), t0_(t0), result_(result), history_(history) {
+    nx_ = static_cast<int>(x0.size());
+    for (const auto& r : rows_) {
+      wanted_.push_back(r.constraint.metric);
+      m_ += r.peaks ? r.peaks : 1;
+    }
+    m_ += objective_peaks_;
+    wanted_.push_back(obj.metric);
+  }
+
+  std::exception_ptr error;
+  Eigen::VectorXd solution;
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_h,
+                    IndexStyleEnum& style) override {
+    n = nx_ + (objective_peaks_ ? 1 : 0);
+    m = m_;
+    nnz_jac = n * m;
+    nnz_h = 0;
+    style = C_STYLE;
+    return true;
+  }
+
+  bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl, Number* gu) override {
+    const Eigen::VectorXd lb = p_.lower_bounds(), ub = p_.upper_bounds();
+    for (int i = 0; i < nx_; ++i) xl[i] = lb[i], xu[i] = ub[i];
+    if (n > nx_) xl[nx_] = -kInf, xu[nx_] = kInf;
+    for (Index j = 0; j < m; ++j) gl[j] = -kInf, gu[j] = 0.0;
+    return true;
+  }
+
+  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+    for (int i = 0; i < nx_; ++i) x[i] = x0_[i];
+    if (n > nx_) x[nx_] = t0_;
+    return true;
+  }
+
+  bool eval_f(Index n, const Number* x, bool, Number& f) override {
+    return guard([&] {
+      if (objective_peaks_) {
+        f = x[nx_];
+        return update(x, false);
+      }
+      if (!update(x, false)) return false;
+      f = sign() * at_.metrics.at(obj_.metric).value / scale_;
+      (void)n;
+      return true;
+    });
+  }
+
+  bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+    return guard([&] {
+      std::fill(g, g + n, 0.0);
+      if (objective_peaks_) {
+        g[nx_] = 1.0;
+        return true;
+      }
+      if (!update(x, true)) return false;
+      const auto& gr = at_.metrics.at(obj_.metric).gradient;
+      for (int i = 0; i < nx_; ++i) g[i] = sign() * gr[i] / scale_;
+      return true;
+    });
+  }
+
+  bool eval_g(Index, const Number* x, bool, Index, Number* g) override {
+    return guard([&] {
+      if (!update(x, false)) return false;
+      fill_rows(x, g, nullptr);
+      return true;
+    });
+  }
+
+  bool eval_jac_g(Index n, const Number* x, bool, Index m, Index, Index* iRow, Index* jCol,
+                  Number* values) override {
+    if (!values) {  // dense structure
+      for (Index j = 0, k = 0; j < m; ++j)
+        for (Index i = 0; i < n; ++i, ++k) iRow[k] = j, jCol[k] = i;
+      return true;
+    }
+    return guard([&] {
+      if (!update(x, true)) return false;
+      std::fill(values, values + n * m, 0.0);
+      fill_rows(x, nullptr, values);
+      return true;
+    });
+  }
+
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number, Number,
+                             Number, Number, Number, Index, const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities*) override {
+    return !error;  // stop once a callback has thrown
+  }
+
+  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
+                         const Number*, Index, const Number*, const Number*, Number,
+                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+    solution = Eigen::Map<const Eigen::VectorXd>(x, std::min<Index>(n, nx_));
+  }
+
+ private:
+  double sign() const { return obj_.maximize ? -1.0 : 1.0; }
+
+  template <class F>
+  bool guard(F&& f) {
+    try {
+      return f();
+    } catch (...) {
+      error = std::current_exception();
+      return false;
+    }
+  }
+
+  // Evaluates the metrics (and the local maxima the rows need) at x, once per
+  // x and gradient need; false where the design is infeasible.
+  bool update(const Number* x, bool gradient) {
+    Eigen::Map<const Eigen::VectorXd> xv(x, nx_);
+    if (!(last_.size() == nx_ && last_ == xv && (has_gradient_ || !gradient))) {
+      at_ = p_.evaluate(xv, wanted_, true);  // gradients are cheap next to the cycle
+      last_ = xv;
+      has_gradient_ = true;
+      peaks_.clear();
+      for (const auto& r : rows_)
+        if (r.peaks) peaks_[r.constraint.metric] = p_.local_maxima(xv, r.constraint.metric);
+      if (objective_peaks_) peaks_[obj_.metric] = p_.local_maxima(xv, obj_.metric);
+      ++result_.evaluations;
+      if (!at_.ok()) ++result_.infeasible_evaluations;
+      if (history_)
+        result_.history.push_back({result_.evaluations, at_.status, xv,
+                                   at_.ok() ? at_.metrics.at(obj_.metric).value
+                                            : std::numeric_limits<double>::quiet_NaN()});
+    }
+    if (!at_.ok()) return false;
+    for (const auto& [metric, list] : peaks_)
+      if (list.empty()) return false;
+    return true;
+  }
+
+  // The k rows of a maximum: its local maxima, the largest k if there are
+  // more, the largest repeated if fewer.
+  std::vector<const MetricValue*> peak_rows(const std::string& metric, int k) const {
+    const auto& list = peaks_.at(metric);
+    std::vector<const MetricValue*> rows;
+    for (const auto& v : list) rows.push_back(&v);
+    std::sort(rows.begin(), rows.end(), [](auto a, auto b) { return a->value > b->value; });
+    rows.resize(std::min<size_t>(rows.size(), k));
+    while (static_cast<int>(rows.size()) < k) rows.push_back(rows.front());
+    return rows;
+  }
+
+  // Row values g (if given) and dense Jacobian rows jac (if given), n columns.
+  void fill_rows(const Number* x, Number* g, Number* jac) const {
+    const int n = nx_ + (objective_peaks_ ? 1 : 0);
+    int j = 0;
+    auto put = [&](double value, const Eigen::VectorXd* grad, double gsign, double t_coef) {
+      if (g) g[j] = value;
+      if (jac) {
+        if (grad)
+          for (int i = 0; i < nx_; ++i) jac[j * n + i] = gsign * (*grad)[i];
+        if (t_coef != 0) jac[j * n + nx_] = t_coef;
+      }
+      ++j;
+    };
+    for (const auto& r : rows_) {
+      const Constraint& k = r.constraint;
+      const double s = k.upper ? 1.0 : -1.0;
+      if (!r.peaks) {
+        const auto& mv = at_.metrics.at(k.metric);
+        put(k.g(mv.value), &mv.gradient, s, 0.0);
+      } else {
+        for (const MetricValue* mv : peak_rows(k.metric, r.peaks)) put(k.g(mv->value), &mv->gradient, s, 0.0);
+      }
+    }
+    if (objective_peaks_) {
+      for (const MetricValue* mv : peak_rows(obj_.metric, objective_peaks_)) {
+        const Eigen::VectorXd scaled = mv->gradient / scale_;
+        put(mv->value / scale_ - x[nx_], &scaled, 1.0, -1.0);
+      }
+    }
+  }
+
+  const Problem& p_;
+  const Objective& obj_;
+  std::vector<Row> rows_;
+  int objective_peaks_;
+  double scale_;
+  Eigen::VectorXd x0_;
+  double t0_;
+  Result& result_;
+  bool history_;
+  int nx_ = 0, m_ = 0;
+  std::vector<std::string> wanted_;
+  Eigen::VectorXd last_;
+  bool has_gradient_ = false;
+  Evaluation at_;
+  std::map<std::string, std::vector<MetricValue>> peaks_;
+};
+
+DriverStatus map_status(Ipopt::ApplicationReturnStatus s) {
+  switch (s) {
+    case Ipopt::Solve_Succeeded:
+    case Ipopt::Solved_To_Acceptable_Level:
+    case Ipopt::Feasible_Point_Found: return DriverStatus::converged;
+    case Ipopt::Maximum_Iterations_Exceeded: return DriverStatus::max_evaluations;
+    case Ipopt::Maximum_CpuTime_Exceeded: return DriverStatus::max_time;
+    case Ipopt::Infeasible_Problem_Detected: return DriverStatus::infeasible;
+    case Ipopt::Not_Enough_Degrees_Of_Freedom:
+    case Ipopt::Invalid_Problem_Definition:
+    case Ipopt::Invalid_Option: return DriverStatus::invalid_arguments;
+    default: return DriverStatus::failure;
+  }
+}
+
+const char* status_text(Ipopt::ApplicationReturnStatus s) {
+  switch (s) {
+    case Ipopt::Solve_Succeeded: return "Solve_Succeeded";
+    case Ipopt::Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
+    case Ipopt::Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
+    case Ipopt::Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
+    case Ipopt::Diverging_Iterates: return "Diverging_Iterates";
+    case Ipopt::User_Requested_Stop: return "User_Requested_Stop";
+    case Ipopt::Feasible_Point_Found: return "Feasible_Point_Found";
+    case Ipopt::Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
+    case Ipopt::Restoration_Failed: return "Restoration_Failed";
+    case Ipopt::Error_In_Step_Computation: return "Error_In_Step_Computation";
+    case Ipopt::Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
+    case Ipopt::Not_Enough_Degrees_Of_Freedom: return "Not_Enough_Degrees_Of_Freedom";
+    case Ipopt::Invalid_Problem_Definition: return "Invalid_Problem_Definition";
+    case Ipopt::Invalid_Option: return "Invalid_Option";
+    case Ipopt::Invalid_Number_Detected: return "Invalid_Number_Detected";
+    default: return "internal error";
+  }
+}
+
+}  // namespace
+
+Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
+                             const std::vector<Constraint>& constraints,
+                             const Eigen::VectorXd& x0) const {
+  Result result;
+  result.library = "ipopt";
+  result.algorithm = options_.epigraph ? "interior-point, L-BFGS, epigraph" : "interior-point, L-BFGS";
+  const auto start = std::chrono::steady_clock::now();
+  Eigen::VectorXd x = x0;
+  const std::string restored = detail::restore_start(problem, objective, x, result);
+
+  // Rows: user constraints, then the problem's implicit ones; maxima
+  // expanded into their peaks when bounded above.
+  std::vector<Row> rows;
+  auto add = [&](const Constraint& k) {
+    int peaks = 0;
+    if (options_.epigraph && k.upper) {
+      const auto list = problem.local_maxima(x, k.metric);
+      if (!list.empty()) peaks = static_cast<int>(list.size()) + kSpareRows;
+    }
+    rows.push_back({k, peaks});
+  };
+  for (const auto& k : constraints) add(k);
+  for (const auto& k : problem.implicit_constraints()) add(k);
+
+  const Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
+  double scale = 1.0;  // as in the NLopt driver: the objective relative to |f(x0)|
+  if (e0.ok() && e0.metrics.count(objective.metric)) {
+    const double f0 = std::abs(e0.at(objective.metric));
+    if (std::isfinite(f0) && f0 > 0) scale = f0;
+  }
+  int objective_peaks = 0;
+  double t0 = 0;
+  if (options_.epigraph && !objective.maximize) {
+    const auto list = problem.local_maxima(x, objective.metric);
+    if (!list.empty()) {
+      objective_peaks = static_cast<int>(list.size()) + kSpareRows;
+      for (const auto& v : list) t0 = std::max(t0, v.value / scale);
+      t0 *= 1 + 1e-6;
+    }
+  }
+
+  Ipopt::SmartPtr<Nlp> nlp = new Nlp(problem, objective, rows, objective_peaks, scale, x, t0, result,
+                                     options_.record_history);
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  app->Options()->SetIntegerValue("print_level", options_.print_level);
+  app->Options()->SetStringValue("sb", "yes");
+  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetNumericValue("tol", options_.tol);
+  app->Options()->SetIntegerValue("max_iter", options_.max_iterations);
+  app->Options()->SetNumericValue("max_cpu_time", options_.max_seconds);
+  app->Options()->SetNumericValue("constr_viol_tol", std::max(options_.constraint_tol, 1e-12));
+  Ipopt::ApplicationReturnStatus status = app->Initialize();
+  if (status == Ipopt::Solve_Succeeded) status = app->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
+  if (nlp->error) std::rethrow_exception(nlp->error);
+
+  result.status = map_status(status);
+  result.message = std::string("Ipopt: ") + status_text(status) + restored;
+  result.x = nlp->solution.size() == x.size() ? nlp->solution : x;
+  detail::finish(problem, objective, constraints, result);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace opt
