@@ -69,7 +69,10 @@ class Nlp : public Ipopt::TNLP {
     const Eigen::VectorXd lb = p_.lower_bounds(), ub = p_.upper_bounds();
     for (int i = 0; i < nx_; ++i) xl[i] = lb[i], xu[i] = ub[i];
     if (n > nx_) xl[nx_] = -kInf, xu[nx_] = kInf;
-    for (Index j = 0; j < m; ++j) gl[j] = -kInf, gu[j] = 0.0;
+    Index j = 0;
+    for (const auto& r : rows_)
+      for (int k = 0; k < std::max(1, r.peaks); ++k, ++j) gl[j] = r.constraint.equal ? 0.0 : -kInf, gu[j] = 0.0;
+    for (; j < m; ++j) gl[j] = -kInf, gu[j] = 0.0;
     return true;
   }
 
@@ -292,7 +295,7 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
   std::vector<Row> rows;
   auto add = [&](const Constraint& k) {
     int peaks = 0;
-    if (options_.epigraph && k.upper) {
+    if (options_.epigraph && k.upper && !k.equal) {
       const auto list = problem.local_maxima(x, k.metric);
       if (!list.empty()) peaks = static_cast<int>(list.size()) + kSpareRows;
     }

@@ -4,6 +4,7 @@
 // the solver is stopped, and the exception is re-thrown after it returns.
 #include <nlopt.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -27,14 +28,22 @@ std::string to_string(DriverStatus s) {
 }
 
 std::vector<std::string> nlopt_algorithms() {
-  return {"LN_COBYLA", "LN_BOBYQA", "LN_NELDERMEAD", "LN_SBPLX", "LD_SLSQP",
-          "LD_MMA",    "LD_CCSAQ", "LD_LBFGS",      "GN_DIRECT_L", "GN_DIRECT"};
+  return {"LN_COBYLA", "LN_BOBYQA",   "LN_NELDERMEAD", "LN_SBPLX",  "LD_SLSQP",
+          "LD_MMA",    "LD_CCSAQ",    "LD_LBFGS",      "GN_DIRECT_L", "GN_DIRECT",
+          "GN_ISRES",  "G_MLSL_LDS"};
 }
 
 bool algorithm_uses_gradient(const std::string& a) { return a.size() > 1 && a[1] == 'D'; }
 
+bool algorithm_is_global(const std::string& a) { return !a.empty() && a[0] == 'G'; }
+
 bool algorithm_supports_constraints(const std::string& a) {
-  return a == "LN_COBYLA" || a == "LD_SLSQP" || a == "LD_MMA" || a == "LD_CCSAQ";
+  return a == "LN_COBYLA" || a == "LD_SLSQP" || a == "LD_MMA" || a == "LD_CCSAQ" ||
+         a == "GN_ISRES";
+}
+
+bool algorithm_supports_equalities(const std::string& a) {
+  return a == "LN_COBYLA" || a == "LD_SLSQP" || a == "GN_ISRES";
 }
 
 namespace {
@@ -219,7 +228,7 @@ void finish(const Problem& problem, const Objective& objective,
   result.objective = e.at(objective.metric);
   for (const auto& k : constraints) {
     result.constraint_values.push_back(e.at(k.metric));
-    if (k.g(e.at(k.metric)) > 1e-6 * std::max(1.0, std::abs(k.bound)) &&
+    if (k.violation(e.at(k.metric)) > 1e-6 * std::max(1.0, std::abs(k.bound)) &&
         result.status == DriverStatus::converged) {
       result.status = DriverStatus::infeasible;
       result.message += "; constraint " + k.metric + " violated at the final design";
@@ -230,8 +239,31 @@ void finish(const Problem& problem, const Objective& objective,
 }  // namespace detail
 
 std::unique_ptr<Driver> make_driver(const DriverOptions& options) {
-  if (options.library == "ipopt") return std::make_unique<IpoptDriver>(options);
-  return std::make_unique<NloptDriver>(options);
+  std::unique_ptr<Driver> d;
+  if (options.library == "ipopt") d = std::make_unique<IpoptDriver>(options);
+  else d = std::make_unique<NloptDriver>(options);
+  if (options.polish) return std::make_unique<ChainDriver>(std::move(d), make_driver(*options.polish));
+  return d;
+}
+
+Result ChainDriver::minimize(const Problem& problem, const Objective& objective,
+                             const std::vector<Constraint>& constraints,
+                             const Eigen::VectorXd& x0) const {
+  Result a = first_->minimize(problem, objective, constraints, x0);
+  const bool usable = a.x.size() == x0.size() && problem.evaluate(a.x, {}, false).ok();
+  Result b = then_->minimize(problem, objective, constraints, usable ? a.x : x0);
+  b.message = a.library + " " + a.algorithm + " (" + std::to_string(a.evaluations) +
+              " evaluations): " + a.message + "; then " + b.library + " " + b.algorithm + ": " +
+              b.message;
+  b.library = a.library + "+" + b.library;
+  b.algorithm = a.algorithm + "+" + b.algorithm;
+  b.evaluations += a.evaluations;
+  b.infeasible_evaluations += a.infeasible_evaluations;
+  b.seconds += a.seconds;
+  for (auto& h : b.history) h.evaluation += a.evaluations;
+  a.history.insert(a.history.end(), b.history.begin(), b.history.end());
+  b.history = std::move(a.history);
+  return b;
 }
 
 Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
@@ -249,6 +281,14 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     return result;
   }
   const bool constrained_alg = algorithm_supports_constraints(options_.algorithm);
+  const bool has_equality = std::any_of(constraints.begin(), constraints.end(),
+                                        [](const Constraint& k) { return k.equal; });
+  if (has_equality && !algorithm_supports_equalities(options_.algorithm)) {
+    result.status = DriverStatus::invalid_arguments;
+    result.message = options_.algorithm +
+                     " takes no equality constraints; use LD_SLSQP, LN_COBYLA, GN_ISRES or Ipopt";
+    return result;
+  }
   if (!constraints.empty() && !constrained_alg) {
     result.status = DriverStatus::invalid_arguments;
     result.message = options_.algorithm +
@@ -286,13 +326,23 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   std::vector<ConstraintData> cdata(c.constraints.size());
   for (size_t i = 0; i < c.constraints.size(); ++i) {
     cdata[i] = {&c, i};
-    nlopt_add_inequality_constraint(opt, constraint_cb, &cdata[i], options_.constraint_tol);
+    if (c.constraints[i].equal)
+      nlopt_add_equality_constraint(opt, constraint_cb, &cdata[i], options_.constraint_tol);
+    else
+      nlopt_add_inequality_constraint(opt, constraint_cb, &cdata[i], options_.constraint_tol);
   }
   nlopt_set_xtol_rel(opt, options_.xtol_rel);
   if (options_.ftol_rel > 0) nlopt_set_ftol_rel(opt, options_.ftol_rel);
   nlopt_set_maxeval(opt, options_.max_evaluations);
   nlopt_set_maxtime(opt, options_.max_seconds);
+  if (options_.algorithm == "G_MLSL_LDS") {  // multistart: local searches from a low-discrepancy sequence
+    nlopt_opt local = nlopt_create(nlopt_algorithm_from_string(options_.local_algorithm.c_str()), n);
+    nlopt_set_xtol_rel(local, options_.xtol_rel);
+    nlopt_set_local_optimizer(opt, local);
+    nlopt_destroy(local);  // NLopt keeps its own copy
+  }
 
+  nlopt_srand(options_.seed);
   double f = 0;
   const nlopt_result code = nlopt_optimize(opt, x.data(), &f);
   nlopt_destroy(opt);

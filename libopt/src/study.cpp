@@ -64,9 +64,22 @@ DriverOptions parse_driver(const ConfigNode& n) {
     if (!(o.tol > 0)) n.at("tol").fail("expected a tolerance > 0");
   } else {
     n.allow_only({"library", "algorithm", "xtol_rel", "ftol_rel", "max_evaluations",
-                  "max_seconds", "constraint_tol"});
+                  "max_seconds", "constraint_tol", "local_algorithm", "polish", "seed"});
   }
   if (o.library == "nlopt" && n.has("algorithm")) o.algorithm = n.at("algorithm").choice(nlopt_algorithms());
+  if (n.has("seed")) o.seed = static_cast<unsigned long>(n.at("seed").integer(0, 2147483647));
+  if (n.has("local_algorithm")) {
+    if (o.algorithm != "G_MLSL_LDS") n.at("local_algorithm").fail("goes with algorithm: G_MLSL_LDS");
+    o.local_algorithm = n.at("local_algorithm").choice(nlopt_algorithms());
+    if (algorithm_is_global(o.local_algorithm)) n.at("local_algorithm").fail("expected a local (L*) algorithm");
+  }
+  if (o.algorithm == "G_MLSL_LDS" && !n.has("max_evaluations") && !n.has("max_seconds"))
+    n.fail("G_MLSL_LDS runs until a limit: give max_evaluations or max_seconds");
+  if (n.has("polish")) {
+    const ConfigNode pn = n.at("polish");
+    o.polish = std::make_shared<DriverOptions>(parse_driver(pn));
+    if (o.polish->polish) pn.at("polish").fail("one hand-off only: polish cannot have its own polish");
+  }
   if (n.has("xtol_rel")) o.xtol_rel = n.at("xtol_rel").number();
   if (n.has("ftol_rel")) o.ftol_rel = n.at("ftol_rel").number();
   if (n.has("max_evaluations")) o.max_evaluations = n.at("max_evaluations").integer(1, 100000000);
@@ -132,13 +145,13 @@ OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out) 
   nlohmann::json cons = nlohmann::json::array();
   for (size_t i = 0; i < s.constraints.size(); ++i) {
     const Constraint& k = s.constraints[i];
-    cons.push_back({{"metric", k.metric}, {k.upper ? "max" : "min", k.bound},
+    cons.push_back({{"metric", k.metric}, {k.equal ? "equal" : k.upper ? "max" : "min", k.bound},
                     {"value", i < r.constraint_values.size() ? nlohmann::json(r.constraint_values[i])
                                                              : nlohmann::json(nullptr)}});
   }
   o.json = {{"status", to_string(r.status)},
             {"message", r.message},
-            {"driver", {{"library", r.library}, {"algorithm", r.algorithm},
+            {"driver", {{"library", r.library}, {"algorithm", r.algorithm}, {"seed", s.driver.seed},
                         {"xtol_rel", s.driver.xtol_rel}, {"ftol_rel", s.driver.ftol_rel},
                         {"max_evaluations", s.driver.max_evaluations},
                         {"max_seconds", s.driver.max_seconds}}},
@@ -165,7 +178,7 @@ OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out) 
       << " = " << fmt(r.objective, 12) << " " << p.metric_unit(s.objective.metric) << "\n";
   for (size_t i = 0; i < s.constraints.size() && i < r.constraint_values.size(); ++i)
     out << "  constraint " << s.constraints[i].metric << " = " << fmt(r.constraint_values[i])
-        << (s.constraints[i].upper ? " <= " : " >= ") << fmt(s.constraints[i].bound) << "\n";
+        << s.constraints[i].relation() << fmt(s.constraints[i].bound) << "\n";
   out << "metrics at the optimum:\n";
   print_metrics(out, p, o.json["metrics"]);
   return o;
@@ -224,7 +237,7 @@ std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
                           Series::Style::markers});
     for (const auto& k : s.constraints)
       if (k.metric == m)
-        c.series.push_back({std::string(k.upper ? "max " : "min ") + "(constraint)",
+        c.series.push_back({std::string(k.equal ? "equal " : k.upper ? "max " : "min ") + "(constraint)",
                             {v.lower, v.upper}, {k.bound, k.bound}, Series::Style::line});
     if (optimum && (*optimum)["metrics"].contains(m))
       c.series.push_back({"optimum", {(*optimum)["variables"][v.name]["value"].get<double>()},
@@ -314,12 +327,16 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     for (const auto& name : cs.keys()) {
       const ConfigNode c = cs.at(name);
       check_metric(c, p, name);
-      c.allow_only({"max", "min"});
+      c.allow_only({"max", "min", "equal"});
+      const Dimension d = dimension_of(p.metric_unit(name));
       for (const char* side : {"max", "min"})
-        if (c.has(side))
-          s.constraints.push_back(
-              {name, side[1] == 'a', c.at(side).quantity(dimension_of(p.metric_unit(name)))});
-      if (!c.has("max") && !c.has("min")) c.fail("expected max: VALUE or min: VALUE");
+        if (c.has(side)) s.constraints.push_back({name, side[1] == 'a', c.at(side).quantity(d)});
+      if (c.has("equal")) {
+        if (c.has("max") || c.has("min")) c.fail("expected equal: VALUE alone, or max/min");
+        s.constraints.push_back({name, true, c.at("equal").quantity(d), true});
+      }
+      if (!c.has("max") && !c.has("min") && !c.has("equal"))
+        c.fail("expected max: VALUE, min: VALUE or equal: VALUE");
     }
   }
   if (root.has("study")) {

@@ -35,6 +35,12 @@ struct DriverOptions {
   int max_iterations = 3000;
   int print_level = 0;        // 0 silent .. 12
   bool epigraph = true;       // maxima over the cycle as smooth rows (see ipopt_driver.cpp)
+  // NLopt's random algorithms (GN_ISRES) draw from this seed: runs repeat.
+  unsigned long seed = 1;
+  // NLopt G_MLSL_LDS: the local algorithm of each search
+  std::string local_algorithm = "LD_LBFGS";
+  // A local driver run from the first driver's answer (global-then-local).
+  std::shared_ptr<const DriverOptions> polish;
 };
 
 struct HistoryRow {
@@ -72,7 +78,9 @@ class Driver {
 // The algorithms a library offers, for help text and config checks.
 std::vector<std::string> nlopt_algorithms();
 bool algorithm_uses_gradient(const std::string& algorithm);
+bool algorithm_is_global(const std::string& algorithm);
 bool algorithm_supports_constraints(const std::string& algorithm);
+bool algorithm_supports_equalities(const std::string& algorithm);
 
 class NloptDriver : public Driver {
  public:
@@ -96,7 +104,22 @@ class IpoptDriver : public Driver {
   DriverOptions options_;
 };
 
-// The driver for options.library ("nlopt" or "ipopt").
+// Runs `first`, then `then` from first's answer: a global search handing
+// over to a local one. Evaluations and time add up; the status is then's.
+class ChainDriver : public Driver {
+ public:
+  ChainDriver(std::unique_ptr<Driver> first, std::unique_ptr<Driver> then)
+      : first_(std::move(first)), then_(std::move(then)) {}
+  Result minimize(const Problem& problem, const Objective& objective,
+                  const std::vector<Constraint>& constraints,
+                  const Eigen::VectorXd& x0) const override;
+
+ private:
+  std::unique_ptr<Driver> first_, then_;
+};
+
+// The driver for options.library ("nlopt" or "ipopt"), chained to
+// options.polish when set.
 std::unique_ptr<Driver> make_driver(const DriverOptions& options);
 
 namespace detail {

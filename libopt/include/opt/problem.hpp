@@ -3,6 +3,7 @@
 // evaluated with a status and exact gradients where the model provides them.
 #pragma once
 #include <Eigen/Core>
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -34,13 +35,17 @@ struct Evaluation {
   double at(const std::string& name) const { return metrics.at(name).value; }
 };
 
-// A metric kept below (or above) a bound: metric <= bound or metric >= bound.
+// A metric kept below, above or at a bound: metric <= bound (upper),
+// metric >= bound (!upper), or metric == bound (equal, with upper set).
 struct Constraint {
   std::string metric;
   bool upper = true;
   double bound = 0;
-  // Signed violation in the form g(x) <= 0.
+  bool equal = false;
+  // Signed violation: g(x) <= 0, or g(x) == 0 for an equality.
   double g(double v) const { return upper ? v - bound : bound - v; }
+  double violation(double v) const { return equal ? std::abs(g(v)) : std::max(0.0, g(v)); }
+  const char* relation() const { return equal ? " = " : upper ? " <= " : " >= "; }
 };
 
 struct Objective {
