@@ -250,6 +250,7 @@ Result ChainDriver::minimize(const Problem& problem, const Objective& objective,
                              const std::vector<Constraint>& constraints,
                              const Eigen::VectorXd& x0) const {
   Result a = first_->minimize(problem, objective, constraints, x0);
+  if (a.status == DriverStatus::invalid_arguments) return a;  // never skip the first stage silently
   const bool usable = a.x.size() == x0.size() && problem.evaluate(a.x, {}, false).ok();
   Result b = then_->minimize(problem, objective, constraints, usable ? a.x : x0);
   b.message = a.library + " " + a.algorithm + " (" + std::to_string(a.evaluations) +
