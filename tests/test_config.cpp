@@ -91,6 +91,14 @@ TEST(CommandLine, EvalPrintsEveryMetricAsJson) {
   EXPECT_FALSE(k["metrics"].contains("mean_kinetic_energy"));
 }
 
+TEST(CommandLine, CheckDerivativesReportsEveryMetric) {
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/conveyor_swing/optimum.yaml";
+  const Outcome o = run("check-derivatives " + cfg);
+  EXPECT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_NE(o.output.find(" 0 mismatches"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("peak_moment[peak 0]"), std::string::npos) << o.output;
+}
+
 TEST(CommandLine, VersionHelpList) {
   EXPECT_EQ(run("--version").output, "mechopt " MECHOPT_VERSION "\n");
   EXPECT_EQ(run("--help").exit_code, 0);

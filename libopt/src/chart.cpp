@@ -30,7 +30,7 @@ const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", 
 }  // namespace
 
 bool write_svg(const Chart& chart, const std::string& file) {
-  const double W = 720, H = 450, L = 80, R = 200, T = 40, B = 60;
+  const double W = 780, H = 450, L = 80, R = 260, T = 40, B = 60;
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
   for (const auto& s : chart.series)
     for (size_t i = 0; i < s.x.size(); ++i) {

@@ -287,6 +287,81 @@ void print_row(std::ostream& out, const std::vector<std::string>& cells,
   out << "\n";
 }
 
+// Epsilon-constraint Pareto front of two minimised metrics f1, f2: the two
+// single-objective optima bound f2's range; at each of `points` levels eps,
+// f1 is minimised subject to f2 <= eps (and the config's constraints), each
+// run warm-started from the previous answer. Writes pareto.csv and
+// pareto.svg (the front, both single-objective optima, the model design).
+std::vector<std::string> pareto(const Problem& p, const RunSpec& s, std::ostream& out,
+                                const std::string& dir, nlohmann::json& j) {
+  const auto driver = make_driver(s.driver);
+  const std::string f1 = s.objectives[0], f2 = s.objectives[1];
+  const Result a = driver->minimize(p, {f1}, s.constraints, p.initial_point());
+  const Result b = driver->minimize(p, {f2}, s.constraints, p.initial_point());
+  if (!a.success() || !b.success())
+    throw std::runtime_error("pareto: a single-objective optimum failed (" + to_string(a.status) +
+                             ", " + to_string(b.status) + ": " + a.message + " / " + b.message + ")");
+  auto both = [&](const Eigen::VectorXd& x) {
+    const Evaluation e = p.evaluate(x, {f1, f2}, false);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return e.ok() ? std::pair<double, double>{e.at(f1), e.at(f2)} : std::pair<double, double>{nan, nan};
+  };
+  const auto [a1, a2] = both(a.x);
+  const auto [b1, b2] = both(b.x);
+  std::ofstream csv(dir + "pareto.csv");
+  csv << "epsilon,status," << f1 << "," << f2;
+  for (const auto& v : p.variables()) csv << "," << v.name;
+  csv << ",evaluations\n" << std::setprecision(17);
+  out << "pareto front: minimise " << f1 << " subject to " << f2 << " <= epsilon, " << s.points
+      << " points from " << fmt(b2) << " to " << fmt(a2) << "\n";
+  std::vector<std::string> head{"epsilon", f1, f2};
+  for (const auto& v : p.variables()) head.push_back(v.name);
+  head.push_back("          status");
+  print_row(out, head, head);
+  Series front{"Pareto front", {}, {}, Series::Style::line};
+  nlohmann::json rows = nlohmann::json::array();
+  Eigen::VectorXd x = b.x;  // from the f2 end, where the bound is tightest
+  int evaluations = a.evaluations + b.evaluations;
+  for (int k = 0; k < s.points; ++k) {
+    const double eps = b2 + (a2 - b2) * k / (s.points - 1);
+    std::vector<Constraint> cons = s.constraints;
+    cons.push_back({f2, true, eps});
+    const Result r = driver->minimize(p, {f1}, cons, x);
+    evaluations += r.evaluations;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const auto [v1, v2] = r.success() ? both(r.x) : std::pair<double, double>{nan, nan};
+    if (r.success()) x = r.x, front.x.push_back(v2), front.y.push_back(v1);
+    csv << eps << "," << to_string(r.status) << "," << v1 << "," << v2;
+    std::vector<std::string> row{fmt(eps), fmt(v1, 8), fmt(v2, 8)};
+    for (int d = 0; d < r.x.size(); ++d) csv << "," << r.x[d], row.push_back(fmt(r.x[d], 8));
+    csv << "," << r.evaluations << std::endl;
+    row.push_back(to_string(r.status));
+    print_row(out, row, head);
+    rows.push_back({{"epsilon", eps}, {"status", to_string(r.status)}, {f1, v1}, {f2, v2},
+                    {"variables", variables_json(p, r.x)}});
+  }
+  const auto [m1, m2] = both(p.initial_point(false));
+  j["pareto"] = {{"objectives", {f1, f2}},
+                 {"optimum_" + f1, {{"x", variables_json(p, a.x)}, {f1, a1}, {f2, a2}}},
+                 {"optimum_" + f2, {{"x", variables_json(p, b.x)}, {f1, b1}, {f2, b2}}},
+                 {"model_design", {{f1, m1}, {f2, m2}}},
+                 {"points", rows},
+                 {"evaluations", evaluations},
+                 {"driver", {{"library", a.library}, {"algorithm", a.algorithm}}},
+                 {"csv", dir + "pareto.csv"}};
+  Chart c;
+  c.title = p.name() + ": Pareto front, " + f1 + " against " + f2;
+  c.x_label = f2 + " [" + p.metric_unit(f2) + "]";
+  c.y_label = f1 + " [" + p.metric_unit(f1) + "]";
+  c.series.push_back(front);
+  c.series.push_back({"least " + f1, {a2}, {a1}, Series::Style::star});
+  c.series.push_back({"least " + f2, {b2}, {b1}, Series::Style::star});
+  if (std::isfinite(m1)) c.series.push_back({"model design (config values)", {m2}, {m1}, Series::Style::markers});
+  if (!write_svg(c, dir + "pareto.svg")) return {};
+  return {dir + "pareto.svg"};
+}
+
+
 }  // namespace
 
 std::vector<Variable> parse_variables(const ConfigNode& root,
@@ -341,8 +416,22 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
   }
   if (root.has("study")) {
     const ConfigNode st = root.at("study");
-    st.allow_only({"type", "driver", "grid", "optimize", "columns"});
-    s.type = st.at("type").choice({"optimize", "sweep"});
+    st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points"});
+    s.type = st.at("type").choice({"optimize", "sweep", "pareto"});
+    if (s.type == "pareto") {
+      const ConfigNode ob = st.at("objectives");
+      for (const auto& item : ob.items()) {
+        check_metric(item, p, item.text());
+        s.objectives.push_back(item.text());
+      }
+      if (s.objectives.size() != 2 || s.objectives[0] == s.objectives[1])
+        ob.fail("expected two different metrics, both minimised: [f1, f2]");
+      if (st.has("points")) s.points = st.at("points").integer(3, 1000);
+      if (root.has("objective")) root.at("objective").fail("a pareto study takes study.objectives instead");
+      s.objective = {s.objectives[0], false};
+    } else if (st.has("objectives") || st.has("points")) {
+      st.fail("'objectives' and 'points' go with type: pareto");
+    }
     if (st.has("driver")) s.driver = parse_driver(st.at("driver"));
     if (st.has("optimize")) s.optimize = st.at("optimize").boolean();
     if (s.type == "sweep") {
@@ -364,7 +453,7 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
   }
   if (s.objective.metric.empty() && (s.type == "optimize" || s.optimize))
     root.fail("missing required key 'objective' (e.g. objective: {minimize: METRIC})");
-  if (s.type == "optimize" && p.variables().empty())
+  if ((s.type == "optimize" || s.type == "pareto") && p.variables().empty())
     root.fail("missing required key 'variables': an optimisation needs at least one");
   if (s.columns.empty()) {
     s.columns.push_back(s.objective.metric);
@@ -471,6 +560,15 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
       }
     }
     j["sweep"] = {{"points", n0 * n1}, {"infeasible", infeasible}, {"csv", dir + "sweep.csv"}};
+  }
+  if (s.type == "pareto") {
+    const auto files = pareto(p, s, out, dir, j);
+    j["charts"] = files;
+    std::ofstream(dir + "result.json") << j.dump(2) << "\n";
+    out << "written: " << dir << "result.json, pareto.csv";
+    for (const auto& f : files) out << ", " << f.substr(dir.size());
+    out << "\n";
+    return j;
   }
   OptimizeOutcome o;
   const bool optimized = s.type == "optimize" || s.optimize;

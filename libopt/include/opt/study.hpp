@@ -39,13 +39,15 @@ struct Reference {
 };
 
 struct RunSpec {
-  std::string type = "optimize";  // optimize | sweep
+  std::string type = "optimize";  // optimize | sweep | pareto
   Objective objective;
   std::vector<Constraint> constraints;
   bool optimize = true;           // sweeps: also run the driver
   DriverOptions driver;
   std::vector<GridAxis> grid;     // sweeps
   std::vector<std::string> columns;  // metrics printed and charted
+  std::vector<std::string> objectives;  // pareto: the two metrics traded, both minimised
+  int points = 11;                   // pareto: points on the front
   Reference reference;
   std::string output_directory = "results";
   bool chart = true;
