@@ -27,8 +27,54 @@ def google_benchmark(binary, repetitions):
             unit = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
             rows[b["run_name"]] = {"seconds": b["real_time"] * unit, "value": b.get("value"),
                                    "gradient": b.get("gradient"),
-                                   "evaluations": b.get("evaluations")}
+                                   "evaluations": b.get("evaluations"),
+                                   "error": b.get("error"), "converged": b.get("converged")}
     return rows
+
+
+def write_work_precision_svg(path, scene, drivers):
+    """Log-log chart: error of the optimal variable against time, one line per
+    driver over its tolerances; hollow markers where the driver did not
+    report convergence."""
+    import math
+    W, H, L, R, T, B = 820, 480, 80, 250, 40, 60
+    pts = [(t, e) for runs in drivers.values() for t, e, _, _ in runs if e and e > 0]
+    floor = 1e-17
+    xs = [math.log10(t) for t, _ in pts]
+    ys = [math.log10(max(e, floor)) for _, e in pts]
+    x0, x1 = math.floor(min(xs)), math.ceil(max(xs))
+    y0, y1 = math.floor(min(ys)), math.ceil(max(ys))
+    px = lambda v: L + (v - x0) / (x1 - x0) * (W - L - R)
+    py = lambda v: H - B - (v - y0) / (y1 - y0) * (H - T - B)
+    colors = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
+    out = [f"<svg xmlns='http://www.w3.org/2000/svg' width='{W}' height='{H}' font-family='sans-serif' font-size='12'>",
+           "<rect width='100%' height='100%' fill='white'/>",
+           f"<text x='{W / 2}' y='22' text-anchor='middle' font-size='15'>{scene}: error of the optimum against time</text>",
+           f"<rect x='{L}' y='{T}' width='{W - L - R}' height='{H - T - B}' fill='none' stroke='black'/>"]
+    for v in range(x0, x1 + 1):
+        out.append(f"<line x1='{px(v)}' y1='{T}' x2='{px(v)}' y2='{H - B}' stroke='#ddd'/>"
+                   f"<text x='{px(v)}' y='{H - B + 16}' text-anchor='middle'>1e{v} s</text>")
+    for v in range(y0, y1 + 1, 2):
+        out.append(f"<line x1='{L}' y1='{py(v)}' x2='{W - R}' y2='{py(v)}' stroke='#ddd'/>"
+                   f"<text x='{L - 6}' y='{py(v) + 4}' text-anchor='end'>1e{v}</text>")
+    out.append(f"<text x='{(L + W - R) / 2}' y='{H - 18}' text-anchor='middle'>time per optimisation (median)</text>")
+    out.append(f"<text transform='translate(18,{(T + H - B) / 2}) rotate(-90)' text-anchor='middle'>relative error of x*</text>")
+    for i, (driver, runs) in enumerate(sorted(drivers.items())):
+        c = colors[i % len(colors)]
+        runs = sorted(runs, key=lambda r: r[3])
+        line = " ".join(f"{px(math.log10(t))},{py(math.log10(max(e, floor)))}" for t, e, _, _ in runs if e)
+        out.append(f"<polyline fill='none' stroke='{c}' stroke-width='2' points='{line}'/>")
+        for t, e, ok, _ in runs:
+            if e:
+                out.append(f"<circle cx='{px(math.log10(t))}' cy='{py(math.log10(max(e, floor)))}' r='4' "
+                           f"fill='{c if ok else 'white'}' stroke='{c}' stroke-width='2'/>")
+        out.append(f"<rect x='{W - R + 12}' y='{T + 14 + 20 * i - 8}' width='14' height='4' fill='{c}'/>"
+                   f"<text x='{W - R + 32}' y='{T + 14 + 20 * i}'>{driver}</text>")
+    out.append(f"<text x='{W - R + 12}' y='{H - B}' font-size='11'>hollow: did not converge</text>")
+    out.append("</svg>")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
 
 
 def rel(a, b):
@@ -52,8 +98,9 @@ def main():
 
     print("running Google Benchmark cases ...", file=sys.stderr)
     m = {}
-    for binary in ("bench_recuperative", "bench_conveyor"):
-        m.update(google_benchmark(os.path.join(args.build, "bin", binary), args.repetitions))
+    for binary in ("bench_recuperative", "bench_conveyor", "bench_drivers"):
+        m.update(google_benchmark(os.path.join(args.build, "bin", binary),
+                                  3 if binary == "bench_drivers" else args.repetitions))
     print("running the Python peers ...", file=sys.stderr)
     peer = {}
     for script in ("peer_recuperative.py", "peer_conveyor.py"):
@@ -104,11 +151,25 @@ def main():
                              "mechopt_benchmark": name, "mechopt_seconds": a["seconds"],
                              "evaluations": a["evaluations"],
                              "mechopt_error": rel(a["value"], reference)})
+    # Work-precision of every driver: WP/<scene>/<driver>/<-log10 tol>.
+    wp = {}
+    for name, a in m.items():
+        if name.startswith("WP/"):
+            _, scene, driver, tol = name.split("/")
+            rows.append({"case": f"wp_{scene}_{driver}_tol1e-{tol}", "mechopt_benchmark": name,
+                         "mechopt_seconds": a["seconds"], "evaluations": a["evaluations"],
+                         "mechopt_error": a["error"], "converged": bool(a["converged"])})
+            wp.setdefault(scene, {}).setdefault(driver, []).append(
+                (a["seconds"], a["error"], bool(a["converged"]), int(tol)))
+    for scene, drivers in wp.items():
+        path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
+        write_work_precision_svg(path, scene, drivers)
+        print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
     out = os.path.join(args.build, "bench-results.json")
     json.dump(rows, open(out, "w"), indent=1)
     print(f"{'case':34s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
     for r in rows:
-        fmt = lambda v: "-" if v is None else f"{v:.1e}"
+        fmt = lambda v: "-" if v is None or v != v else f"{v:.1e}"
         peer_s = f"{r['peer_seconds'] * 1e6:9.2f}us" if "peer_seconds" in r else f"{'-':>11s}"
         ratio = f"{r['ratio']:7.1f}" if "ratio" in r else f"{'-':>7s}"
         print(f"{r['case']:34s} {r['mechopt_seconds'] * 1e6:9.3f}us {peer_s} {ratio} "

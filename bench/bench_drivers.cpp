@@ -1,0 +1,90 @@
+// Work-precision of every driver and algorithm: time to an optimum against its
+// error, over step/KKT tolerances, on the two mechanism optima with
+// independent references (tools/reference_seed000.json, reference_seed002.json).
+// Counters: error (relative error of the optimal variable), evaluations.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include "opt/config.hpp"
+#include "opt/driver.hpp"
+#include "problems/registry.hpp"
+
+namespace {
+
+struct Scene {
+  const char* name;
+  const char* yaml;
+  const char* objective;
+  std::vector<opt::Constraint> constraints;
+  double x_star;
+};
+
+const Scene kScenes[] = {
+    {"rod_length", "problem: recuperative_drive\nvariables: {rod_length: {min: 0.5 m, max: 1.5 m}}\n",
+     "mean_kinetic_energy", {}, 0.60864008996547893},
+    {"conveyor_l_co1", "problem: conveyor_swing\nvariables: {l_co1: {min: 0.9 m, max: 2.4 m}}\n",
+     "peak_moment", {{"max_pressure_angle", true, 60 * std::numbers::pi / 180}}, 1.5224536093493499},
+};
+
+void run(benchmark::State& state, const Scene& scene, opt::DriverOptions o) {
+  const auto p = problems::make_problem(opt::ConfigNode::parse(scene.yaml, "<bench>"));
+  const auto driver = opt::make_driver(o);
+  opt::Result r;
+  for (auto _ : state) {
+    r = driver->minimize(*p, {scene.objective}, scene.constraints, p->initial_point());
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["error"] = r.success() ? std::abs(r.x[0] - scene.x_star) / scene.x_star : NAN;
+  state.counters["evaluations"] = r.evaluations;
+  state.counters["converged"] = r.status == opt::DriverStatus::converged;
+}
+
+void register_all() {
+  const char* nlopt[] = {"LD_SLSQP", "LD_LBFGS", "LD_MMA", "LD_CCSAQ", "LN_COBYLA", "LN_BOBYQA"};
+  for (const Scene& s : kScenes) {
+    for (const char* a : nlopt) {
+      const bool takes = s.constraints.empty() || opt::algorithm_supports_constraints(a);
+      if (!takes) continue;
+      for (double tol : {1e-4, 1e-6, 1e-8, 1e-10, 1e-12}) {
+        opt::DriverOptions o;
+        o.algorithm = a;
+        o.xtol_rel = tol;
+        o.record_history = false;
+        benchmark::RegisterBenchmark(
+            (std::string("WP/") + s.name + "/nlopt_" + a + "/" + std::to_string(-int(std::log10(tol)))).c_str(),
+            [&s, o](benchmark::State& st) { run(st, s, o); })
+            ->Unit(benchmark::kMicrosecond);
+      }
+    }
+    for (bool epigraph : {true, false}) {
+      if (!epigraph && std::string(s.name) == "rod_length") continue;  // smooth: the same run
+      for (double tol : {1e-4, 1e-6, 1e-8, 1e-10}) {
+        opt::DriverOptions o;
+        o.library = "ipopt";
+        o.tol = tol;
+        o.epigraph = epigraph;
+        o.max_iterations = 500;
+        o.record_history = false;
+        benchmark::RegisterBenchmark(
+            (std::string("WP/") + s.name + "/ipopt" + (epigraph ? "" : "_plain") + "/" +
+             std::to_string(-int(std::log10(tol)))).c_str(),
+            [&s, o](benchmark::State& st) { run(st, s, o); })
+            ->Unit(benchmark::kMicrosecond);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
