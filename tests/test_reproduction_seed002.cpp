@@ -133,6 +133,26 @@ variables: {l_co1: {min: 0.9 m, max: 2.4 m}}
   }
 }
 
+TEST(Seed002Drivers, IpoptNeedsTheEpigraphOnTheKink) {
+  // At the optimum two moment troughs are equal, so the peak is not
+  // differentiable there. Ipopt on the plain maximum does not converge (its
+  // iteration limit, or a failed restoration, is reported as such); with the
+  // epigraph rows it converges to the reference.
+  const auto p = family();
+  const std::vector<opt::Constraint> cons = {{"max_pressure_angle", true, 60 * kDeg}};
+  opt::DriverOptions o;
+  o.library = "ipopt";
+  o.max_iterations = 200;
+  const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 1.2);
+  const auto with = opt::IpoptDriver(o).minimize(*p, {"peak_moment"}, cons, x0);
+  ASSERT_EQ(with.status, opt::DriverStatus::converged) << with.message;
+  EXPECT_NEAR(with.x[0], 1.5224536093493499, 1e-8);
+  o.epigraph = false;
+  const auto without = opt::IpoptDriver(o).minimize(*p, {"peak_moment"}, cons, x0);
+  EXPECT_NE(without.status, opt::DriverStatus::converged) << without.message;
+  EXPECT_GT(without.evaluations, 10 * with.evaluations);
+}
+
 TEST(Seed002Failures, InfeasibleStartIsRestoredThenOptimised) {
   // Start in the failed-synthesis region (variant 0): phase 1 moves to a
   // valid synthesis, then SLSQP finds the same optimum as from a valid start.
