@@ -1,6 +1,7 @@
 #include "problems/registry.hpp"
 
 #include "problems/conveyor_swing.hpp"
+#include "problems/elastic_drive.hpp"
 #include "problems/recuperative_drive.hpp"
 
 namespace problems {
@@ -15,6 +16,10 @@ const std::vector<Entry>& registry() {
        "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)",
        conveyor_swing_variables(),
        [](const opt::ConfigNode& root) { return make_conveyor_swing(root); }},
+      {"elastic_drive",
+       "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)",
+       elastic_drive_variables(),
+       [](const opt::ConfigNode& root) { return make_elastic_drive(root); }},
   };
   return entries;
 }

@@ -287,6 +287,11 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
   result.library = "ipopt";
   result.algorithm = options_.epigraph ? "interior-point, L-BFGS, epigraph" : "interior-point, L-BFGS";
   const auto start = std::chrono::steady_clock::now();
+  if (!problem.provides_gradients()) {
+    result.status = DriverStatus::invalid_arguments;
+    result.message = problem.name() + " has no exact gradients; Ipopt needs them (use NLopt LN_COBYLA)";
+    return result;
+  }
   Eigen::VectorXd x = x0;
   const std::string restored = detail::restore_start(problem, objective, x, result);
 

@@ -282,6 +282,13 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     return result;
   }
   const bool constrained_alg = algorithm_supports_constraints(options_.algorithm);
+  if ((algorithm_uses_gradient(options_.algorithm) ||
+       (options_.algorithm == "G_MLSL_LDS" && algorithm_uses_gradient(options_.local_algorithm))) &&
+      !problem.provides_gradients()) {
+    result.status = DriverStatus::invalid_arguments;
+    result.message = problem.name() + " has no exact gradients; use a derivative-free algorithm (LN_COBYLA, LN_BOBYQA, GN_DIRECT_L, GN_ISRES)";
+    return result;
+  }
   const bool has_equality = std::any_of(constraints.begin(), constraints.end(),
                                         [](const Constraint& k) { return k.equal; });
   if (has_equality && !algorithm_supports_equalities(options_.algorithm)) {

@@ -263,7 +263,7 @@ std::vector<std::string> write_cycle_chart(const Problem& p,
   }
   if (c.series.empty()) return {};
   c.title = p.name() + ": " + last.names[1] + " over one revolution";
-  c.x_label = "crank angle [rad]";
+  c.x_label = last.names[0] + (last.names[0] == "time" ? " [s]" : " [rad]");
   c.y_label = last.names[1] + " [SI]";
   std::vector<std::string> files;
   if (write_svg(c, dir + "cycle.svg")) files.push_back(dir + "cycle.svg");

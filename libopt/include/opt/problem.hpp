@@ -97,6 +97,9 @@ class Problem {
     (void)x, (void)metric;
     return {};
   }
+  // False when the metrics have no exact gradients (e.g. ODE-based ones):
+  // gradient drivers then refuse the problem with a clear status.
+  virtual bool provides_gradients() const { return true; }
   // Fidelity, numerical settings and fixed model values, for result files.
   virtual nlohmann::json settings() const = 0;
 

@@ -1,0 +1,84 @@
+// Dynamics of the elastic drive on SUNDIALS: the start-up transient from rest
+// (CVODE BDF or Adams, ARKODE explicit Runge-Kutta), and the periodic steady
+// state found directly by shooting over one crank revolution with KINSOL
+// (Newton), or by integrating cycle after cycle. Failures (too many steps, a
+// stalled motor, no periodic orbit) are statuses, never exceptions.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "mech/elastic_drive.hpp"
+
+namespace mech {
+
+enum class OdeMethod { bdf, adams, erk };
+
+enum class DynamicsStatus {
+  ok,
+  too_many_steps,     // the integrator hit its step limit
+  solver_failure,     // error test or Newton (corrector) failures in the integrator
+  stalled,            // the crank stopped or turned back: no steady motion
+  no_periodic_orbit,  // the shooting Newton iteration did not converge
+};
+const char* to_string(DynamicsStatus s);
+
+struct OdeOptions {
+  OdeMethod method = OdeMethod::bdf;
+  double rtol = 1e-8, atol = 1e-8;
+  long max_steps = 100000;
+};
+
+// Quantities along a trajectory at output points.
+struct Trajectory {
+  std::vector<double> t, phi2, theta, w1, w2, coupling, motor_torque;
+};
+
+struct SteadyCycle {
+  DynamicsStatus status = DynamicsStatus::ok;
+  std::string message;
+  double theta0 = 0, w10 = 0, w20 = 0;  // the periodic state at phi2 = 0 (mod 2 pi)
+  double period = 0;                    // time of one crank revolution [s]
+  double coupling_min = 0, coupling_max = 0, coupling_peak = 0, coupling_rms = 0;  // crank axis [N m]
+  double mean_speed = 0;                // crank [rad/s]
+  double speed_irregularity = 0;        // (w2max - w2min) / w2mean
+  double motor_torque_min = 0, motor_torque_max = 0;  // motor shaft [N m]
+  double motor_speed_min = 0, motor_speed_max = 0;    // motor shaft [rad/s]
+  double mean_motor_power = 0, mean_resistance_power = 0, mean_damping_power = 0;  // [W]
+  long steps = 0;                       // integrator steps, all revolutions
+  int iterations = 0;                   // Newton iterations or revolutions
+  double residual = 0;                  // |state(2 pi) - state(0)|, scaled
+  Trajectory cycle;                     // one revolution, sampled in phi2
+};
+
+// Periodic steady state by shooting: unknowns (theta, w1, w2) at phi2 = 0,
+// residual state(2 pi) - state(0) from an integration in the crank angle,
+// solved by KINSOL (Newton, line search, difference-quotient Jacobian). The
+// first guess is where a start-up (from `initial_speed`, 0: rest) stands
+// after `warmup` seconds (so the orbit found is the one the machine reaches);
+// warmup = 0 starts from the rigid estimate instead.
+SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples = 720,
+                               double warmup = 3.0, double initial_speed = 0);
+
+// The same orbit by integrating revolution after revolution from the rigid
+// estimate until the state repeats to `tol` (relative), at most max_cycles.
+SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max_cycles = 400,
+                             double tol = 1e-9, int samples = 720);
+
+struct Startup {
+  DynamicsStatus status = DynamicsStatus::ok;
+  std::string message;
+  Trajectory trajectory;
+  double peak_coupling = 0;    // max |coupling moment| during the run [N m]
+  double time_to_steady = -1;  // first time after which every revolution's peak
+                               // |coupling| stays within 1% of the steady one (-1: never)
+  double final_speed = 0;      // w2 at the end [rad/s]
+  long steps = 0;
+};
+
+// Start-up for t_end seconds, sampled every dt_out, from phi = 0 and both
+// masses at `initial_speed` (crank axis; 0: from rest). With `steady`, also
+// the time to reach it.
+Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
+                         const SteadyCycle* steady = nullptr, double initial_speed = 0);
+
+}  // namespace mech

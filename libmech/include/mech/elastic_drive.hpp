@@ -1,0 +1,148 @@
+// Two-mass elastic drive of the recuperative roller-forming installation
+// (seed 001): an induction motor (Kloss, eq. 27) with its coupling and
+// gearbox reduced to the crank axis (J_p1, eq. 1) drives, through stiffness c
+// and damping k, the twin slider-crank with angle-dependent reduced inertia
+// J_p2(phi2) (eq. 9) against the carts' resistance (eqs 12-20). Equations of
+// motion (29), with damping (40):
+//   J_p1 phi1'' = M_p1(phi1') - c (phi1 - phi2) - k (phi1' - phi2')
+//   J_p2 phi2'' + J_p2'/2 phi2'^2 = c (phi1 - phi2) + k (phi1' - phi2') - M_p2(phi2)
+// The rigid fidelity joins both masses (one degree of freedom).
+// Units: SI at the crank axis (rad, rad/s, N m, kg m^2) unless noted.
+#pragma once
+#include <cmath>
+
+#include "mech/autodiff.hpp"
+#include "mech/slider_crank.hpp"
+
+namespace mech {
+
+// Induction motor by Kloss's formula, eq. (27), on the motor shaft:
+// M = 2 M_kr s s_kr / (s^2 + s_kr^2) with slip s = 1 - w / w0 (the printed
+// (29)/(40) lost a fraction bar; this is (27)). Critical slip from the nominal
+// slip and overload ratio, eq. (27a): s_kr = s_n (lambda + sqrt(lambda^2 - 1)).
+struct InductionMotor {
+  double synchronous_speed = 104.72;  // w0 [rad/s], motor shaft
+  double critical_torque = 215.4;     // M_kr [N m]
+  double critical_slip = 0.0933;      // s_kr
+  double rotor_inertia = 0.138;       // J_p [kg m^2]
+
+  template <class S>
+  S torque(const S& motor_speed) const {
+    const S s = 1.0 - motor_speed / synchronous_speed;
+    return 2.0 * critical_torque * s * critical_slip / (s * s + critical_slip * critical_slip);
+  }
+  static double critical_slip_from(double nominal_slip, double overload) {
+    return nominal_slip * (overload + std::sqrt(overload * overload - 1.0));  // eq. (27a)
+  }
+};
+
+enum class DriveFidelity { rigid, elastic };
+
+struct ElasticDrive {
+  InductionMotor motor;
+  double coupling_inertia = 0.32;    // J_m [kg m^2], motor shaft
+  double gear_ratio = 9.8;           // u
+  double gearbox_factor = 1.2;       // delta: gearbox inertia reduced to the motor shaft (unstated)
+  double drive_efficiency = 0.9;     // eta_n (unstated)
+  double stiffness = 110000;         // c [N m / rad], at the crank axis
+  double damping = 2000;             // k [N m s / rad]
+  // Mechanism (seed 001: same-side layout, binomial kinematics (36)-(39)).
+  double crank_radius = 0.2, rod_length = 0.8, phase_shift = 1.5707963267948966;
+  bool same_side = true;
+  Kinematics kinematics = Kinematics::binomial;
+  double cart_mass = 1000;           // m'_B [kg], each cart
+  double rod_mass = 64;              // m_sh [kg], each rod: half at the pin, half at the cart, eq. (2)-(3)
+  double crank_inertia = 0;          // J'_k [kg m^2], each crank about its axis (unstated)
+  // Cart resistance, eqs (12)-(13): per cart, rollers' horizontal and vertical
+  // forces (sums of the two rollers), weight and guide friction.
+  double roller_horizontal = 2 * 7962.0;  // F_011 + F_012 [N]
+  double roller_vertical = 2 * 9740.0;    // R_011 + R_012 [N]
+  double cart_weight = 10124.9;           // G [N]
+  double guide_friction = 0.008;          // f_np
+  bool resistance_opposes_motion = false; // false: eq. (18)-(20) as printed (signed)
+  DriveFidelity fidelity = DriveFidelity::elastic;
+
+  // J_p1 = (J_p + J_m) delta u^2, eq. (1).
+  double motor_side_inertia() const {
+    return (motor.rotor_inertia + coupling_inertia) * gearbox_factor * gear_ratio * gear_ratio;
+  }
+  // J_k = 2 J'_k + m_sh r^2, eq. (2); m_B = m'_B + m_sh / 2, eq. (3).
+  double crank_side_constant_inertia() const {
+    return 2 * crank_inertia + rod_mass * crank_radius * crank_radius;
+  }
+  double lumped_cart_mass() const { return cart_mass + rod_mass / 2; }
+  template <class S = double>
+  SliderCrank<S> mechanism(int i) const {
+    return {S(crank_radius), S(rod_length), S(0.0), (i == 1 && !same_side) ? -1 : 1, kinematics};
+  }
+  // Driving moment of the motor reduced to the crank axis, eq. (27).
+  template <class S>
+  S motor_moment(const S& w1) const {
+    return gear_ratio * drive_efficiency * motor.torque(S(w1 * gear_ratio));
+  }
+};
+
+// Mechanism side at crank angle phi2: J_p2 (eq. 9), J_p2'/2, and the
+// resistance moment M_p2 (eqs 18-20, positive resisting the drive).
+template <class S>
+struct MechanismState {
+  S inertia, half_inertia_derivative, resistance;
+};
+
+template <class S>
+MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S& w2) {
+  using std::abs;
+  using std::asin;
+  using std::cos;
+  using std::sin;
+  using std::tanh;
+  MechanismState<S> out;
+  const double mB = d.lumped_cart_mass();
+  out.inertia = S(d.crank_side_constant_inertia());
+  out.half_inertia_derivative = S(0.0);
+  out.resistance = S(0.0);
+  const double load = (d.roller_vertical - d.cart_weight) * d.guide_friction + d.roller_horizontal;
+  for (int i = 0; i < 2; ++i) {
+    const S psi = phi2 + (i == 0 ? 0.0 : d.phase_shift);
+    const auto p = slider_crank_point(d.template mechanism<S>(i), S(cos(psi)), S(sin(psi)));
+    out.inertia += mB * p.dx * p.dx;
+    out.half_inertia_derivative += mB * p.dx * p.ddx;
+    // Rod angle beta, eq. (22), and the rod force F, eqs (12)-(13).
+    const S beta = asin(d.crank_radius / d.rod_length * sin(psi));
+    const S force = load / (cos(beta) - d.guide_friction * sin(beta));
+    const S moment = force * d.crank_radius * sin(psi + beta);  // eqs (18)-(19)
+    if (d.resistance_opposes_motion)  // sign(w2), regularised over 1e-3 rad/s (no chattering at rest)
+      out.resistance += tanh(w2 / 1e-3) * abs(moment);
+    else
+      out.resistance += moment;
+  }
+  return out;
+}
+
+// Coupling moment c (phi1 - phi2) + k (phi1' - phi2') at the crank axis.
+inline double coupling_moment(const ElasticDrive& d, double theta, double w1, double w2) {
+  return d.stiffness * theta + d.damping * (w1 - w2);
+}
+
+// Time derivatives of the state (phi1, phi2, w1, w2) (rigid: phi1 = phi2,
+// w1 = w2 kept equal).
+template <class S>
+void drive_rhs(const ElasticDrive& d, const S* y, S* dy) {
+  const S theta = y[0] - y[1], dtheta = y[2] - y[3];
+  const auto m = mechanism_state(d, y[1], y[3]);
+  const S drive = d.motor_moment(y[2]);
+  dy[0] = y[2];
+  dy[1] = y[3];
+  if (d.fidelity == DriveFidelity::rigid) {
+    const S acc = (drive - m.resistance - m.half_inertia_derivative * y[3] * y[3]) /
+                  (d.motor_side_inertia() + m.inertia);
+    dy[2] = acc;
+    dy[3] = acc;
+    return;
+  }
+  const S coupling = d.stiffness * theta + d.damping * dtheta;
+  dy[2] = (drive - coupling) / d.motor_side_inertia();
+  dy[3] = (coupling - m.resistance - m.half_inertia_derivative * y[3] * y[3]) / m.inertia;
+}
+
+}  // namespace mech

@@ -1,0 +1,19 @@
+// elastic_drive: the two-mass elastic drive of the recuperative installation
+// with an induction motor (seed 001), simulated on SUNDIALS. Variables
+// stiffness, damping, rod_length, phase_shift; metrics of the periodic
+// steady state (shooting) and of the start-up. No exact gradients:
+// derivative-free drivers only.
+#pragma once
+#include <memory>
+
+#include "opt/config.hpp"
+#include "opt/problem.hpp"
+#include "opt/study.hpp"
+
+namespace problems {
+
+const std::vector<opt::VariableSpec>& elastic_drive_variables();
+
+std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root);
+
+}  // namespace problems
