@@ -52,7 +52,7 @@ class Integrator {
   using Jac = std::function<void(double, const double*, double*)>;  // row-major n x n
 
   Integrator(int n, Rhs f, Jac j, const OdeOptions& o, double t0, const double* y0)
-      : n_(n), f_(std::move(f)), j_(std::move(j)), method_(o.method) {
+      : n_(n), f_(std::move(f)), j_(std::move(j)), method_(o.method), max_steps_(o.max_steps) {
     y_ = N_VNew_Serial(n, ctx_.ctx);
     std::copy(y0, y0 + n, N_VGetArrayPointer(y_));
     if (method_ == OdeMethod::erk) {
@@ -84,8 +84,13 @@ class Integrator {
   Integrator(const Integrator&) = delete;
   Integrator& operator=(const Integrator&) = delete;
 
-  // Advances to t (interpolated output); the state is in y().
+  // Advances to t (interpolated output); the state is in y(). max_steps
+  // bounds the whole integration, not one call.
   DynamicsStatus advance(double t) {
+    const long left = max_steps_ - steps();
+    if (left <= 0) return DynamicsStatus::too_many_steps;
+    if (method_ == OdeMethod::erk) ERKStepSetMaxNumSteps(mem_, left);
+    else CVodeSetMaxNumSteps(mem_, left);
     double reached = 0;
     const int flag = method_ == OdeMethod::erk ? ERKStepEvolve(mem_, t, y_, &reached, ARK_NORMAL)
                                                : CVode(mem_, t, y_, &reached, CV_NORMAL);
@@ -124,6 +129,7 @@ class Integrator {
   Rhs f_;
   Jac j_;
   OdeMethod method_;
+  long max_steps_;
   N_Vector y_ = nullptr;
   void* mem_ = nullptr;
   SUNMatrix A_ = nullptr;
