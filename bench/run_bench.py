@@ -25,7 +25,8 @@ def google_benchmark(binary, repetitions):
     for b in json.loads(out)["benchmarks"]:
         if b.get("aggregate_name") == "median":
             unit = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
-            rows[b["run_name"]] = {"seconds": b["real_time"] * unit, "value": b.get("value"),
+            rows[b["run_name"].replace("/iterations:1", "")] = {"seconds": b["real_time"] * unit, "value": b.get("value"),
+                                   "steps": b.get("steps"), "ok": b.get("ok"),
                                    "gradient": b.get("gradient"),
                                    "evaluations": b.get("evaluations"),
                                    "error": b.get("error"), "converged": b.get("converged")}
@@ -98,12 +99,12 @@ def main():
 
     print("running Google Benchmark cases ...", file=sys.stderr)
     m = {}
-    for binary in ("bench_recuperative", "bench_conveyor", "bench_drivers"):
+    for binary in ("bench_recuperative", "bench_conveyor", "bench_drivers", "bench_elastic"):
         m.update(google_benchmark(os.path.join(args.build, "bin", binary),
                                   3 if binary == "bench_drivers" else args.repetitions))
     print("running the Python peers ...", file=sys.stderr)
     peer = {}
-    for script in ("peer_recuperative.py", "peer_conveyor.py"):
+    for script in ("peer_recuperative.py", "peer_conveyor.py", "peer_elastic.py"):
         peer.update(json.loads(subprocess.run([sys.executable, os.path.join(HERE, script)],
                                               check=True, capture_output=True, text=True).stdout))
 
@@ -130,6 +131,15 @@ def main():
         ("swing_optimum", "BM_SwingOptimum/LD_SLSQP", "swing_optimum", l_co1_star,
          "scipy SLSQP, finite-difference gradients, ftol 1e-12"),
     ]
+    peak_elastic = peer["reference"]["value"]  # scipy Radau at rtol 1e-12 (bench/peer_elastic.py)
+    cases += [
+        ("elastic_steady_state", "BM_ElasticSteady", "steady_lsoda", peak_elastic,
+         "solve_ivp LSODA rtol 1e-8 + scipy.optimize.root shooting"),
+        ("elastic_steady_state_vs_radau", "BM_ElasticSteady", "steady_radau", peak_elastic,
+         "solve_ivp Radau rtol 1e-8 + scipy.optimize.root shooting"),
+        ("elastic_startup_3s", "BM_ElasticStartup", "startup_lsoda", None,
+         "solve_ivp LSODA rtol 1e-8, 3 s, 1 ms output"),
+    ]
     rows = []
     for case, bm, pc, reference, peer_method in cases:
         a, p = m[bm], peer[pc]
@@ -137,8 +147,8 @@ def main():
         rows.append({"case": case, "mechopt_benchmark": bm, "peer_method": peer_method,
                      "mechopt_seconds": a["seconds"], "peer_seconds": p["seconds"],
                      "ratio": p["seconds"] / a["seconds"],
-                     "mechopt_error": rel(value, reference),
-                     "peer_error": rel(p["value"], reference)})
+                     "mechopt_error": rel(value, reference) if reference else None,
+                     "peer_error": rel(p["value"], reference) if reference else None})
     # Work-precision rows: quadrature points against error, and each optimiser.
     for name, a in m.items():
         if name.startswith("BM_MeanKineticEnergy/"):
@@ -151,6 +161,14 @@ def main():
                              "mechopt_benchmark": name, "mechopt_seconds": a["seconds"],
                              "evaluations": a["evaluations"],
                              "mechopt_error": rel(a["value"], reference)})
+    # The elastic drive's steady state over methods and tolerances, and the
+    # map of where each method works.
+    for name, a in m.items():
+        if name.startswith("WPE/") or name.startswith("MAP/"):
+            rows.append({"case": "elastic_" + name.replace("/", "_").lower(), "mechopt_benchmark": name,
+                         "mechopt_seconds": a["seconds"], "steps": a["steps"], "ok": bool(a["ok"]),
+                         # MAP rows are other designs: no reference there
+                         "mechopt_error": rel(a["value"], peak_elastic) if a["ok"] and name.startswith("WPE/") else None})
     # Work-precision of every driver: WP/<scene>/<driver>/<-log10 tol>.
     wp = {}
     for name, a in m.items():

@@ -23,7 +23,7 @@ namespace mech {
 struct InductionMotor {
   double synchronous_speed = 104.72;  // w0 [rad/s], motor shaft
   double critical_torque = 215.4;     // M_kr [N m]
-  double critical_slip = 0.0933;      // s_kr
+  double critical_slip = 0.09330127018922193;  // s_kr from eq. (27a): 0.025 (2 + sqrt 3); printed 0.0933
   double rotor_inertia = 0.138;       // J_p [kg m^2]
 
   template <class S>

@@ -1,0 +1,88 @@
+// Speed of the elastic drive (seed 001) on SUNDIALS: one steady-state
+// evaluation (start-up warm guess + shooting), one start-up simulation, the
+// steady state over tolerances and methods (work-precision), and a map of
+// where each method works over stiffness and damping. Counters: value (peak
+// coupling torque at the crank [N m]), steps, ok.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <string>
+
+#include "mech/drive_dynamics.hpp"
+
+namespace {
+
+constexpr double kStart = 10.686;  // synchronous crank speed
+
+mech::ElasticDrive scene() {  // configs/elastic_drive/*.yaml
+  mech::ElasticDrive d;
+  d.roller_horizontal = 3562;
+  d.roller_vertical = d.cart_weight;
+  d.resistance_opposes_motion = true;
+  return d;
+}
+
+void steady(benchmark::State& state, mech::ElasticDrive d, mech::OdeOptions o) {
+  mech::SteadyCycle s;
+  for (auto _ : state) {
+    s = mech::steady_by_shooting(d, o, 720, 3.0, kStart);
+    benchmark::DoNotOptimize(s);
+  }
+  state.counters["value"] = s.coupling_peak;
+  state.counters["steps"] = static_cast<double>(s.steps);
+  state.counters["ok"] = s.status == mech::DynamicsStatus::ok;
+}
+
+void BM_ElasticStartup(benchmark::State& state) {
+  mech::Startup st;
+  for (auto _ : state) {
+    st = mech::simulate_startup(scene(), {}, 3.0, 1e-3, nullptr, kStart);
+    benchmark::DoNotOptimize(st);
+  }
+  state.counters["value"] = st.peak_coupling;
+  state.counters["steps"] = static_cast<double>(st.steps);
+}
+BENCHMARK(BM_ElasticStartup)->Unit(benchmark::kMillisecond);
+
+void register_all() {
+  benchmark::RegisterBenchmark("BM_ElasticSteady", [](benchmark::State& s) { steady(s, scene(), {}); })
+      ->Unit(benchmark::kMillisecond);
+  const char* names[] = {"bdf", "adams", "erk"};
+  // Work-precision: the steady state over tolerances and methods.
+  for (int m = 0; m < 3; ++m)
+    for (int e : {4, 6, 8, 10}) {
+      mech::OdeOptions o;
+      o.method = static_cast<mech::OdeMethod>(m);
+      o.rtol = o.atol = std::pow(10.0, -e);
+      benchmark::RegisterBenchmark(("WPE/" + std::string(names[m]) + "/" + std::to_string(e)).c_str(),
+                                   [o](benchmark::State& s) { steady(s, scene(), o); })
+          ->Unit(benchmark::kMillisecond);
+    }
+  // Where methods work: stiffness x damping (as a ratio of critical), one run each.
+  for (int m = 0; m < 3; ++m)
+    for (int ce = 3; ce <= 8; ++ce)
+      for (double zeta : {0.05, 1.0}) {
+        mech::ElasticDrive d = scene();
+        d.stiffness = std::pow(10.0, ce);
+        d.damping = zeta * 2 * std::sqrt(d.stiffness * 40.0);
+        mech::OdeOptions o;
+        o.method = static_cast<mech::OdeMethod>(m);
+        o.max_steps = 200000;
+        benchmark::RegisterBenchmark(
+            ("MAP/" + std::string(names[m]) + "/c1e" + std::to_string(ce) + "/zeta" +
+             (zeta < 1 ? "0.05" : "1")).c_str(),
+            [d, o](benchmark::State& s) { steady(s, d, o); })
+            ->Iterations(1)
+            ->Unit(benchmark::kMillisecond);
+      }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
