@@ -50,7 +50,7 @@ def write_work_precision_svg(path, scene, drivers):
     colors = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
     out = [f"<svg xmlns='http://www.w3.org/2000/svg' width='{W}' height='{H}' font-family='sans-serif' font-size='12'>",
            "<rect width='100%' height='100%' fill='white'/>",
-           f"<text x='{W / 2}' y='22' text-anchor='middle' font-size='15'>{scene}: error of the optimum against time</text>",
+           f"<text x='{W / 2}' y='22' text-anchor='middle' font-size='15'>{scene}: error against time</text>",
            f"<rect x='{L}' y='{T}' width='{W - L - R}' height='{H - T - B}' fill='none' stroke='black'/>"]
     for v in range(x0, x1 + 1):
         out.append(f"<line x1='{px(v)}' y1='{T}' x2='{px(v)}' y2='{H - B}' stroke='#ddd'/>"
@@ -58,8 +58,8 @@ def write_work_precision_svg(path, scene, drivers):
     for v in range(y0, y1 + 1, 2):
         out.append(f"<line x1='{L}' y1='{py(v)}' x2='{W - R}' y2='{py(v)}' stroke='#ddd'/>"
                    f"<text x='{L - 6}' y='{py(v) + 4}' text-anchor='end'>1e{v}</text>")
-    out.append(f"<text x='{(L + W - R) / 2}' y='{H - 18}' text-anchor='middle'>time per optimisation (median)</text>")
-    out.append(f"<text transform='translate(18,{(T + H - B) / 2}) rotate(-90)' text-anchor='middle'>relative error of x*</text>")
+    out.append(f"<text x='{(L + W - R) / 2}' y='{H - 18}' text-anchor='middle'>time per run (median)</text>")
+    out.append(f"<text transform='translate(18,{(T + H - B) / 2}) rotate(-90)' text-anchor='middle'>relative error</text>")
     for i, (driver, runs) in enumerate(sorted(drivers.items())):
         c = colors[i % len(colors)]
         runs = sorted(runs, key=lambda r: r[3])
@@ -169,6 +169,14 @@ def main():
                          "mechopt_seconds": a["seconds"], "steps": a["steps"], "ok": bool(a["ok"]),
                          # MAP rows are other designs: no reference there
                          "mechopt_error": rel(a["value"], peak_elastic) if a["ok"] and name.startswith("WPE/") else None})
+    wpe = {}
+    for name, a in m.items():
+        if name.startswith("WPE/") and a["ok"]:
+            _, method, tol = name.split("/")
+            wpe.setdefault(method, []).append((a["seconds"], rel(a["value"], peak_elastic), True, int(tol)))
+    if wpe:
+        path = os.path.join(ROOT, "docs", "img", "work_precision_elastic_steady.svg")
+        write_work_precision_svg(path, "elastic drive steady state", wpe)
     # Work-precision of every driver: WP/<scene>/<driver>/<-log10 tol>.
     wp = {}
     for name, a in m.items():
