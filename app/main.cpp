@@ -90,6 +90,10 @@ int check(const opt::Problem& p) {
     std::cerr << "mechopt: check-derivatives needs at least one entry under 'variables'\n";
     return 2;
   }
+  if (!p.provides_gradients()) {
+    std::cerr << "mechopt: " << p.name() << " has no exact gradients to check\n";
+    return 2;
+  }
   const auto e = p.evaluate(x, {}, false);
   if (!e.ok()) {
     std::cerr << "mechopt: the model values give an infeasible design (" << e.status << ")\n";

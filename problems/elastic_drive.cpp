@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "mech/drive_dynamics.hpp"
+#include "problems/model_problem.hpp"
 
 namespace problems {
 namespace {
@@ -17,8 +18,8 @@ const std::vector<opt::VariableSpec> kVariables = {
     {"phase_shift", Dimension::angle},
 };
 
-// name, unit; "coupling" metrics on the side chosen by coupling_side.
-const std::vector<std::pair<std::string, std::string>> kMetrics = {
+// "coupling" metrics on the side chosen by coupling_side.
+const std::vector<MetricSpec> kMetrics = {
     {"peak_coupling_torque", "N m"},  // max |c theta + k theta'| over the steady cycle
     {"rms_coupling_torque", "N m"},   // time RMS over the steady cycle
     {"min_coupling_torque", "N m"},
@@ -47,22 +48,11 @@ struct Model {
   bool startup_curves = false;
 };
 
-class ElasticDriveProblem : public opt::Problem {
+class ElasticDriveProblem : public TabledProblem {
  public:
-  ElasticDriveProblem(Model m, std::vector<opt::Variable> vars) : m_(std::move(m)), vars_(std::move(vars)) {}
+  ElasticDriveProblem(Model m, std::vector<opt::Variable> vars)
+      : TabledProblem("elastic_drive", kMetrics, std::move(vars)), m_(std::move(m)) {}
 
-  std::string name() const override { return "elastic_drive"; }
-  const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override {
-    std::vector<std::string> out;
-    for (const auto& k : kMetrics) out.push_back(k.first);
-    return out;
-  }
-  std::string metric_unit(const std::string& metric) const override {
-    for (const auto& k : kMetrics)
-      if (k.first == metric) return k.second;
-    return "";
-  }
   bool provides_gradients() const override { return false; }
 
   opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
@@ -159,8 +149,8 @@ class ElasticDriveProblem : public opt::Problem {
  private:
   mech::ElasticDrive drive(const Eigen::VectorXd& x) const {
     mech::ElasticDrive d = m_.drive;
-    for (size_t i = 0; i < vars_.size(); ++i) {
-      const std::string& n = vars_[i].name;
+    for (size_t i = 0; i < variables().size(); ++i) {
+      const std::string& n = variables()[i].name;
       if (n == "stiffness") d.stiffness = x[i];
       else if (n == "damping") d.damping = x[i];
       else if (n == "rod_length") d.rod_length = x[i];
@@ -170,7 +160,6 @@ class ElasticDriveProblem : public opt::Problem {
   }
 
   Model m_;
-  std::vector<opt::Variable> vars_;
 };
 
 }  // namespace

@@ -43,13 +43,10 @@ struct MetricSpec {
   std::string name, unit;
 };
 
-// Derived implements:
-//   template <class S> void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const;
-// setting out.result.status for an infeasible design.
-template <class Derived>
-class ModelProblem : public opt::Problem {
+// A problem's name, its table of metrics with units, and its variables.
+class TabledProblem : public opt::Problem {
  public:
-  ModelProblem(std::string name, std::vector<MetricSpec> metrics, std::vector<opt::Variable> vars)
+  TabledProblem(std::string name, std::vector<MetricSpec> metrics, std::vector<opt::Variable> vars)
       : name_(std::move(name)), metrics_(std::move(metrics)), vars_(std::move(vars)) {}
 
   std::string name() const override { return name_; }
@@ -64,6 +61,20 @@ class ModelProblem : public opt::Problem {
       if (m.name == metric) return m.unit;
     return "";
   }
+
+ private:
+  std::string name_;
+  std::vector<MetricSpec> metrics_;
+  std::vector<opt::Variable> vars_;
+};
+
+// Derived implements:
+//   template <class S> void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const;
+// setting out.result.status for an infeasible design.
+template <class Derived>
+class ModelProblem : public TabledProblem {
+ public:
+  using TabledProblem::TabledProblem;
 
   opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                            bool gradient) const override {
@@ -80,7 +91,7 @@ class ModelProblem : public opt::Problem {
   template <class F>
   auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
     if (!gradient) return f(seeded<double>(x));
-    switch (vars_.size()) {
+    switch (variables().size()) {
       case 1: return f(seeded<mech::DualN<1>>(x));
       case 2: return f(seeded<mech::DualN<2>>(x));
       case 3: return f(seeded<mech::DualN<3>>(x));
@@ -118,10 +129,6 @@ class ModelProblem : public opt::Problem {
     }
     return xs;
   }
-
-  std::string name_;
-  std::vector<MetricSpec> metrics_;
-  std::vector<opt::Variable> vars_;
 };
 
 }  // namespace problems

@@ -8,6 +8,7 @@ namespace opt {
 std::vector<DerivativeCheck> check_derivatives(const Problem& p, const Eigen::VectorXd& x,
                                                double rel_step, double tol) {
   std::vector<DerivativeCheck> out;
+  if (!p.provides_gradients()) return out;
   const Evaluation e = p.evaluate(x, {}, true);
   auto record = [&](const std::string& metric, int i, double value, double ad, double fd) {
     const double err = std::abs(ad - fd) / std::max(1.0, std::abs(value));
