@@ -74,14 +74,17 @@ void list() {
   for (const auto& e : problems::registry()) {
     const auto p = e.make(opt::ConfigNode::parse("problem: " + e.name, "<list>"));
     std::cout << "  " << e.name << " — " << e.summary << "\n    variables:";
-    for (const auto& v : e.variables) std::cout << " " << v.name << " [" << opt::si_unit(v.dimension) << "]";
+    for (const auto& v : e.variables) {
+      const std::string u = opt::si_unit(v.dimension);
+      std::cout << " " << v.name << (u.empty() ? "" : " [" + u + "]");
+    }
     std::cout << "\n    metrics:";
     for (const auto& m : p->metric_names()) std::cout << " " << m;
     std::cout << "\n";
   }
   std::cout << "drivers:\n  nlopt:";
   for (const auto& a : opt::nlopt_algorithms()) std::cout << " " << a;
-  std::cout << "\n";
+  std::cout << "\n  ipopt: interior point, L-BFGS Hessian, epigraph rows for cycle maxima\n";
 }
 
 int check(const opt::Problem& p) {

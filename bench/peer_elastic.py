@@ -78,7 +78,7 @@ def steady(method, rtol, atol):
     sol = optimize.root(residual, guess, method="hybr", options={"xtol": 1e-10})
     r = integrate.solve_ivp(angle_rhs, (0, 2 * math.pi), [*sol.x, 0, 0], method=method,
                             rtol=rtol, atol=atol, dense_output=True)
-    phi = np.linspace(0, 2 * math.pi, 721)
+    phi = np.linspace(0, 2 * math.pi, 20001)  # dense: the peak to ~1e-8
     z = r.sol(phi)
     cpl = C * z[0] + K * (z[1] - z[2])
     return float(np.max(np.abs(cpl)))

@@ -248,6 +248,19 @@ double twist_scale(const ElasticDrive& d) {
   return std::max(m, 1.0) / d.stiffness;
 }
 
+// Extremum of periodic samples v (the last equal to the first) refined by the
+// parabola through the best sample and its neighbours.
+double refined_extremum(const std::vector<double>& v, bool maximum) {
+  const int n = static_cast<int>(v.size()) - 1;  // v[n] repeats v[0]
+  int k = 0;
+  for (int i = 1; i < n; ++i)
+    if (maximum ? v[i] > v[k] : v[i] < v[k]) k = i;
+  const double a = v[(k + n - 1) % n], b = v[k], c = v[(k + 1) % n];
+  const double den = a - 2 * b + c;
+  if (den == 0) return b;
+  return b - 0.125 * (c - a) * (c - a) / den;
+}
+
 void fill_metrics(const ElasticDrive& d, const Revolution& r, SteadyCycle& s) {
   const Trajectory& c = s.cycle;
   s.period = r.end[3];
@@ -255,10 +268,9 @@ void fill_metrics(const ElasticDrive& d, const Revolution& r, SteadyCycle& s) {
   s.coupling_rms = std::sqrt(r.end[5] / s.period);
   s.mean_motor_power = r.end[6] / s.period;
   s.mean_resistance_power = r.end[7] / s.period;
-  const auto [cmin, cmax] = std::minmax_element(c.coupling.begin(), c.coupling.end());
-  s.coupling_min = *cmin;
-  s.coupling_max = *cmax;
-  s.coupling_peak = std::max(std::abs(*cmin), std::abs(*cmax));
+  s.coupling_min = refined_extremum(c.coupling, false);
+  s.coupling_max = refined_extremum(c.coupling, true);
+  s.coupling_peak = std::max(std::abs(s.coupling_min), std::abs(s.coupling_max));
   const auto [wmin, wmax] = std::minmax_element(c.w2.begin(), c.w2.end());
   s.speed_irregularity = (*wmax - *wmin) / s.mean_speed;
   const auto [tmin, tmax] = std::minmax_element(c.motor_torque.begin(), c.motor_torque.end());
@@ -314,7 +326,7 @@ bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double 
                    double* guess) {
   const Startup st = simulate_startup(d, o, t, 1e-3, nullptr, w0);
   const Trajectory& tr = st.trajectory;
-  if (st.status != DynamicsStatus::ok || tr.phi2.back() < 2 * kTwoPi) return false;
+  if (st.status != DynamicsStatus::ok || tr.phi2.back() < kTwoPi) return false;
   const double target = kTwoPi * std::floor(tr.phi2.back() / kTwoPi);
   size_t i = tr.phi2.size() - 1;
   while (i > 0 && tr.phi2[i - 1] >= target) --i;
@@ -334,7 +346,7 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
   double guess[3] = {rigid ? 0.0 : mean_res / d.stiffness, w, w};
   if (warmup > 0 && !startup_guess(d, o, warmup, initial_speed, guess)) {
     s.status = DynamicsStatus::stalled;
-    s.message = "the start-up from rest did not complete two revolutions in " +
+    s.message = "the start-up did not complete a revolution in " +
                 std::to_string(warmup) + " s";
     return s;
   }
