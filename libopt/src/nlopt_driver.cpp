@@ -205,7 +205,7 @@ namespace detail {
 std::string restore_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
                           Result& result) {
   const Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
-  if (e0.ok()) return "";
+  if (e0.ok() || !problem.provides_gradients()) return "";  // phase 1 needs the margins' gradients
   const int used = restore_feasibility(problem, x);
   result.evaluations += used;
   const bool ok = problem.evaluate(x, {objective.metric}, false).ok();
