@@ -309,12 +309,7 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
   for (const auto& k : constraints) add(k);
   for (const auto& k : problem.implicit_constraints()) add(k);
 
-  const Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
-  double scale = 1.0;  // as in the NLopt driver: the objective relative to |f(x0)|
-  if (e0.ok() && e0.metrics.count(objective.metric)) {
-    const double f0 = std::abs(e0.at(objective.metric));
-    if (std::isfinite(f0) && f0 > 0) scale = f0;
-  }
+  const double scale = detail::objective_scale(problem, objective, x);
   int objective_peaks = 0;
   double t0 = 0;
   if (options_.epigraph && !objective.maximize) {

@@ -214,6 +214,13 @@ std::string restore_start(const Problem& problem, const Objective& objective, Ei
          " evaluations";
 }
 
+double objective_scale(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x) {
+  const Evaluation e = problem.evaluate(x, {objective.metric}, false);
+  if (!e.ok() || !e.metrics.count(objective.metric)) return 1.0;
+  const double f = std::abs(e.at(objective.metric));
+  return std::isfinite(f) && f > 0 ? f : 1.0;
+}
+
 void finish(const Problem& problem, const Objective& objective,
             const std::vector<Constraint>& constraints, Result& result) {
   std::vector<std::string> wanted{objective.metric};
@@ -307,15 +314,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
 
   Eigen::VectorXd x = x0;
   const std::string restored = detail::restore_start(problem, objective, x, result);
-  const Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
-  // SLSQP in particular fails on badly scaled objectives (a peak moment of
-  // 1.5e5 N m stops it at the first step with ROUNDOFF_LIMITED): pass the
-  // objective relative to its magnitude at the start.
-  double scale = 1.0;
-  if (e0.ok() && e0.metrics.count(objective.metric)) {
-    const double f0 = std::abs(e0.at(objective.metric));
-    if (std::isfinite(f0) && f0 > 0) scale = f0;
-  }
+  const double scale = detail::objective_scale(problem, objective, x);
   Context c{&problem, &objective, scale, constraints, {}, options_.record_history, {}, false, {},
             &result, nullptr, nullptr};
   // Implicit constraints keep the model evaluable; algorithms that take only

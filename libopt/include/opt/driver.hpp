@@ -132,6 +132,10 @@ std::string restore_start(const Problem& problem, const Objective& objective, Ei
                           Result& result);
 void finish(const Problem& problem, const Objective& objective,
             const std::vector<Constraint>& constraints, Result& result);
+// |f(x)| of the objective (1 if not finite or zero): the drivers pass the
+// objective divided by it, since SLSQP in particular fails on badly scaled
+// objectives (a peak moment of 1.5e5 N m stops it at its first step).
+double objective_scale(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x);
 }  // namespace detail
 
 }  // namespace opt

@@ -1,7 +1,8 @@
-// Studies orchestrate runs of a Problem: `optimize` (one driver run) and
+// Studies orchestrate runs of a Problem: `optimize` (one driver run),
 // `sweep` (1-D or 2-D grid, like the paper's tables, optionally followed by an
-// optimisation). Every evaluation's status is recorded; results go to
-// result.json, sweep.csv and chart.svg in the output directory.
+// optimisation) and `pareto` (epsilon-constraint front of two metrics). Every
+// evaluation's status is recorded; results go to result.json, sweep.csv,
+// history.csv, pareto.csv and SVG charts in the output directory.
 #pragma once
 #include <iosfwd>
 #include <map>
