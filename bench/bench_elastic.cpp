@@ -77,12 +77,9 @@ void register_all() {
       }
 }
 
+// Registered at start-up, before BENCHMARK_MAIN parses the command line.
+const bool kRegistered = (register_all(), true);
+
 }  // namespace
 
-int main(int argc, char** argv) {
-  register_all();
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+BENCHMARK_MAIN();
