@@ -13,8 +13,12 @@ DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
 deps:
 	@bash tools/install_deps.sh $(DEB_PACKAGES)
 
+SUNDIALS_PREFIX = $(abspath $(BUILD))/sundials
 configure: deps
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release \
+	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
+	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials)
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)

@@ -7,6 +7,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -30,6 +31,9 @@ namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr int kStall = 1;  // recoverable-error code a right-hand side returns when the crank stops
+constexpr int kMaxStates = 18;  // the largest system integrated (the orbit with its sensitivities)
+constexpr int kMaxRhs = 9;      // the most components an autodiff Jacobian differentiates
+constexpr double kPeriodicTol = 100; // periodicity residual (scaled) accepted, in units of rtol
 
 // SUNDIALS prints its warnings and errors to stderr by default; every outcome
 // is a status here, so they are silenced.
@@ -51,20 +55,29 @@ class Integrator {
   using Rhs = std::function<int(double, const double*, double*)>;
   using Jac = std::function<void(double, const double*, double*)>;  // row-major n x n
 
-  Integrator(int n, Rhs f, Jac j, const OdeOptions& o, double t0, const double* y0)
+  // atol: one absolute tolerance per component (nullptr: o.atol for all).
+  Integrator(int n, Rhs f, Jac j, const OdeOptions& o, double t0, const double* y0,
+             const double* atol = nullptr)
       : n_(n), f_(std::move(f)), j_(std::move(j)), method_(o.method), max_steps_(o.max_steps) {
     y_ = N_VNew_Serial(n, ctx_.ctx);
+    // Fused vector operations: a stage combination is one loop, not a chain
+    // of pairwise sums (the per-call overhead dominates on these few states).
+    N_VEnableFusedOps_Serial(y_, SUNTRUE);
     std::copy(y0, y0 + n, N_VGetArrayPointer(y_));
+    atol_ = N_VNew_Serial(n, ctx_.ctx);
+    if (atol) std::copy(atol, atol + n, N_VGetArrayPointer(atol_));
+    else N_VConst(o.atol, atol_);
     if (method_ == OdeMethod::erk) {
       mem_ = ERKStepCreate(rhs, t0, y_, ctx_.ctx);
-      ERKStepSStolerances(mem_, o.rtol, o.atol);
+      ERKStepSVtolerances(mem_, o.rtol, atol_);
+      ERKStepSetTableNum(mem_, ARKODE_DORMAND_PRINCE_7_4_5);  // order 5 with a 4th-order error estimate
       ERKStepSetUserData(mem_, this);
       ERKStepSetMaxNumSteps(mem_, o.max_steps);
       ERKStepSetErrHandlerFn(mem_, silent, nullptr);
     } else {
       mem_ = CVodeCreate(method_ == OdeMethod::bdf ? CV_BDF : CV_ADAMS, ctx_.ctx);
       CVodeInit(mem_, rhs, t0, y_);
-      CVodeSStolerances(mem_, o.rtol, o.atol);
+      CVodeSVtolerances(mem_, o.rtol, atol_);
       CVodeSetUserData(mem_, this);
       CVodeSetMaxNumSteps(mem_, o.max_steps);
       CVodeSetErrHandlerFn(mem_, silent, nullptr);
@@ -80,26 +93,41 @@ class Integrator {
     if (LS_) SUNLinSolFree(LS_);
     if (A_) SUNMatDestroy(A_);
     N_VDestroy(y_);
+    N_VDestroy(atol_);
   }
   Integrator(const Integrator&) = delete;
   Integrator& operator=(const Integrator&) = delete;
 
-  // Advances to t (interpolated output); the state is in y(). max_steps
+  // Stops advance() where a component of g(t, y) (nroots of them) changes sign.
+  void watch_roots(int nroots, Rhs g) {
+    g_ = std::move(g);
+    if (method_ == OdeMethod::erk) ERKStepRootInit(mem_, nroots, roots), ERKStepSetNoInactiveRootWarn(mem_);
+    else CVodeRootInit(mem_, nroots, roots), CVodeSetNoInactiveRootWarn(mem_);
+  }
+
+  // Advances to t (interpolated output), or to the first root of g before it
+  // (then at_root() and root_info()); the state is in y() at time(). max_steps
   // bounds the whole integration, not one call.
   DynamicsStatus advance(double t) {
     const long left = max_steps_ - steps();
     if (left <= 0) return DynamicsStatus::too_many_steps;
     if (method_ == OdeMethod::erk) ERKStepSetMaxNumSteps(mem_, left);
     else CVodeSetMaxNumSteps(mem_, left);
-    double reached = 0;
-    const int flag = method_ == OdeMethod::erk ? ERKStepEvolve(mem_, t, y_, &reached, ARK_NORMAL)
-                                               : CVode(mem_, t, y_, &reached, CV_NORMAL);
+    const int flag = method_ == OdeMethod::erk ? ERKStepEvolve(mem_, t, y_, &reached_, ARK_NORMAL)
+                                               : CVode(mem_, t, y_, &reached_, CV_NORMAL);
+    at_root_ = flag == CV_ROOT_RETURN;  // == ARK_ROOT_RETURN
     if (flag >= 0) return DynamicsStatus::ok;
     if (stalled_) return DynamicsStatus::stalled;
     if (flag == CV_TOO_MUCH_WORK) return DynamicsStatus::too_many_steps;  // == ARK_TOO_MUCH_WORK
     return DynamicsStatus::solver_failure;
   }
   const double* y() const { return N_VGetArrayPointer(y_); }
+  double time() const { return reached_; }
+  bool at_root() const { return at_root_; }
+  void root_info(int* found) const {
+    if (method_ == OdeMethod::erk) ERKStepGetRootInfo(mem_, found);
+    else CVodeGetRootInfo(mem_, found);
+  }
   long steps() const {
     long s = 0;
     if (method_ == OdeMethod::erk) ERKStepGetNumSteps(mem_, &s);
@@ -114,11 +142,14 @@ class Integrator {
     if (r == kStall) self->stalled_ = true;
     return r;
   }
+  static int roots(double t, N_Vector y, double* g, void* data) {
+    return static_cast<Integrator*>(data)->g_(t, N_VGetArrayPointer(y), g);
+  }
   static int jac(double t, N_Vector y, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector,
                  N_Vector) {
     auto* self = static_cast<Integrator*>(data);
-    std::vector<double> m(self->n_ * self->n_);
-    self->j_(t, N_VGetArrayPointer(y), m.data());
+    double m[kMaxStates * kMaxStates];
+    self->j_(t, N_VGetArrayPointer(y), m);
     for (int r = 0; r < self->n_; ++r)
       for (int c = 0; c < self->n_; ++c) SM_ELEMENT_D(J, r, c) = m[r * self->n_ + c];
     return 0;
@@ -126,82 +157,153 @@ class Integrator {
 
   Context ctx_;
   int n_;
-  Rhs f_;
+  Rhs f_, g_;
   Jac j_;
+  double reached_ = 0;
+  bool at_root_ = false;
   OdeMethod method_;
   long max_steps_;
-  N_Vector y_ = nullptr;
+  N_Vector y_ = nullptr, atol_ = nullptr;
   void* mem_ = nullptr;
   SUNMatrix A_ = nullptr;
   SUNLinearSolver LS_ = nullptr;
   bool stalled_ = false;
 };
 
-// Dense Jacobian of a templated right-hand side g(y, dy) of the first m
-// components by forward autodiff (columns m..n-1 of the extended system are
-// zero: quadratures do not feed back).
+// Dense Jacobian of a templated right-hand side g(y, dy) of the first M of
+// n components by forward autodiff, row-major n x n (columns M..n-1 zero:
+// quadratures do not feed back).
 template <int M, class G>
 void autodiff_jacobian(int n, const double* y, G&& g, double* J) {
   using D = DualN<M>;
-  D yd[M], dd[8];
+  D yd[M], dd[kMaxRhs];
   for (int i = 0; i < M; ++i) yd[i] = D(y[i], M, i);
   g(yd, dd);
   std::fill(J, J + n * n, 0.0);
-  for (int r = 0; r < n; ++r)
+  for (int r = 0; r < n && r < kMaxRhs; ++r)
     for (int c = 0; c < M; ++c) J[r * n + c] = dd[r].derivatives()[c];
 }
 
-// The system in the crank angle phi2 as independent variable, over one
-// revolution: z = (theta, w1, w2, t, int M dt, int M^2 dt, int P_motor dt,
-// int P_res dt). Unknowns of the periodic problem: the first three.
-constexpr int kAngleStates = 8;
+// The system in the crank angle phi2 as the independent variable, over one
+// revolution: z = (theta, w1, w2 | t, int M dt, int M^2 dt, int P_motor dt,
+// int P_res dt, int P_damping dt | S), where M is the coupling moment and S
+// (optional, row-major 3 x 3) the sensitivity d z(phi2) / d z(0) of the
+// first three: the variational equations S' = (df/dz) S, integrated with the
+// orbit so that one revolution gives both the shooting residual and its exact
+// Jacobian (the monodromy matrix S(2 pi) - I).
+constexpr int kOrbit = 3, kQuadratures = 6, kPlain = kOrbit + kQuadratures;
+constexpr int kSensitive = kPlain + kOrbit * kOrbit;
 
 template <class S>
 void angle_rhs(const ElasticDrive& d, double phi2, const S* z, S* dz) {
-  const S w1 = z[1], w2 = z[2];
-  S y[4] = {S(phi2) + z[0], S(phi2), w1, w2}, dy[4];
-  drive_rhs(d, y, dy);
-  const S inv = 1.0 / w2;
-  dz[0] = (w1 - w2) * inv;
-  dz[1] = dy[2] * inv;
-  dz[2] = dy[3] * inv;
+  const S theta = z[0], w1 = z[1], w2 = z[2];
+  const auto m = mechanism_state(d, S(phi2), w2);
+  S a1, a2;
+  accelerations(d, m, theta, w1, w2, a1, a2);
+  const S inv = 1.0 / w2, slip = w1 - w2;
+  const S coupling = coupling_moment(d, theta, w1, w2);
+  dz[0] = slip * inv;
+  dz[1] = a1 * inv;
+  dz[2] = a2 * inv;
   dz[3] = inv;
-  const S coupling = d.stiffness * z[0] + d.damping * (w1 - w2);
   dz[4] = coupling * inv;
   dz[5] = coupling * coupling * inv;
   dz[6] = d.motor_moment(w1) * w1 * inv;
-  dz[7] = mechanism_state(d, S(phi2), w2).resistance;  // P_res dt = M_res w2 dt = M_res dphi2
+  dz[7] = m.resistance;  // P_res dt = M_res w2 dt = M_res dphi2
+  dz[8] = d.damping * slip * slip * inv;
 }
+
+// Right-hand side with the variational equations: one evaluation in DualN<3>
+// whose derivative parts carry the rows of S gives f and (df/dz) S together.
+void sensitive_rhs(const ElasticDrive& d, double phi2, const double* z, double* dz) {
+  using D = DualN<kOrbit>;
+  D zz[kPlain], dd[kPlain];
+  for (int i = 0; i < kPlain; ++i) zz[i] = D(z[i]);
+  for (int i = 0; i < kOrbit; ++i)
+    zz[i].derivatives() << z[kPlain + 3 * i], z[kPlain + 3 * i + 1], z[kPlain + 3 * i + 2];
+  angle_rhs(d, phi2, zz, dd);
+  for (int i = 0; i < kPlain; ++i) dz[i] = dd[i].value();
+  for (int i = 0; i < kOrbit; ++i)
+    for (int j = 0; j < kOrbit; ++j) dz[kPlain + 3 * i + j] = dd[i].derivatives()[j];
+}
+
+// Smallest and largest value seen.
+struct Range {
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  void add(double v) { lo = std::min(lo, v), hi = std::max(hi, v); }
+};
 
 struct Revolution {
   DynamicsStatus status = DynamicsStatus::ok;
-  double end[kAngleStates] = {};
+  double end[kSensitive] = {};  // z at phi2 = 2 pi (S only with sensitivities)
+  Range coupling, w1, w2;       // over the revolution: at its ends and interior extrema
   long steps = 0;
 };
 
-// Integrates one revolution from (theta, w1, w2); with `out`, samples it.
-Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* start, int samples,
-                      Trajectory* out) {
-  double z0[kAngleStates] = {start[0], start[1], start[2], 0, 0, 0, 0, 0};
-  if (d.fidelity == DriveFidelity::rigid) z0[0] = 0, z0[1] = z0[2];
+// What a revolution records besides its end state.
+struct Record {
+  bool extrema = true;          // the ranges of the coupling moment and both speeds
+  bool sensitivities = false;   // S(2 pi)
+  int samples = 0;              // samples of the trajectory into `out`, at equal steps of phi2
+  Trajectory* out = nullptr;
+};
+
+// Integrates one revolution from (theta, w1, w2), recording what `rec` asks.
+// The absolute tolerance is o.atol times each state's `scale` (twist, speeds). The
+// extrema of the coupling moment and both speeds are found as the roots of
+// their derivatives (the integrator's root finding): exact to the
+// integration's accuracy, with no sampling.
+Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* scale,
+                      const double* start, const Record& rec) {
+  const bool sensitivities = rec.sensitivities;
+  Trajectory* out = rec.out;
+  const int n = sensitivities ? kSensitive : kPlain;
+  double z0[kSensitive] = {start[0], start[1], start[2]};
+  for (int i = 0; i < kOrbit; ++i) z0[kPlain + 4 * i] = 1.0;  // S(0) = I
   auto f = [&](double phi2, const double* z, double* dz) {
     if (!(z[2] > 1e-3)) return kStall;  // the crank stopped: no motion in phi2
-    angle_rhs(d, phi2, z, dz);
+    if (sensitivities) sensitive_rhs(d, phi2, z, dz);
+    else angle_rhs(d, phi2, z, dz);
     return 0;
   };
+  // Newton matrix of the implicit methods: df/dz of the orbit and the
+  // quadratures, and the same 3 x 3 block on each column of S (the second
+  // derivatives left out: they only slow the corrector, never the answer).
   auto j = [&](double phi2, const double* z, double* J) {
-    autodiff_jacobian<3>(kAngleStates, z,
-                         [&](const DualN<3>* zz, DualN<3>* dz) {
-                           DualN<3> full[kAngleStates];
-                           for (int i = 0; i < 3; ++i) full[i] = zz[i];
-                           for (int i = 3; i < kAngleStates; ++i) full[i] = DualN<3>(z[i]);
-                           angle_rhs(d, phi2, full, dz);
-                         },
-                         J);
+    autodiff_jacobian<kOrbit>(n, z,
+                              [&](const DualN<kOrbit>* zz, DualN<kOrbit>* dz) {
+                                DualN<kOrbit> full[kPlain];
+                                for (int i = 0; i < kPlain; ++i)
+                                  full[i] = i < kOrbit ? zz[i] : DualN<kOrbit>(z[i]);
+                                angle_rhs(d, phi2, full, dz);
+                              },
+                              J);
+    for (int c = 0; c < (sensitivities ? kOrbit : 0); ++c)  // column c of S: rows kPlain + 3 i + c
+      for (int i = 0; i < kOrbit; ++i)
+        for (int k = 0; k < kOrbit; ++k) J[(kPlain + 3 * i + c) * n + kPlain + 3 * k + c] = J[i * n + k];
   };
-  Integrator in(kAngleStates, f, j, o, 0.0, z0);
+  // Only the orbit's own error sets the steps: the quadratures (as CVODES
+  // does by default) and S (it only steers Newton) are left out of the
+  // error test by a huge absolute tolerance.
+  double atol[kSensitive];
+  std::fill(atol, atol + n, 1e30);
+  for (int i = 0; i < kOrbit; ++i) atol[i] = o.atol * scale[i];
+  Integrator in(n, f, j, o, 0.0, z0, atol);
+  // Roots: d(coupling)/dphi2, dw1/dphi2, dw2/dphi2 (rigid: no coupling).
+  const bool rigid = d.fidelity == DriveFidelity::rigid;
+  if (rec.extrema) in.watch_roots(rigid ? 2 : 3, [&](double phi2, const double* z, double* g) {
+    double dz[kPlain];
+    angle_rhs(d, phi2, z, dz);
+    g[0] = dz[1], g[1] = dz[2];
+    if (!rigid) g[2] = d.stiffness * dz[0] + d.damping * (dz[1] - dz[2]);
+    return 0;
+  });
   Revolution r;
-  const int n = out ? samples : 1;
+  auto extremes = [&](const double* z) {
+    r.coupling.add(coupling_moment(d, z[0], z[1], z[2]));
+    r.w1.add(z[1]);
+    r.w2.add(z[2]);
+  };
   auto record = [&](double phi2, const double* z) {
     if (!out) return;
     out->phi2.push_back(phi2);
@@ -212,25 +314,32 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
     out->coupling.push_back(coupling_moment(d, z[0], z[1], z[2]));
     out->motor_torque.push_back(d.motor.torque(z[1] * d.gear_ratio));
   };
+  if (out) *out = Trajectory{};
+  extremes(z0);
   record(0.0, z0);
-  for (int k = 1; k <= n; ++k) {
-    const double phi2 = kTwoPi * k / n;
-    r.status = in.advance(phi2);
-    if (r.status != DynamicsStatus::ok) break;
-    record(phi2, in.y());
+  const int outputs = out ? rec.samples : 1;
+  for (int k = 1; k <= outputs && r.status == DynamicsStatus::ok; ++k) {
+    const double phi2 = kTwoPi * k / outputs;
+    while ((r.status = in.advance(phi2)) == DynamicsStatus::ok && in.at_root()) extremes(in.y());
+    if (r.status == DynamicsStatus::ok) record(phi2, in.y());
   }
-  std::copy(in.y(), in.y() + kAngleStates, r.end);
+  std::copy(in.y(), in.y() + n, r.end);
+  extremes(r.end);
   r.steps = in.steps();
   return r;
 }
 
-// Rigid estimate of the steady speed: the motor moment balances the mean
-// resistance (bisection on the crank speed below synchronous speed).
-double rigid_speed_estimate(const ElasticDrive& d, double* mean_resistance) {
+// Mean resistance moment over a revolution of the crank.
+double mean_resistance(const ElasticDrive& d) {
   double mean = 0;
   const int n = 360;
   for (int k = 0; k < n; ++k) mean += mechanism_state(d, kTwoPi * k / n, 1.0).resistance / n;
-  *mean_resistance = mean;
+  return mean;
+}
+
+// Rigid estimate of the steady speed: the motor moment balances the mean
+// resistance (bisection on the crank speed below synchronous speed).
+double rigid_speed_estimate(const ElasticDrive& d, double mean) {
   const double w0 = d.motor.synchronous_speed / d.gear_ratio;
   double lo = w0 * (1 - d.motor.critical_slip), hi = w0;  // the stable branch of the motor curve
   for (int i = 0; i < 80; ++i) {
@@ -248,80 +357,141 @@ double twist_scale(const ElasticDrive& d) {
   return std::max(m, 1.0) / d.stiffness;
 }
 
-// Extremum of periodic samples v (the last equal to the first) refined by the
-// parabola through the best sample and its neighbours.
-double refined_extremum(const std::vector<double>& v, bool maximum) {
-  const int n = static_cast<int>(v.size()) - 1;  // v[n] repeats v[0]
-  int k = 0;
-  for (int i = 1; i < n; ++i)
-    if (maximum ? v[i] > v[k] : v[i] < v[k]) k = i;
-  const double a = v[(k + n - 1) % n], b = v[k], c = v[(k + 1) % n];
-  const double den = a - 2 * b + c;
-  if (den == 0) return b;
-  return b - 0.125 * (c - a) * (c - a) / den;
-}
-
-void fill_metrics(const ElasticDrive& d, const Revolution& r, SteadyCycle& s) {
-  const Trajectory& c = s.cycle;
+// Metrics of the orbit that starts at `start` from its revolution r (and the
+// sampled cycle, if any).
+void fill_metrics(const ElasticDrive& d, const double* start, const Revolution& r, Trajectory cycle,
+                  SteadyCycle& s) {
+  s.theta0 = start[0], s.w10 = start[1], s.w20 = start[2];
+  s.cycle = std::move(cycle);
   s.period = r.end[3];
   s.mean_speed = kTwoPi / s.period;
   s.coupling_rms = std::sqrt(r.end[5] / s.period);
   s.mean_motor_power = r.end[6] / s.period;
   s.mean_resistance_power = r.end[7] / s.period;
-  s.coupling_min = refined_extremum(c.coupling, false);
-  s.coupling_max = refined_extremum(c.coupling, true);
+  s.mean_damping_power = r.end[8] / s.period;
+  s.coupling_min = r.coupling.lo;
+  s.coupling_max = r.coupling.hi;
   s.coupling_peak = std::max(std::abs(s.coupling_min), std::abs(s.coupling_max));
-  const auto [wmin, wmax] = std::minmax_element(c.w2.begin(), c.w2.end());
-  s.speed_irregularity = (*wmax - *wmin) / s.mean_speed;
-  const auto [tmin, tmax] = std::minmax_element(c.motor_torque.begin(), c.motor_torque.end());
-  s.motor_torque_min = *tmin;
-  s.motor_torque_max = *tmax;
-  const auto [mmin, mmax] = std::minmax_element(c.w1.begin(), c.w1.end());
-  s.motor_speed_min = *mmin * d.gear_ratio;
-  s.motor_speed_max = *mmax * d.gear_ratio;
-  // Damping dissipation: k (w1 - w2)^2 averaged over time, by the trapezoidal
-  // rule on the samples in phi2 (dt = dphi2 / w2).
-  double diss = 0;
-  for (size_t i = 1; i < c.t.size(); ++i) {
-    const double a = d.damping * std::pow(c.w1[i - 1] - c.w2[i - 1], 2);
-    const double b = d.damping * std::pow(c.w1[i] - c.w2[i], 2);
-    diss += 0.5 * (a + b) * (c.t[i] - c.t[i - 1]);
-  }
-  s.mean_damping_power = diss / s.period;
+  s.speed_irregularity = (r.w2.hi - r.w2.lo) / s.mean_speed;
+  s.motor_speed_min = r.w1.lo * d.gear_ratio;
+  s.motor_speed_max = r.w1.hi * d.gear_ratio;
+  // Kloss's torque falls with speed on the stable branch the motor runs on.
+  const double a = d.motor.torque(s.motor_speed_min), b = d.motor.torque(s.motor_speed_max);
+  s.motor_torque_min = std::min(a, b);
+  s.motor_torque_max = std::max(a, b);
 }
 
-struct ShootingData {
-  const ElasticDrive* d;
-  const OdeOptions* o;
-  double scale[3];
+// Largest modulus of the eigenvalues of the 3 x 3 monodromy matrix in r.
+double largest_multiplier(const Revolution& r) {
+  Eigen::Matrix3d m;
+  for (int i = 0; i < kOrbit; ++i)
+    for (int j = 0; j < kOrbit; ++j) m(i, j) = r.end[kPlain + 3 * i + j];
+  return m.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+// The periodic problem: unknowns u (3 elastic, 1 rigid) give the start
+// z(0) = P u; the residual is F = R (z(2 pi) - z(0)) with R = P^-1 on the
+// orbit's scales, and its Jacobian R (S(2 pi) - I) P. Every evaluation
+// finds its revolution's extrema, so the last one gives the metrics.
+struct Shooting {
+  const ElasticDrive* d = nullptr;
+  const OdeOptions* o = nullptr;
+  int n = 0;                // unknowns
+  double scale[3] = {};   // of theta, w1, w2
+  double P[3][3] = {};  // start = P u
+  double R[3][3] = {};  // F = R (end - start)
   long steps = 0;
   DynamicsStatus failure = DynamicsStatus::ok;
+  double u[3] = {}, start[3] = {};  // the last evaluation's
+  Revolution last;
+  bool valid = false, sensitive = false;
+  double multiplier = 0;  // largest of the last Jacobian's monodromy matrix
+  int revolutions = 0;
+
+  // One revolution from P x. Sensitivities cost about twice a plain
+  // revolution: taken on the first (KINSOL always wants the Jacobian there)
+  // and whenever a Jacobian is asked for at a new point.
+  bool evaluate(const double* x, bool with_jacobian) {
+    if (valid && std::equal(x, x + n, u) && (sensitive || !with_jacobian)) return true;
+    std::copy(x, x + n, u);
+    for (int i = 0; i < kOrbit; ++i) {
+      start[i] = 0;
+      for (int k = 0; k < n; ++k) start[i] += P[i][k] * x[k];
+    }
+    sensitive = with_jacobian || revolutions == 0;
+    last = revolution(*d, *o, scale, start, {.sensitivities = sensitive});
+    ++revolutions;
+    steps += last.steps;
+    valid = last.status == DynamicsStatus::ok;
+    if (!valid) failure = last.status;
+    if (valid && sensitive) multiplier = largest_multiplier(last);
+    return valid;
+  }
+  void residual(double* f) const {
+    for (int i = 0; i < n; ++i) {
+      f[i] = 0;
+      for (int k = 0; k < kOrbit; ++k) f[i] += R[i][k] * (last.end[k] - start[k]);
+    }
+  }
+  double jacobian(int i, int j) const {  // (R (S - I) P)_ij
+    double v = 0;
+    for (int a = 0; a < kOrbit; ++a)
+      for (int b = 0; b < kOrbit; ++b)
+        v += R[i][a] * (last.end[kPlain + 3 * a + b] - (a == b)) * P[b][j];
+    return v;
+  }
 };
 
 int shooting_residual(N_Vector u, N_Vector F, void* data) {
-  auto& s = *static_cast<ShootingData*>(data);
-  const double* x = N_VGetArrayPointer(u);
-  double start[3] = {x[0] * s.scale[0], x[1] * s.scale[1], x[2] * s.scale[2]};
-  const Revolution r = revolution(*s.d, *s.o, start, 1, nullptr);
-  s.steps += r.steps;
-  if (r.status != DynamicsStatus::ok) {
-    s.failure = r.status;
-    return 1;  // recoverable: KINSOL's line search backs off
-  }
-  double* f = N_VGetArrayPointer(F);
-  for (int i = 0; i < 3; ++i) f[i] = (r.end[i] - start[i]) / s.scale[i];
+  auto& s = *static_cast<Shooting*>(data);
+  if (!s.evaluate(N_VGetArrayPointer(u), false)) return 1;  // recoverable: KINSOL's line search backs off
+  s.residual(N_VGetArrayPointer(F));
   return 0;
 }
 
-}  // namespace
+int shooting_jacobian(N_Vector u, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector) {
+  auto& s = *static_cast<Shooting*>(data);
+  if (!s.evaluate(N_VGetArrayPointer(u), true)) return 1;
+  for (int i = 0; i < s.n; ++i)
+    for (int j = 0; j < s.n; ++j) SM_ELEMENT_D(J, i, j) = s.jacobian(i, j);
+  return 0;
+}
 
-namespace {
+// Revolution after revolution from `start` until the state repeats.
 SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double* start, int max_cycles,
-                        double tol, int samples);
-}  // namespace
+                        double tol, int samples) {
+  SteadyCycle s;
+  const double scale[3] = {twist_scale(d), start[2], start[2]};
+  for (s.iterations = 1; s.iterations <= max_cycles; ++s.iterations) {
+    const Revolution r = revolution(d, o, scale, start, {.extrema = false});
+    s.steps += r.steps;
+    if (r.status != DynamicsStatus::ok) {
+      s.status = r.status;
+      s.message = "integration failed in revolution " + std::to_string(s.iterations);
+      return s;
+    }
+    double change = 0;
+    for (int i = 0; i < kOrbit; ++i)
+      change = std::max(change, std::abs(r.end[i] - start[i]) / scale[i]);
+    std::copy(r.end, r.end + kOrbit, start);
+    if (change <= tol) {
+      Trajectory cycle;
+      const Revolution last = revolution(
+          d, o, scale, start, {.sensitivities = true, .samples = samples, .out = samples > 0 ? &cycle : nullptr});
+      s.steps += last.steps;
+      s.residual = change;
+      s.largest_multiplier = largest_multiplier(last);
+      fill_metrics(d, start, last, std::move(cycle), s);
+      return s;
+    }
+  }
+  s.status = DynamicsStatus::no_periodic_orbit;
+  s.message = "the state still changed after " + std::to_string(max_cycles) + " revolutions";
+  return s;
+}
 
-// The state (theta, w1, w2) where a start-up from rest last crossed a whole
-// revolution of the crank; false if it stalled or never turned.
+// The state (theta, w1, w2) where a start-up from `w0` last crossed a whole
+// revolution of the crank after t seconds; false if it stalled or never turned.
 bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double w0,
                    double* guess) {
   const Startup st = simulate_startup(d, o, t, 1e-3, nullptr, w0);
@@ -337,150 +507,137 @@ bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double 
   return guess[2] > 0;
 }
 
-SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
-                               double warmup, double initial_speed) {
+// Newton (KINSOL, line search, the exact Jacobian from the variational
+// equations) on the periodicity residual from `guess`.
+SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, const double* guess) {
   SteadyCycle s;
-  double mean_res = 0;
-  double w = rigid_speed_estimate(d, &mean_res);
   const bool rigid = d.fidelity == DriveFidelity::rigid;
-  double guess[3] = {rigid ? 0.0 : mean_res / d.stiffness, w, w};
-  if (warmup > 0 && !startup_guess(d, o, warmup, initial_speed, guess)) {
-    s.status = DynamicsStatus::stalled;
-    s.message = "the start-up did not complete a revolution in " +
-                std::to_string(warmup) + " s";
-    return s;
-  }
-  w = guess[2];
+  const double w = guess[2];
   // Unknowns scaled to order one: theta by the twist the largest resistance
-  // moment gives, speeds by w.
-  const double theta_scale = twist_scale(d);
-  ShootingData data{&d, &o, {theta_scale, w, w}};
-  Context ctx;
-  N_Vector u = N_VNew_Serial(3, ctx.ctx), ones = N_VNew_Serial(3, ctx.ctx);
-  double* x = N_VGetArrayPointer(u);
-  x[0] = guess[0] / theta_scale;
-  x[1] = guess[1] / w;
-  x[2] = 1.0;
-  N_VConst(1.0, ones);
-  void* kin = KINCreate(ctx.ctx);
-  KINInit(kin, shooting_residual, u);
-  KINSetUserData(kin, &data);
-  KINSetErrHandlerFn(kin, silent, nullptr);
-  SUNMatrix J = SUNDenseMatrix(3, 3, ctx.ctx);
-  SUNLinearSolver LS = SUNLinSol_Dense(u, J, ctx.ctx);
-  KINSetLinearSolver(kin, LS, J);
-  // The residual carries the integrator's error (~rtol): stop a little above
-  // it, and difference the Jacobian with steps well above it.
-  KINSetFuncNormTol(kin, 100 * o.rtol);
-  KINSetScaledStepTol(kin, o.rtol);
-  KINSetRelErrFunc(kin, 10 * o.rtol);
-  KINSetNumMaxIters(kin, 50);
-  KINSetMaxSetupCalls(kin, 1);  // a fresh Jacobian every iteration (3 x 3)
-  int flag = 0;
+  // moment gives, speeds by w; rigid: the one speed (theta = 0, w1 = w2).
+  Shooting sh;
+  sh.d = &d, sh.o = &o, sh.n = rigid ? 1 : kOrbit;
+  sh.scale[0] = twist_scale(d), sh.scale[1] = sh.scale[2] = w;
   if (rigid) {
-    // One unknown (w1 = w2, theta = 0): a secant iteration on the speed.
-    double a = x[2], b = x[2] * (1.0 + 1e-3), fa = 0, fb = 0;
-    auto res = [&](double v) {
-      double st[3] = {0, v * w, v * w};
-      const Revolution r = revolution(d, o, st, 1, nullptr);
-      data.steps += r.steps;
-      if (r.status != DynamicsStatus::ok) data.failure = r.status;
-      return (r.end[2] - st[2]) / w;
-    };
-    fa = res(a);
-    fb = res(b);
-    for (s.iterations = 0; s.iterations < 50 && std::abs(fb) > 100 * o.rtol && fb != fa; ++s.iterations) {
-      const double c = b - fb * (b - a) / (fb - fa);
-      a = b, fa = fb, b = c, fb = res(b);
-    }
-    x[0] = 0, x[1] = x[2] = b;
-    flag = std::abs(fb) <= 100 * o.rtol ? 0 : -1;
+    sh.P[1][0] = sh.P[2][0] = w;
+    sh.R[0][2] = 1 / w;
   } else {
+    for (int i = 0; i < kOrbit; ++i) sh.P[i][i] = sh.scale[i], sh.R[i][i] = 1 / sh.scale[i];
+  }
+  // A drive's orbit attracts: one revolution from the guess brings it most of
+  // the way (for a well-damped coupling, all of it), so Newton starts there.
+  const Revolution r0 = revolution(d, o, sh.scale, guess, {.extrema = false});
+  sh.steps = r0.steps;
+  double x0[3];
+  for (int i = 0; i < sh.n; ++i) {
+    x0[i] = 0;
+    for (int k = 0; k < kOrbit; ++k) x0[i] += sh.R[i][k] * r0.end[k];
+  }
+  // The residual carries the integrator's error (~rtol) of a revolution.
+  const double ftol = kPeriodicTol * o.rtol;
+  double f[3] = {};
+  int flag = 0;
+  bool converged = r0.status == DynamicsStatus::ok && sh.evaluate(x0, true);
+  if (converged) {
+    sh.residual(f);
+    for (int i = 0; i < sh.n; ++i) converged = converged && std::abs(f[i]) <= ftol;
+  }
+  if (!converged && r0.status == DynamicsStatus::ok && sh.valid) {
+    Context ctx;
+    N_Vector u = N_VNew_Serial(sh.n, ctx.ctx), ones = N_VNew_Serial(sh.n, ctx.ctx);
+    std::copy(x0, x0 + sh.n, N_VGetArrayPointer(u));
+    N_VConst(1.0, ones);
+    void* kin = KINCreate(ctx.ctx);
+    KINInit(kin, shooting_residual, u);
+    KINSetUserData(kin, &sh);
+    KINSetErrHandlerFn(kin, silent, nullptr);
+    SUNMatrix J = SUNDenseMatrix(sh.n, sh.n, ctx.ctx);
+    SUNLinearSolver LS = SUNLinSol_Dense(u, J, ctx.ctx);
+    KINSetLinearSolver(kin, LS, J);
+    KINSetJacFn(kin, shooting_jacobian);
+    KINSetFuncNormTol(kin, ftol);
+    KINSetScaledStepTol(kin, o.rtol);
+    KINSetNumMaxIters(kin, 50);
+    // Modified Newton: the exact Jacobian of the first iterate, kept while it
+    // serves (a drive's Poincare map is nearly linear near its orbit).
+    KINSetMaxSetupCalls(kin, 10);
     flag = KINSol(kin, u, KIN_LINESEARCH, ones, ones);
     long iters = 0;
     KINGetNumNonlinSolvIters(kin, &iters);
     s.iterations = static_cast<int>(iters);
+    converged = flag >= 0 && sh.evaluate(N_VGetArrayPointer(u), false);
+    KINFree(&kin);
+    SUNLinSolFree(LS);
+    SUNMatDestroy(J);
+    N_VDestroy(u);
+    N_VDestroy(ones);
+    sh.residual(f);
   }
-  double start[3] = {x[0] * theta_scale, x[1] * w, x[2] * w};
-  KINFree(&kin);
-  SUNLinSolFree(LS);
-  SUNMatDestroy(J);
-  N_VDestroy(u);
-  N_VDestroy(ones);
-  s.steps = data.steps;
-  if (flag < 0 && data.failure != DynamicsStatus::stalled) {
-    // Newton failed (a poor Jacobian near a resonance, or several orbits):
-    // fall back to integrating revolution after revolution from the guess,
-    // which follows the orbit the machine itself settles on.
-    double from[3] = {guess[0], guess[1], guess[2]};
-    SteadyCycle c = cycles_from(d, o, from, 300, 100 * o.rtol, samples);
-    c.steps += s.steps;
-    if (c.status == DynamicsStatus::ok) c.message = "shooting failed; found by integrating revolutions";
-    return c;
-  }
-  if (flag < 0) {
-    s.status = data.failure != DynamicsStatus::ok ? data.failure : DynamicsStatus::no_periodic_orbit;
-    s.message = std::string("shooting did not converge (") +
-                (rigid ? "secant" : "KINSOL flag " + std::to_string(flag)) + ")";
-    if (data.failure == DynamicsStatus::stalled) s.status = DynamicsStatus::stalled;
+  s.steps = sh.steps;
+  if (!converged) {
+    s.status = r0.status != DynamicsStatus::ok   ? r0.status
+               : sh.failure != DynamicsStatus::ok ? sh.failure
+                                                  : DynamicsStatus::no_periodic_orbit;
+    s.message = "shooting did not converge (KINSOL flag " + std::to_string(flag) + ")";
     return s;
   }
-  const Revolution r = revolution(d, o, start, samples, &s.cycle);
-  s.steps += r.steps;
-  if (r.status != DynamicsStatus::ok) {
-    s.status = r.status;
-    s.message = "the periodic orbit could not be resampled";
-    return s;
-  }
-  s.theta0 = start[0], s.w10 = start[1], s.w20 = start[2];
   s.residual = 0;
-  for (int i = 0; i < 3; ++i)
-    s.residual = std::max(s.residual, std::abs(r.end[i] - start[i]) / (i == 0 ? theta_scale : w));
-  fill_metrics(d, r, s);
-  return s;
-}
-
-namespace {
-
-// Revolution after revolution from `start` until the state repeats.
-SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double* start, int max_cycles,
-                        double tol, int samples) {
-  SteadyCycle s;
-  const double w = start[2];
-  const double theta_scale = twist_scale(d);
-  for (s.iterations = 1; s.iterations <= max_cycles; ++s.iterations) {
-    const Revolution r = revolution(d, o, start, 1, nullptr);
+  for (int i = 0; i < sh.n; ++i) s.residual = std::max(s.residual, std::abs(f[i]));
+  s.largest_multiplier = sh.multiplier;
+  Trajectory cycle;  // resampled only when asked for (curves, charts)
+  if (samples > 0) {
+    const Revolution r = revolution(d, o, sh.scale, sh.start, {.extrema = false, .samples = samples, .out = &cycle});
     s.steps += r.steps;
-    if (r.status != DynamicsStatus::ok) {
-      s.status = r.status;
-      s.message = "integration failed in revolution " + std::to_string(s.iterations);
-      return s;
-    }
-    double change = 0;
-    for (int i = 0; i < 3; ++i)
-      change = std::max(change, std::abs(r.end[i] - start[i]) / (i == 0 ? theta_scale : w));
-    std::copy(r.end, r.end + 3, start);
-    if (change <= tol) {
-      const Revolution last = revolution(d, o, start, samples, &s.cycle);
-      s.steps += last.steps;
-      s.theta0 = start[0], s.w10 = start[1], s.w20 = start[2];
-      s.residual = change;
-      fill_metrics(d, last, s);
-      return s;
-    }
   }
-  s.status = DynamicsStatus::no_periodic_orbit;
-  s.message = "the state still changed after " + std::to_string(max_cycles) + " revolutions";
+  fill_metrics(d, sh.start, sh.last, std::move(cycle), s);
   return s;
 }
 
 }  // namespace
 
+SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
+                               double warmup, double initial_speed) {
+  const double mean = mean_resistance(d);
+  const double most = d.motor_moment(d.motor.synchronous_speed / d.gear_ratio * (1 - d.motor.critical_slip));
+  if (mean > most) {
+    // Over a periodic cycle the motor's mean moment (per crank angle) must
+    // cover the resistance's; Kloss's curve never exceeds its critical torque.
+    SteadyCycle s;
+    s.status = DynamicsStatus::stalled;
+    s.message = "the mean resistance " + std::to_string(mean) + " N m exceeds the motor's largest moment " +
+                std::to_string(most) + " N m at the crank";
+    return s;
+  }
+  const double w = rigid_speed_estimate(d, mean);
+  const bool rigid = d.fidelity == DriveFidelity::rigid;
+  double guess[3] = {rigid ? 0.0 : mean / d.stiffness, w, w};
+  if (warmup > 0 && !startup_guess(d, o, warmup, initial_speed, guess)) {
+    SteadyCycle s;
+    s.status = DynamicsStatus::stalled;
+    s.message = "the start-up did not complete a revolution in " + std::to_string(warmup) + " s";
+    return s;
+  }
+  SteadyCycle s = shoot_from(d, o, samples, guess);
+  if (s.status == DynamicsStatus::stalled) return s;
+  if (s.status == DynamicsStatus::ok && s.largest_multiplier < 1) return s;
+  // Newton failed (a poor start near a resonance) or found an orbit the
+  // machine cannot hold (a multiplier outside the unit circle): integrate
+  // revolution after revolution from the guess instead, which follows the
+  // orbit the machine itself settles on.
+  const std::string why = s.status == DynamicsStatus::ok
+                              ? "shooting found an unstable orbit (multiplier " + std::to_string(s.largest_multiplier) + ")"
+                              : "shooting failed: " + s.message;
+  SteadyCycle c = cycles_from(d, o, guess, 300, 100 * o.rtol, samples);
+  c.steps += s.steps;
+  c.message = why + (c.status == DynamicsStatus::ok ? "; found by integrating revolutions" : "; " + c.message);
+  return c;
+}
+
 SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max_cycles, double tol,
                              int samples) {
-  double mean_res = 0;
-  const double w = rigid_speed_estimate(d, &mean_res);
-  double start[3] = {d.fidelity == DriveFidelity::rigid ? 0.0 : mean_res / d.stiffness, w, w};
+  const double mean = mean_resistance(d);
+  const double w = rigid_speed_estimate(d, mean);
+  double start[3] = {d.fidelity == DriveFidelity::rigid ? 0.0 : mean / d.stiffness, w, w};
   return cycles_from(d, o, start, max_cycles, tol, samples);
 }
 

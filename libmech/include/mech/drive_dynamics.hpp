@@ -47,6 +47,7 @@ struct SteadyCycle {
   long steps = 0;                       // integrator steps, all revolutions
   int iterations = 0;                   // Newton iterations or revolutions
   double residual = 0;                  // |state(2 pi) - state(0)|, scaled
+  double largest_multiplier = 0;        // of the orbit's Floquet multipliers (< 1: stable)
   Trajectory cycle;                     // one revolution, sampled in phi2
 };
 

@@ -92,9 +92,9 @@ struct MechanismState {
 template <class S>
 MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S& w2) {
   using std::abs;
-  using std::asin;
   using std::cos;
   using std::sin;
+  using std::sqrt;
   using std::tanh;
   MechanismState<S> out;
   const double mB = d.lumped_cart_mass();
@@ -102,15 +102,20 @@ MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S&
   out.half_inertia_derivative = S(0.0);
   out.resistance = S(0.0);
   const double load = (d.roller_vertical - d.cart_weight) * d.guide_friction + d.roller_horizontal;
+  const double lambda = d.crank_radius / d.rod_length;
+  // One sine and cosine: the second crank's by rotating the first's.
+  const S c0 = cos(phi2), s0 = sin(phi2);
+  const double cd = std::cos(d.phase_shift), sd = std::sin(d.phase_shift);
   for (int i = 0; i < 2; ++i) {
-    const S psi = phi2 + (i == 0 ? 0.0 : d.phase_shift);
-    const auto p = slider_crank_point(d.template mechanism<S>(i), S(cos(psi)), S(sin(psi)));
+    const S c = i == 0 ? c0 : S(c0 * cd - s0 * sd), s = i == 0 ? s0 : S(s0 * cd + c0 * sd);
+    const auto p = slider_crank_point(d.template mechanism<S>(i), c, s);
     out.inertia += mB * p.dx * p.dx;
     out.half_inertia_derivative += mB * p.dx * p.ddx;
-    // Rod angle beta, eq. (22), and the rod force F, eqs (12)-(13).
-    const S beta = asin(d.crank_radius / d.rod_length * sin(psi));
-    const S force = load / (cos(beta) - d.guide_friction * sin(beta));
-    const S moment = force * d.crank_radius * sin(psi + beta);  // eqs (18)-(19)
+    // Rod angle beta = asin(lambda sin psi), eq. (22), and the rod force F,
+    // eqs (12)-(13); sin(psi + beta) expanded.
+    const S sb = lambda * s, cb = sqrt(1.0 - sb * sb);
+    const S force = load / (cb - d.guide_friction * sb);
+    const S moment = force * d.crank_radius * (s * cb + c * sb);  // eqs (18)-(19)
     if (d.resistance_opposes_motion)  // sign(w2), regularised over 1e-3 rad/s (no chattering at rest)
       out.resistance += tanh(w2 / 1e-3) * abs(moment);
     else
@@ -120,29 +125,34 @@ MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S&
 }
 
 // Coupling moment c (phi1 - phi2) + k (phi1' - phi2') at the crank axis.
-inline double coupling_moment(const ElasticDrive& d, double theta, double w1, double w2) {
+template <class S>
+S coupling_moment(const ElasticDrive& d, const S& theta, const S& w1, const S& w2) {
   return d.stiffness * theta + d.damping * (w1 - w2);
+}
+
+// Angular accelerations (a1, a2) of the motor side and the crank at twist
+// theta = phi1 - phi2 and speeds w1, w2, eqs (29), (40) (rigid: one, shared).
+template <class S>
+void accelerations(const ElasticDrive& d, const MechanismState<S>& m, const S& theta, const S& w1,
+                   const S& w2, S& a1, S& a2) {
+  const S drive = d.motor_moment(w1);
+  const S load = m.resistance + m.half_inertia_derivative * w2 * w2;
+  if (d.fidelity == DriveFidelity::rigid) {
+    a1 = a2 = (drive - load) / (d.motor_side_inertia() + m.inertia);
+    return;
+  }
+  const S coupling = coupling_moment(d, theta, w1, w2);
+  a1 = (drive - coupling) / d.motor_side_inertia();
+  a2 = (coupling - load) / m.inertia;
 }
 
 // Time derivatives of the state (phi1, phi2, w1, w2) (rigid: phi1 = phi2,
 // w1 = w2 kept equal).
 template <class S>
 void drive_rhs(const ElasticDrive& d, const S* y, S* dy) {
-  const S theta = y[0] - y[1], dtheta = y[2] - y[3];
-  const auto m = mechanism_state(d, y[1], y[3]);
-  const S drive = d.motor_moment(y[2]);
   dy[0] = y[2];
   dy[1] = y[3];
-  if (d.fidelity == DriveFidelity::rigid) {
-    const S acc = (drive - m.resistance - m.half_inertia_derivative * y[3] * y[3]) /
-                  (d.motor_side_inertia() + m.inertia);
-    dy[2] = acc;
-    dy[3] = acc;
-    return;
-  }
-  const S coupling = d.stiffness * theta + d.damping * dtheta;
-  dy[2] = (drive - coupling) / d.motor_side_inertia();
-  dy[3] = (coupling - m.resistance - m.half_inertia_derivative * y[3] * y[3]) / m.inertia;
+  accelerations(d, mechanism_state(d, y[1], y[3]), S(y[0] - y[1]), y[2], y[3], dy[2], dy[3]);
 }
 
 }  // namespace mech
