@@ -34,6 +34,7 @@ const std::vector<MetricSpec> kMetrics = {
     {"mean_resistance_power", "W"},
     {"mean_damping_power", "W"},
     {"energy_balance_error", ""},     // |P_motor - P_res - P_damping| / P_motor
+    {"largest_multiplier", ""},       // of the steady orbit (< 1: it attracts; docs/config.md)
     {"startup_peak_coupling_torque", "N m"},  // start-up transient
     {"time_to_steady", "s"},          // start-up: every revolution's peak within 1% after it
 };
@@ -43,7 +44,7 @@ struct Model {
   mech::OdeOptions ode;
   bool motor_side = false;   // report coupling torques on the motor shaft (crank / (u eta))
   double start_speed = 0;    // crank speed at the start [rad/s]; 0: from rest
-  double warmup = 3.0;       // start-up seconds before shooting
+  double warmup = 0;         // start-up seconds whose end is the first guess (0: rigid estimate)
   double startup_time = 5.0; // start-up transient length [s]
   bool startup_curves = false;
 };
@@ -65,7 +66,7 @@ class ElasticDriveProblem : public TabledProblem {
     auto put = [&](const char* n, double v) {
       if (want(n)) e.metrics[n] = {v, {}};
     };
-    const auto s = mech::steady_by_shooting(d, m_.ode, 720, m_.warmup, m_.start_speed);
+    const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
     if (s.status != mech::DynamicsStatus::ok) {
       e.status = mech::to_string(s.status);
       return e;
@@ -87,6 +88,7 @@ class ElasticDriveProblem : public TabledProblem {
     put("energy_balance_error",
         std::abs(s.mean_motor_power - s.mean_resistance_power - s.mean_damping_power) /
             std::max(std::abs(s.mean_motor_power), 1e-12));
+    put("largest_multiplier", s.largest_multiplier);
     if (want("startup_peak_coupling_torque") || want("time_to_steady")) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
       put("startup_peak_coupling_torque", st.peak_coupling * side);
@@ -141,8 +143,10 @@ class ElasticDriveProblem : public TabledProblem {
                          : m_.ode.method == mech::OdeMethod::adams ? "adams"
                                                                    : "erk"},
               {"rtol", m_.ode.rtol}, {"atol", m_.ode.atol}, {"max_steps", m_.ode.max_steps},
-              {"steady_state", "shooting over one revolution in the crank angle, KINSOL Newton; "
-                               "first guess from the start-up after warmup seconds"}}},
+              {"steady_state", "shooting over one revolution in the crank angle: one revolution from "
+                               "the first guess (rigid estimate, or the start-up after warmup "
+                               "seconds), then KINSOL Newton with the monodromy matrix if it "
+                               "does not repeat; extrema by root finding"}}},
             {"units", "SI at the crank axis (motor_* on the motor shaft)"}};
   }
 

@@ -33,7 +33,12 @@ constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr int kStall = 1;  // recoverable-error code a right-hand side returns when the crank stops
 constexpr int kMaxStates = 18;  // the largest system integrated (the orbit with its sensitivities)
 constexpr int kMaxRhs = 9;      // the most components an autodiff Jacobian differentiates
-constexpr double kPeriodicTol = 100; // periodicity residual (scaled) accepted, in units of rtol
+// The periodicity residual of a revolution carries the revolution's global
+// integration error, measured at 10-400 rtol on these drives (scaled states):
+// Newton aims at kPeriodicTol rtol and, where that noise stops its line
+// search, accepts kNoiseTol rtol (the start is then as good as the
+// integration that defines it).
+constexpr double kPeriodicTol = 100, kNoiseTol = 1000;
 
 // SUNDIALS prints its warnings and errors to stderr by default; every outcome
 // is a status here, so they are silenced.
@@ -408,9 +413,8 @@ struct Shooting {
   double multiplier = 0;  // largest of the last Jacobian's monodromy matrix
   int revolutions = 0;
 
-  // One revolution from P x. Sensitivities cost about twice a plain
-  // revolution: taken on the first (KINSOL always wants the Jacobian there)
-  // and whenever a Jacobian is asked for at a new point.
+  // One revolution from P x; with sensitivities (twice the cost of a plain
+  // revolution) only when a Jacobian is asked for.
   bool evaluate(const double* x, bool with_jacobian) {
     if (valid && std::equal(x, x + n, u) && (sensitive || !with_jacobian)) return true;
     std::copy(x, x + n, u);
@@ -418,7 +422,7 @@ struct Shooting {
       start[i] = 0;
       for (int k = 0; k < n; ++k) start[i] += P[i][k] * x[k];
     }
-    sensitive = with_jacobian || revolutions == 0;
+    sensitive = with_jacobian;
     last = revolution(*d, *o, scale, start, {.sensitivities = sensitive});
     ++revolutions;
     steps += last.steps;
@@ -528,19 +532,29 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   // the way (for a well-damped coupling, all of it), so Newton starts there.
   const Revolution r0 = revolution(d, o, sh.scale, guess, {.extrema = false});
   sh.steps = r0.steps;
-  double x0[3];
+  double x0[3], f0 = 0;  // the start of the second revolution, the first's residual
   for (int i = 0; i < sh.n; ++i) {
+    double from = 0;
     x0[i] = 0;
-    for (int k = 0; k < kOrbit; ++k) x0[i] += sh.R[i][k] * r0.end[k];
+    for (int k = 0; k < kOrbit; ++k) x0[i] += sh.R[i][k] * r0.end[k], from += sh.R[i][k] * guess[k];
+    f0 = std::max(f0, std::abs(x0[i] - from));
   }
   // The residual carries the integrator's error (~rtol) of a revolution.
   const double ftol = kPeriodicTol * o.rtol;
   double f[3] = {};
   int flag = 0;
-  bool converged = r0.status == DynamicsStatus::ok && sh.evaluate(x0, true);
+  // Often the second revolution already repeats: no Jacobian needed. Its
+  // residual over the first's bounds the largest multiplier (the map's
+  // contraction) unless the first residual is itself down in the noise: then
+  // the second takes the sensitivities for the exact multiplier.
+  const bool guess_periodic = f0 <= kNoiseTol * o.rtol;
+  bool converged = r0.status == DynamicsStatus::ok && sh.evaluate(x0, guess_periodic);
   if (converged) {
+    double f1 = 0;
     sh.residual(f);
-    for (int i = 0; i < sh.n; ++i) converged = converged && std::abs(f[i]) <= ftol;
+    for (int i = 0; i < sh.n; ++i) f1 = std::max(f1, std::abs(f[i]));
+    converged = f1 <= ftol;
+    if (!guess_periodic) sh.multiplier = f1 / f0;
   }
   if (!converged && r0.status == DynamicsStatus::ok && sh.valid) {
     Context ctx;
@@ -556,22 +570,27 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
     KINSetLinearSolver(kin, LS, J);
     KINSetJacFn(kin, shooting_jacobian);
     KINSetFuncNormTol(kin, ftol);
-    KINSetScaledStepTol(kin, o.rtol);
+    KINSetScaledStepTol(kin, ftol);  // a step this small is inside the noise
     KINSetNumMaxIters(kin, 50);
-    // Modified Newton: the exact Jacobian of the first iterate, kept while it
-    // serves (a drive's Poincare map is nearly linear near its orbit).
-    KINSetMaxSetupCalls(kin, 10);
+    // A fresh Jacobian every iteration: quadratic convergence, and the last
+    // one gives the orbit's multipliers.
+    KINSetMaxSetupCalls(kin, 1);
     flag = KINSol(kin, u, KIN_LINESEARCH, ones, ones);
     long iters = 0;
     KINGetNumNonlinSolvIters(kin, &iters);
     s.iterations = static_cast<int>(iters);
-    converged = flag >= 0 && sh.evaluate(N_VGetArrayPointer(u), false);
+    // Stopped by a tiny step or a failed line search: accepted if the
+    // residual is within the noise.
+    const bool noise_limited = flag == KIN_STEP_LT_STPTOL || flag == KIN_LINESEARCH_NONCONV;
+    converged = (flag >= 0 || noise_limited) && sh.evaluate(N_VGetArrayPointer(u), false);
     KINFree(&kin);
     SUNLinSolFree(LS);
     SUNMatDestroy(J);
     N_VDestroy(u);
     N_VDestroy(ones);
     sh.residual(f);
+    for (int i = 0; i < sh.n; ++i)
+      converged = converged && (!noise_limited || std::abs(f[i]) <= kNoiseTol * o.rtol);
   }
   s.steps = sh.steps;
   if (!converged) {

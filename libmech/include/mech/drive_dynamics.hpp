@@ -47,7 +47,11 @@ struct SteadyCycle {
   long steps = 0;                       // integrator steps, all revolutions
   int iterations = 0;                   // Newton iterations or revolutions
   double residual = 0;                  // |state(2 pi) - state(0)|, scaled
-  double largest_multiplier = 0;        // of the orbit's Floquet multipliers (< 1: stable)
+  // Largest modulus of the orbit's Floquet multipliers (< 1: a disturbance
+  // shrinks each revolution, the orbit attracts): from the monodromy matrix
+  // when Newton needed it, else the ratio of the last two revolutions'
+  // periodicity residuals (an upper estimate, down to the integration noise).
+  double largest_multiplier = 0;
   Trajectory cycle;                     // one revolution, sampled in phi2
 };
 
