@@ -5,6 +5,7 @@
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <Eigen/Eigenvalues>
@@ -70,6 +71,7 @@ class Integrator {
     N_VEnableFusedOps_Serial(y_, SUNTRUE);
     std::copy(y0, y0 + n, N_VGetArrayPointer(y_));
     atol_ = N_VNew_Serial(n, ctx_.ctx);
+    work_ = N_VNew_Serial(n, ctx_.ctx);
     if (atol) std::copy(atol, atol + n, N_VGetArrayPointer(atol_));
     else N_VConst(o.atol, atol_);
     if (method_ == OdeMethod::erk) {
@@ -86,53 +88,50 @@ class Integrator {
       CVodeSetUserData(mem_, this);
       CVodeSetMaxNumSteps(mem_, o.max_steps);
       CVodeSetErrHandlerFn(mem_, silent, nullptr);
-      A_ = SUNDenseMatrix(n, n, ctx_.ctx);
-      LS_ = SUNLinSol_Dense(y_, A_, ctx_.ctx);
-      CVodeSetLinearSolver(mem_, LS_, A_);
-      if (j_) CVodeSetJacFn(mem_, jac);
+      if (method_ == OdeMethod::adams) {
+        // Adams is for non-stiff motion: functional (fixed-point) iteration,
+        // no Jacobian or linear solve (as LSODA does in its non-stiff mode).
+        NLS_ = SUNNonlinSol_FixedPoint(y_, 0, ctx_.ctx);
+        CVodeSetNonlinearSolver(mem_, NLS_);
+      } else {
+        A_ = SUNDenseMatrix(n, n, ctx_.ctx);
+        LS_ = SUNLinSol_Dense(y_, A_, ctx_.ctx);
+        CVodeSetLinearSolver(mem_, LS_, A_);
+        if (j_) CVodeSetJacFn(mem_, jac);
+      }
     }
   }
   ~Integrator() {
     if (method_ == OdeMethod::erk) ERKStepFree(&mem_);
     else CVodeFree(&mem_);
     if (LS_) SUNLinSolFree(LS_);
+    if (NLS_) SUNNonlinSolFree(NLS_);
     if (A_) SUNMatDestroy(A_);
     N_VDestroy(y_);
     N_VDestroy(atol_);
+    N_VDestroy(work_);
   }
   Integrator(const Integrator&) = delete;
   Integrator& operator=(const Integrator&) = delete;
 
-  // Stops advance() where a component of g(t, y) (nroots of them) changes sign.
-  void watch_roots(int nroots, Rhs g) {
-    g_ = std::move(g);
-    if (method_ == OdeMethod::erk) ERKStepRootInit(mem_, nroots, roots), ERKStepSetNoInactiveRootWarn(mem_);
-    else CVodeRootInit(mem_, nroots, roots), CVodeSetNoInactiveRootWarn(mem_);
-  }
-
-  // Advances to t (interpolated output), or to the first root of g before it
-  // (then at_root() and root_info()); the state is in y() at time(). max_steps
+  // Advances to t (interpolated output); the state is in y(). max_steps
   // bounds the whole integration, not one call.
-  DynamicsStatus advance(double t) {
-    const long left = max_steps_ - steps();
-    if (left <= 0) return DynamicsStatus::too_many_steps;
-    if (method_ == OdeMethod::erk) ERKStepSetMaxNumSteps(mem_, left);
-    else CVodeSetMaxNumSteps(mem_, left);
-    const int flag = method_ == OdeMethod::erk ? ERKStepEvolve(mem_, t, y_, &reached_, ARK_NORMAL)
-                                               : CVode(mem_, t, y_, &reached_, CV_NORMAL);
-    at_root_ = flag == CV_ROOT_RETURN;  // == ARK_ROOT_RETURN
-    if (flag >= 0) return DynamicsStatus::ok;
-    if (stalled_) return DynamicsStatus::stalled;
-    if (flag == CV_TOO_MUCH_WORK) return DynamicsStatus::too_many_steps;  // == ARK_TOO_MUCH_WORK
-    return DynamicsStatus::solver_failure;
+  DynamicsStatus advance(double t) { return evolve(t, false); }
+
+  // One internal step, never past `stop`; the state is in y() at time(), and
+  // dense() interpolates within the step just taken.
+  DynamicsStatus step(double stop) {
+    if (method_ == OdeMethod::erk) ERKStepSetStopTime(mem_, stop);
+    else CVodeSetStopTime(mem_, stop);
+    return evolve(stop, true);
+  }
+  void dense(double t, double* out) {
+    if (method_ == OdeMethod::erk) ERKStepGetDky(mem_, t, 0, work_);
+    else CVodeGetDky(mem_, t, 0, work_);
+    std::copy(N_VGetArrayPointer(work_), N_VGetArrayPointer(work_) + n_, out);
   }
   const double* y() const { return N_VGetArrayPointer(y_); }
   double time() const { return reached_; }
-  bool at_root() const { return at_root_; }
-  void root_info(int* found) const {
-    if (method_ == OdeMethod::erk) ERKStepGetRootInfo(mem_, found);
-    else CVodeGetRootInfo(mem_, found);
-  }
   long steps() const {
     long s = 0;
     if (method_ == OdeMethod::erk) ERKStepGetNumSteps(mem_, &s);
@@ -141,14 +140,24 @@ class Integrator {
   }
 
  private:
+  DynamicsStatus evolve(double t, bool one_step) {
+    const long left = max_steps_ - steps();
+    if (left <= 0) return DynamicsStatus::too_many_steps;
+    if (method_ == OdeMethod::erk) ERKStepSetMaxNumSteps(mem_, left);
+    else CVodeSetMaxNumSteps(mem_, left);
+    const int flag = method_ == OdeMethod::erk
+                         ? ERKStepEvolve(mem_, t, y_, &reached_, one_step ? ARK_ONE_STEP : ARK_NORMAL)
+                         : CVode(mem_, t, y_, &reached_, one_step ? CV_ONE_STEP : CV_NORMAL);
+    if (flag >= 0) return DynamicsStatus::ok;
+    if (stalled_) return DynamicsStatus::stalled;
+    if (flag == CV_TOO_MUCH_WORK) return DynamicsStatus::too_many_steps;  // == ARK_TOO_MUCH_WORK
+    return DynamicsStatus::solver_failure;
+  }
   static int rhs(double t, N_Vector y, N_Vector dy, void* data) {
     auto* self = static_cast<Integrator*>(data);
     const int r = self->f_(t, N_VGetArrayPointer(y), N_VGetArrayPointer(dy));
     if (r == kStall) self->stalled_ = true;
     return r;
-  }
-  static int roots(double t, N_Vector y, double* g, void* data) {
-    return static_cast<Integrator*>(data)->g_(t, N_VGetArrayPointer(y), g);
   }
   static int jac(double t, N_Vector y, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector,
                  N_Vector) {
@@ -162,16 +171,16 @@ class Integrator {
 
   Context ctx_;
   int n_;
-  Rhs f_, g_;
+  Rhs f_;
   Jac j_;
   double reached_ = 0;
-  bool at_root_ = false;
   OdeMethod method_;
   long max_steps_;
-  N_Vector y_ = nullptr, atol_ = nullptr;
+  N_Vector y_ = nullptr, atol_ = nullptr, work_ = nullptr;
   void* mem_ = nullptr;
   SUNMatrix A_ = nullptr;
   SUNLinearSolver LS_ = nullptr;
+  SUNNonlinearSolver NLS_ = nullptr;
   bool stalled_ = false;
 };
 
@@ -200,9 +209,9 @@ constexpr int kOrbit = 3, kQuadratures = 6, kPlain = kOrbit + kQuadratures;
 constexpr int kSensitive = kPlain + kOrbit * kOrbit;
 
 template <class S>
-void angle_rhs(const ElasticDrive& d, double phi2, const S* z, S* dz) {
+void angle_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi2, const S* z, S* dz) {
   const S theta = z[0], w1 = z[1], w2 = z[2];
-  const auto m = mechanism_state(d, S(phi2), w2);
+  const auto m = mechanism_state(d, S(phi2), w2, shift);
   S a1, a2;
   accelerations(d, m, theta, w1, w2, a1, a2);
   const S inv = 1.0 / w2, slip = w1 - w2;
@@ -220,13 +229,14 @@ void angle_rhs(const ElasticDrive& d, double phi2, const S* z, S* dz) {
 
 // Right-hand side with the variational equations: one evaluation in DualN<3>
 // whose derivative parts carry the rows of S gives f and (df/dz) S together.
-void sensitive_rhs(const ElasticDrive& d, double phi2, const double* z, double* dz) {
+void sensitive_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi2, const double* z,
+                   double* dz) {
   using D = DualN<kOrbit>;
   D zz[kPlain], dd[kPlain];
   for (int i = 0; i < kPlain; ++i) zz[i] = D(z[i]);
   for (int i = 0; i < kOrbit; ++i)
     zz[i].derivatives() << z[kPlain + 3 * i], z[kPlain + 3 * i + 1], z[kPlain + 3 * i + 2];
-  angle_rhs(d, phi2, zz, dd);
+  angle_rhs(d, shift, phi2, zz, dd);
   for (int i = 0; i < kPlain; ++i) dz[i] = dd[i].value();
   for (int i = 0; i < kOrbit; ++i)
     for (int j = 0; j < kOrbit; ++j) dz[kPlain + 3 * i + j] = dd[i].derivatives()[j];
@@ -240,7 +250,7 @@ struct Range {
 
 struct Revolution {
   DynamicsStatus status = DynamicsStatus::ok;
-  double end[kSensitive] = {};  // z at phi2 = 2 pi (S only with sensitivities)
+  double end[kSensitive] = {};  // z at phi2 = 2 pi (quadratures unless bare, S with sensitivities)
   Range coupling, w1, w2;       // over the revolution: at its ends and interior extrema
   long steps = 0;
 };
@@ -262,13 +272,18 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
                       const double* start, const Record& rec) {
   const bool sensitivities = rec.sensitivities;
   Trajectory* out = rec.out;
-  const int n = sensitivities ? kSensitive : kPlain;
+  // Only the orbit's three states when nothing but the end is wanted.
+  const bool bare = !rec.extrema && !out && !sensitivities;
+  const int n = sensitivities ? kSensitive : bare ? kOrbit : kPlain;
+  const PhaseRotation shift(d.phase_shift);
   double z0[kSensitive] = {start[0], start[1], start[2]};
   for (int i = 0; i < kOrbit; ++i) z0[kPlain + 4 * i] = 1.0;  // S(0) = I
   auto f = [&](double phi2, const double* z, double* dz) {
     if (!(z[2] > 1e-3)) return kStall;  // the crank stopped: no motion in phi2
-    if (sensitivities) sensitive_rhs(d, phi2, z, dz);
-    else angle_rhs(d, phi2, z, dz);
+    double all[kPlain];
+    if (sensitivities) sensitive_rhs(d, shift, phi2, z, dz);
+    else if (bare) angle_rhs(d, shift, phi2, z, all), std::copy(all, all + kOrbit, dz);
+    else angle_rhs(d, shift, phi2, z, dz);
     return 0;
   };
   // Newton matrix of the implicit methods: df/dz of the orbit and the
@@ -280,7 +295,7 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
                                 DualN<kOrbit> full[kPlain];
                                 for (int i = 0; i < kPlain; ++i)
                                   full[i] = i < kOrbit ? zz[i] : DualN<kOrbit>(z[i]);
-                                angle_rhs(d, phi2, full, dz);
+                                angle_rhs(d, shift, phi2, full, dz);
                               },
                               J);
     for (int c = 0; c < (sensitivities ? kOrbit : 0); ++c)  // column c of S: rows kPlain + 3 i + c
@@ -289,28 +304,30 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
   };
   // Only the orbit's own error sets the steps: the quadratures (as CVODES
   // does by default) and S (it only steers Newton) are left out of the
-  // error test by a huge absolute tolerance.
+  // error test by a huge absolute tolerance. The test's RMS norm averages
+  // over all n components, so the tolerances shrink by sqrt(3 / n) to keep
+  // the orbit's own.
+  const double shrink = std::sqrt(static_cast<double>(kOrbit) / n);
+  OdeOptions tight = o;
+  tight.rtol *= shrink;
   double atol[kSensitive];
   std::fill(atol, atol + n, 1e30);
-  for (int i = 0; i < kOrbit; ++i) atol[i] = o.atol * scale[i];
-  Integrator in(n, f, j, o, 0.0, z0, atol);
-  // Roots: d(coupling)/dphi2, dw1/dphi2, dw2/dphi2 (rigid: no coupling).
-  const bool rigid = d.fidelity == DriveFidelity::rigid;
-  if (rec.extrema) in.watch_roots(rigid ? 2 : 3, [&](double phi2, const double* z, double* g) {
-    double dz[kPlain];
-    angle_rhs(d, phi2, z, dz);
-    g[0] = dz[1], g[1] = dz[2];
-    if (!rigid) g[2] = d.stiffness * dz[0] + d.damping * (dz[1] - dz[2]);
-    return 0;
-  });
+  for (int i = 0; i < kOrbit; ++i) atol[i] = o.atol * scale[i] * shrink;
+  Integrator in(n, f, j, tight, 0.0, z0, atol);
   Revolution r;
-  auto extremes = [&](const double* z) {
-    r.coupling.add(coupling_moment(d, z[0], z[1], z[2]));
-    r.w1.add(z[1]);
-    r.w2.add(z[2]);
+  // Watched quantities: w1, w2 and the coupling moment, and their slopes in
+  // phi2 (from the right-hand side).
+  auto watched = [&](double phi2, const double* z, double* v, double* g) {
+    double dz[kPlain];
+    angle_rhs(d, shift, phi2, z, dz);
+    v[0] = z[1], v[1] = z[2], v[2] = coupling_moment(d, z[0], z[1], z[2]);
+    g[0] = dz[1], g[1] = dz[2], g[2] = d.stiffness * dz[0] + d.damping * (dz[1] - dz[2]);
+  };
+  Range* ranges[3] = {&r.w1, &r.w2, &r.coupling};
+  auto add = [&](const double* v) {
+    for (int i = 0; i < 3; ++i) ranges[i]->add(v[i]);
   };
   auto record = [&](double phi2, const double* z) {
-    if (!out) return;
     out->phi2.push_back(phi2);
     out->t.push_back(z[3]);
     out->theta.push_back(z[0]);
@@ -319,27 +336,68 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
     out->coupling.push_back(coupling_moment(d, z[0], z[1], z[2]));
     out->motor_torque.push_back(d.motor.torque(z[1] * d.gear_ratio));
   };
-  if (out) *out = Trajectory{};
-  extremes(z0);
-  record(0.0, z0);
-  const int outputs = out ? rec.samples : 1;
-  for (int k = 1; k <= outputs && r.status == DynamicsStatus::ok; ++k) {
-    const double phi2 = kTwoPi * k / outputs;
-    while ((r.status = in.advance(phi2)) == DynamicsStatus::ok && in.at_root()) extremes(in.y());
-    if (r.status == DynamicsStatus::ok) record(phi2, in.y());
+  double v0[3], g0[3], v1[3], g1[3], z[kSensitive];
+  watched(0.0, z0, v0, g0);
+  add(v0);
+  if (out) *out = Trajectory{}, record(0.0, z0);
+  if (!rec.extrema && !out) {
+    r.status = in.advance(kTwoPi);
+  } else {
+    // Step by step: an extremum lies where a slope changes sign within a
+    // step; Illinois (regula falsi) on the dense output finds it. Its value
+    // hardly depends on the root's position (an error e in phi2 changes it by
+    // v'' e^2 / 2), so a few iterations reach the integration's accuracy.
+    double a = 0;
+    int sample = 1;
+    while (a < kTwoPi && (r.status = in.step(kTwoPi)) == DynamicsStatus::ok) {
+      const double b = in.time();
+      watched(b, in.y(), v1, g1);
+      for (int i = 0; i < 3 && rec.extrema; ++i) {
+        if (!(g0[i] * g1[i] < 0)) continue;
+        double lo = a, hi = b, glo = g0[i], ghi = g1[i], v[3] = {v1[0], v1[1], v1[2]}, g[3];
+        int side = 0;
+        for (int it = 0; it < 8 && hi - lo > 1e-12; ++it) {
+          const double t = hi - ghi * (hi - lo) / (ghi - glo);
+          in.dense(t, z);
+          watched(t, z, v, g);
+          if (g[i] == 0) break;
+          if ((g[i] < 0) == (glo < 0)) lo = t, glo = g[i], ghi *= side == -1 ? 0.5 : 1.0, side = -1;
+          else hi = t, ghi = g[i], glo *= side == 1 ? 0.5 : 1.0, side = 1;
+        }
+        ranges[i]->add(v[i]);
+      }
+      for (; out && sample <= rec.samples && kTwoPi * sample / rec.samples <= b; ++sample) {
+        const double phi2 = kTwoPi * sample / rec.samples;
+        if (sample == rec.samples) std::copy(in.y(), in.y() + n, z);
+        else in.dense(phi2, z);
+        record(phi2, z);
+      }
+      a = b;
+      std::copy(g1, g1 + 3, g0);
+    }
   }
   std::copy(in.y(), in.y() + n, r.end);
-  extremes(r.end);
+  watched(kTwoPi, r.end, v1, g1);
+  add(v1);
   r.steps = in.steps();
   return r;
 }
 
-// Mean resistance moment over a revolution of the crank.
-double mean_resistance(const ElasticDrive& d) {
-  double mean = 0;
-  const int n = 360;
-  for (int k = 0; k < n; ++k) mean += mechanism_state(d, kTwoPi * k / n, 1.0).resistance / n;
-  return mean;
+// The mean and the largest magnitude of the resistance moment over a
+// revolution (72 points: they only start the search and check the stall).
+struct ResistanceSummary {
+  double mean = 0, largest = 0;
+};
+ResistanceSummary resistance_summary(const ElasticDrive& d) {
+  ResistanceSummary r;
+  const PhaseRotation shift(d.phase_shift);
+  const int n = 72;
+  for (int k = 0; k < n; ++k) {
+    const double m = mechanism_state(d, kTwoPi * k / n, 1.0, shift).resistance;
+    r.mean += m / n;
+    r.largest = std::max(r.largest, std::abs(m));
+  }
+  return r;
 }
 
 // Rigid estimate of the steady speed: the motor moment balances the mean
@@ -355,11 +413,8 @@ double rigid_speed_estimate(const ElasticDrive& d, double mean) {
 }
 
 // Scale of the twist theta: the largest resistance moment over c.
-double twist_scale(const ElasticDrive& d) {
-  double m = 0;
-  for (int k = 0; k < 72; ++k)
-    m = std::max(m, std::abs(mechanism_state(d, kTwoPi * k / 72, 1.0).resistance));
-  return std::max(m, 1.0) / d.stiffness;
+double twist_scale(const ElasticDrive& d, const ResistanceSummary& r) {
+  return std::max(r.largest, 1.0) / d.stiffness;
 }
 
 // Metrics of the orbit that starts at `start` from its revolution r (and the
@@ -462,10 +517,10 @@ int shooting_jacobian(N_Vector u, N_Vector, SUNMatrix J, void* data, N_Vector, N
 }
 
 // Revolution after revolution from `start` until the state repeats.
-SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double* start, int max_cycles,
-                        double tol, int samples) {
+SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta_scale, double* start,
+                        int max_cycles, double tol, int samples) {
   SteadyCycle s;
-  const double scale[3] = {twist_scale(d), start[2], start[2]};
+  const double scale[3] = {theta_scale, start[2], start[2]};
   for (s.iterations = 1; s.iterations <= max_cycles; ++s.iterations) {
     const Revolution r = revolution(d, o, scale, start, {.extrema = false});
     s.steps += r.steps;
@@ -513,7 +568,8 @@ bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double 
 
 // Newton (KINSOL, line search, the exact Jacobian from the variational
 // equations) on the periodicity residual from `guess`.
-SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, const double* guess) {
+SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, double theta_scale,
+                       const double* guess) {
   SteadyCycle s;
   const bool rigid = d.fidelity == DriveFidelity::rigid;
   const double w = guess[2];
@@ -521,7 +577,7 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   // moment gives, speeds by w; rigid: the one speed (theta = 0, w1 = w2).
   Shooting sh;
   sh.d = &d, sh.o = &o, sh.n = rigid ? 1 : kOrbit;
-  sh.scale[0] = twist_scale(d), sh.scale[1] = sh.scale[2] = w;
+  sh.scale[0] = theta_scale, sh.scale[1] = sh.scale[2] = w;
   if (rigid) {
     sh.P[1][0] = sh.P[2][0] = w;
     sh.R[0][2] = 1 / w;
@@ -616,7 +672,8 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
 
 SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
                                double warmup, double initial_speed) {
-  const double mean = mean_resistance(d);
+  const ResistanceSummary res = resistance_summary(d);
+  const double mean = res.mean, theta_scale = twist_scale(d, res);
   const double most = d.motor_moment(d.motor.synchronous_speed / d.gear_ratio * (1 - d.motor.critical_slip));
   if (mean > most) {
     // Over a periodic cycle the motor's mean moment (per crank angle) must
@@ -636,7 +693,7 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
     s.message = "the start-up did not complete a revolution in " + std::to_string(warmup) + " s";
     return s;
   }
-  SteadyCycle s = shoot_from(d, o, samples, guess);
+  SteadyCycle s = shoot_from(d, o, samples, theta_scale, guess);
   if (s.status == DynamicsStatus::stalled) return s;
   if (s.status == DynamicsStatus::ok && s.largest_multiplier < 1) return s;
   // Newton failed (a poor start near a resonance) or found an orbit the
@@ -646,7 +703,7 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
   const std::string why = s.status == DynamicsStatus::ok
                               ? "shooting found an unstable orbit (multiplier " + std::to_string(s.largest_multiplier) + ")"
                               : "shooting failed: " + s.message;
-  SteadyCycle c = cycles_from(d, o, guess, 300, 100 * o.rtol, samples);
+  SteadyCycle c = cycles_from(d, o, theta_scale, guess, 300, kNoiseTol * o.rtol, samples);
   c.steps += s.steps;
   c.message = why + (c.status == DynamicsStatus::ok ? "; found by integrating revolutions" : "; " + c.message);
   return c;
@@ -654,22 +711,23 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
 
 SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max_cycles, double tol,
                              int samples) {
-  const double mean = mean_resistance(d);
-  const double w = rigid_speed_estimate(d, mean);
-  double start[3] = {d.fidelity == DriveFidelity::rigid ? 0.0 : mean / d.stiffness, w, w};
-  return cycles_from(d, o, start, max_cycles, tol, samples);
+  const ResistanceSummary res = resistance_summary(d);
+  const double w = rigid_speed_estimate(d, res.mean);
+  double start[3] = {d.fidelity == DriveFidelity::rigid ? 0.0 : res.mean / d.stiffness, w, w};
+  return cycles_from(d, o, twist_scale(d, res), start, max_cycles, tol, samples);
 }
 
 Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
                          const SteadyCycle* steady, double initial_speed) {
   Startup out;
   const double y0[4] = {0, 0, initial_speed, initial_speed};
+  const PhaseRotation shift(d.phase_shift);
   auto f = [&](double, const double* y, double* dy) {
-    drive_rhs(d, y, dy);
+    drive_rhs(d, shift, y, dy);
     return 0;
   };
   auto j = [&](double, const double* y, double* J) {
-    autodiff_jacobian<4>(4, y, [&](const DualN<4>* yy, DualN<4>* dy) { drive_rhs(d, yy, dy); }, J);
+    autodiff_jacobian<4>(4, y, [&](const DualN<4>* yy, DualN<4>* dy) { drive_rhs(d, shift, yy, dy); }, J);
   };
   Integrator in(4, f, j, o, 0.0, y0);
   Trajectory& tr = out.trajectory;

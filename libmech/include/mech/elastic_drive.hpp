@@ -89,8 +89,16 @@ struct MechanismState {
   S inertia, half_inertia_derivative, resistance;
 };
 
+// cos and sin of the cranks' phase shift, computed once per integration
+// rather than once per right-hand side.
+struct PhaseRotation {
+  double c, s;
+  explicit PhaseRotation(double shift) : c(std::cos(shift)), s(std::sin(shift)) {}
+};
+
 template <class S>
-MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S& w2) {
+MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S& w2,
+                                  const PhaseRotation& shift) {
   using std::abs;
   using std::cos;
   using std::sin;
@@ -105,9 +113,8 @@ MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S&
   const double lambda = d.crank_radius / d.rod_length;
   // One sine and cosine: the second crank's by rotating the first's.
   const S c0 = cos(phi2), s0 = sin(phi2);
-  const double cd = std::cos(d.phase_shift), sd = std::sin(d.phase_shift);
   for (int i = 0; i < 2; ++i) {
-    const S c = i == 0 ? c0 : S(c0 * cd - s0 * sd), s = i == 0 ? s0 : S(s0 * cd + c0 * sd);
+    const S c = i == 0 ? c0 : S(c0 * shift.c - s0 * shift.s), s = i == 0 ? s0 : S(s0 * shift.c + c0 * shift.s);
     const auto p = slider_crank_point(d.template mechanism<S>(i), c, s);
     out.inertia += mB * p.dx * p.dx;
     out.half_inertia_derivative += mB * p.dx * p.ddx;
@@ -122,6 +129,11 @@ MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S&
       out.resistance += moment;
   }
   return out;
+}
+
+template <class S>
+MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S& w2) {
+  return mechanism_state(d, phi2, w2, PhaseRotation(d.phase_shift));
 }
 
 // Coupling moment c (phi1 - phi2) + k (phi1' - phi2') at the crank axis.
@@ -149,10 +161,10 @@ void accelerations(const ElasticDrive& d, const MechanismState<S>& m, const S& t
 // Time derivatives of the state (phi1, phi2, w1, w2) (rigid: phi1 = phi2,
 // w1 = w2 kept equal).
 template <class S>
-void drive_rhs(const ElasticDrive& d, const S* y, S* dy) {
+void drive_rhs(const ElasticDrive& d, const PhaseRotation& shift, const S* y, S* dy) {
   dy[0] = y[2];
   dy[1] = y[3];
-  accelerations(d, mechanism_state(d, y[1], y[3]), S(y[0] - y[1]), y[2], y[3], dy[2], dy[3]);
+  accelerations(d, mechanism_state(d, y[1], y[3], shift), S(y[0] - y[1]), y[2], y[3], dy[2], dy[3]);
 }
 
 }  // namespace mech
