@@ -73,12 +73,13 @@ def coupling_slope(phi2, z):
 
 
 def first_guess():
-    """Rigid estimate: the motor moment balances the mean resistance."""
-    mean = sum(mechanism(TWO_PI * k / 360, 1.0)[2] for k in range(360)) / 360
+    """Rigid estimate: the motor moment balances the mean resistance (72
+    points, as mechopt); the twist's scale is the largest resistance over c."""
+    res = [mechanism(TWO_PI * k / 72, 1.0)[2] for k in range(72)]
+    mean = sum(res) / 72
     w0 = W0 / U
     w = optimize.brentq(lambda w: motor(w) - mean, w0 * (1 - SKR), w0, xtol=1e-14)
-    scale = max(abs(mechanism(TWO_PI * k / 72, 1.0)[2]) for k in range(72)) / C
-    return np.array([mean / C, w, w]), np.array([scale, w, w])
+    return np.array([mean / C, w, w]), np.array([max(map(abs, res)) / C, w, w])
 
 
 def steady(method, rtol, atol):
@@ -125,9 +126,11 @@ def timed(fn):
 
 def main():
     out = {"reference": {"seconds": 0, "value": reference()}}
-    for name, method in (("steady_rk45", "RK45"), ("steady_lsoda", "LSODA"), ("steady_radau", "Radau")):
-        seconds, value = timed(lambda: steady(method, 1e-8, 1e-8))
-        out[name] = {"seconds": seconds, "value": value}
+    # Work-precision: each method over tolerances (steady_<method>_<-log10 rtol>).
+    for method in ("RK45", "LSODA", "Radau"):
+        for e in (5, 6, 7, 8, 9):
+            seconds, value = timed(lambda: steady(method, 10.0 ** -e, 10.0 ** -e))
+            out[f"steady_{method.lower()}_{e}"] = {"seconds": seconds, "value": value}
     seconds, _ = timed(lambda: integrate.solve_ivp(time_rhs, (0, 3.0), [0, 0, START, START],
                                                    method="LSODA", rtol=1e-8, atol=1e-8,
                                                    t_eval=np.arange(0, 3.0, 1e-3)))

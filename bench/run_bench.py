@@ -132,11 +132,12 @@ def main():
          "scipy SLSQP, finite-difference gradients, ftol 1e-12"),
     ]
     peak_elastic = peer["reference"]["value"]  # scipy Radau at rtol 1e-12 (bench/peer_elastic.py)
+    same = "solve_ivp {} rtol 1e-8, the same steady-state algorithm (events for the extrema)"
     cases += [
-        ("elastic_steady_state", "BM_ElasticSteady", "steady_lsoda", peak_elastic,
-         "solve_ivp LSODA rtol 1e-8 + scipy.optimize.root shooting"),
-        ("elastic_steady_state_vs_radau", "BM_ElasticSteady", "steady_radau", peak_elastic,
-         "solve_ivp Radau rtol 1e-8 + scipy.optimize.root shooting"),
+        ("elastic_steady_state", "BM_ElasticSteady", "steady_lsoda_8", peak_elastic, same.format("LSODA")),
+        ("elastic_steady_state_vs_rk45", "BM_ElasticSteady", "steady_rk45_8", peak_elastic,
+         same.format("RK45 (Dormand-Prince 5(4), as mechopt's erk)")),
+        ("elastic_steady_state_vs_radau", "BM_ElasticSteady", "steady_radau_8", peak_elastic, same.format("Radau")),
         ("elastic_startup_3s", "BM_ElasticStartup", "startup_lsoda", None,
          "solve_ivp LSODA rtol 1e-8, 3 s, 1 ms output"),
     ]
@@ -174,9 +175,25 @@ def main():
         if name.startswith("WPE/") and a["ok"]:
             _, method, tol = name.split("/")
             wpe.setdefault(method, []).append((a["seconds"], rel(a["value"], peak_elastic), True, int(tol)))
+    # Matched accuracy: each side's fastest run (over its tolerance grid) whose
+    # peak is within 1e-6 of the reference.
+    peer_wp = {}
+    for name, p in peer.items():
+        if name.startswith("steady_") and name.count("_") == 2:
+            _, method, tol = name.split("_")
+            peer_wp.setdefault("scipy " + method, []).append((p["seconds"], rel(p["value"], peak_elastic), True, int(tol)))
+    fastest = lambda runs: min(((t, e) for t, e, _, _ in runs if e <= 1e-6), default=None)
+    ours = min(filter(None, (fastest(r) for r in wpe.values())), default=None)
+    for method, runs in sorted(peer_wp.items()):
+        theirs = fastest(runs)
+        if ours and theirs:
+            rows.append({"case": "elastic_steady_1e-6_vs_" + method.split()[1], "mechopt_benchmark": "WPE (fastest within 1e-6)",
+                         "peer_method": method + " (fastest within 1e-6), the same algorithm",
+                         "mechopt_seconds": ours[0], "peer_seconds": theirs[0], "ratio": theirs[0] / ours[0],
+                         "mechopt_error": ours[1], "peer_error": theirs[1]})
     if wpe:
         path = os.path.join(ROOT, "docs", "img", "work_precision_elastic_steady.svg")
-        write_work_precision_svg(path, "elastic drive steady state", wpe)
+        write_work_precision_svg(path, "elastic drive steady state", {**wpe, **peer_wp})
     # Work-precision of every driver: WP/<scene>/<driver>/<-log10 tol>.
     wp = {}
     for name, a in m.items():
