@@ -174,7 +174,8 @@ def main():
     for name, a in m.items():
         if name.startswith("WPE/") and a["ok"]:
             _, method, tol = name.split("/")
-            wpe.setdefault(method, []).append((a["seconds"], rel(a["value"], peak_elastic), True, int(tol)))
+            label = {"bdf": "CVODE BDF", "adams": "CVODE Adams", "erk": "ARKODE ERK (DP5)"}[method]
+            wpe.setdefault("mechopt " + label, []).append((a["seconds"], rel(a["value"], peak_elastic), True, int(tol)))
     # Matched accuracy: each side's fastest run (over its tolerance grid) whose
     # peak is within 1e-6 of the reference.
     peer_wp = {}

@@ -1,8 +1,9 @@
 // Dynamics of the elastic drive on SUNDIALS: the start-up transient from rest
 // (CVODE BDF or Adams, ARKODE explicit Runge-Kutta), and the periodic steady
 // state found directly by shooting over one crank revolution with KINSOL
-// (Newton), or by integrating cycle after cycle. Failures (too many steps, a
-// stalled motor, no periodic orbit) are statuses, never exceptions.
+// (Newton with the monodromy matrix from the variational equations), or by
+// integrating cycle after cycle. Failures (too many steps, a stalled motor,
+// no periodic orbit) are statuses, never exceptions.
 #pragma once
 #include <string>
 #include <vector>
@@ -22,10 +23,14 @@ enum class DynamicsStatus {
 };
 const char* to_string(DynamicsStatus s);
 
+// bdf, adams: CVODE (BDF with Newton and a dense autodiff Jacobian; Adams
+// with functional iteration, for non-stiff motion); erk: ARKODE ERKStep,
+// Dormand-Prince 5(4). In the steady state atol is relative to each state's
+// scale (twist: largest resistance / c; speeds: the first guess's).
 struct OdeOptions {
   OdeMethod method = OdeMethod::bdf;
   double rtol = 1e-8, atol = 1e-8;
-  long max_steps = 100000;
+  long max_steps = 100000;  // per integration
 };
 
 // Quantities along a trajectory at output points.
@@ -52,15 +57,19 @@ struct SteadyCycle {
   // when Newton needed it, else the ratio of the last two revolutions'
   // periodicity residuals (an upper estimate, down to the integration noise).
   double largest_multiplier = 0;
-  Trajectory cycle;                     // one revolution, sampled in phi2
+  Trajectory cycle;                     // one revolution sampled in phi2 (when samples > 0)
 };
 
 // Periodic steady state by shooting: unknowns (theta, w1, w2) at phi2 = 0,
-// residual state(2 pi) - state(0) from an integration in the crank angle,
-// solved by KINSOL (Newton, line search, difference-quotient Jacobian). The
-// first guess is where a start-up (from `initial_speed`, 0: rest) stands
-// after `warmup` seconds (so the orbit found is the one the machine reaches);
-// warmup = 0 starts from the rigid estimate instead.
+// residual state(2 pi) - state(0) from an integration in the crank angle.
+// First guess: the rigid estimate (the motor balancing the mean resistance),
+// or with warmup > 0 where a start-up from `initial_speed` (0: rest) last
+// crossed phi2 = 0 mod 2 pi within `warmup` seconds. One revolution from the
+// guess, then a second; if it repeats to 100 rtol (scaled) that is the orbit,
+// else KINSOL (Newton, line search, exact Jacobian from the variational
+// equations) continues. The metrics come from the last revolution (extrema
+// by root finding); `samples` > 0 also samples the orbit into `cycle`. A
+// mean resistance above the motor's largest moment is `stalled` at once.
 SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples = 720,
                                double warmup = 3.0, double initial_speed = 0);
 
