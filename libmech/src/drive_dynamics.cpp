@@ -209,20 +209,22 @@ constexpr int kOrbit = 3, kQuadratures = 6, kPlain = kOrbit + kQuadratures;
 constexpr int kSensitive = kPlain + kOrbit * kOrbit;
 
 template <class S>
-void angle_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi2, const S* z, S* dz) {
+void angle_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi2, const S* z, S* dz,
+               bool quadratures = true) {
   const S theta = z[0], w1 = z[1], w2 = z[2];
   const auto m = mechanism_state(d, S(phi2), w2, shift);
   S a1, a2;
-  accelerations(d, m, theta, w1, w2, a1, a2);
+  const S drive = accelerations(d, m, theta, w1, w2, a1, a2);
   const S inv = 1.0 / w2, slip = w1 - w2;
-  const S coupling = coupling_moment(d, theta, w1, w2);
   dz[0] = slip * inv;
   dz[1] = a1 * inv;
   dz[2] = a2 * inv;
+  if (!quadratures) return;
+  const S coupling = coupling_moment(d, theta, w1, w2);
   dz[3] = inv;
   dz[4] = coupling * inv;
   dz[5] = coupling * coupling * inv;
-  dz[6] = d.motor_moment(w1) * w1 * inv;
+  dz[6] = drive * w1 * inv;
   dz[7] = m.resistance;  // P_res dt = M_res w2 dt = M_res dphi2
   dz[8] = d.damping * slip * slip * inv;
 }
@@ -280,10 +282,8 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
   for (int i = 0; i < kOrbit; ++i) z0[kPlain + 4 * i] = 1.0;  // S(0) = I
   auto f = [&](double phi2, const double* z, double* dz) {
     if (!(z[2] > 1e-3)) return kStall;  // the crank stopped: no motion in phi2
-    double all[kPlain];
     if (sensitivities) sensitive_rhs(d, shift, phi2, z, dz);
-    else if (bare) angle_rhs(d, shift, phi2, z, all), std::copy(all, all + kOrbit, dz);
-    else angle_rhs(d, shift, phi2, z, dz);
+    else angle_rhs(d, shift, phi2, z, dz, !bare);
     return 0;
   };
   // Newton matrix of the implicit methods: df/dz of the orbit and the
@@ -319,7 +319,7 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
   // phi2 (from the right-hand side).
   auto watched = [&](double phi2, const double* z, double* v, double* g) {
     double dz[kPlain];
-    angle_rhs(d, shift, phi2, z, dz);
+    angle_rhs(d, shift, phi2, z, dz, false);
     v[0] = z[1], v[1] = z[2], v[2] = coupling_moment(d, z[0], z[1], z[2]);
     g[0] = dz[1], g[1] = dz[2], g[2] = d.stiffness * dz[0] + d.damping * (dz[1] - dz[2]);
   };

@@ -144,18 +144,20 @@ S coupling_moment(const ElasticDrive& d, const S& theta, const S& w1, const S& w
 
 // Angular accelerations (a1, a2) of the motor side and the crank at twist
 // theta = phi1 - phi2 and speeds w1, w2, eqs (29), (40) (rigid: one, shared).
+// Returns the motor's moment at the crank axis.
 template <class S>
-void accelerations(const ElasticDrive& d, const MechanismState<S>& m, const S& theta, const S& w1,
-                   const S& w2, S& a1, S& a2) {
+S accelerations(const ElasticDrive& d, const MechanismState<S>& m, const S& theta, const S& w1,
+                const S& w2, S& a1, S& a2) {
   const S drive = d.motor_moment(w1);
   const S load = m.resistance + m.half_inertia_derivative * w2 * w2;
   if (d.fidelity == DriveFidelity::rigid) {
     a1 = a2 = (drive - load) / (d.motor_side_inertia() + m.inertia);
-    return;
+    return drive;
   }
   const S coupling = coupling_moment(d, theta, w1, w2);
   a1 = (drive - coupling) / d.motor_side_inertia();
   a2 = (coupling - load) / m.inertia;
+  return drive;
 }
 
 // Time derivatives of the state (phi1, phi2, w1, w2) (rigid: phi1 = phi2,
