@@ -143,6 +143,15 @@ TEST(SteadyCycle, StiffCouplingApproachesTheRigidDrive) {
   ASSERT_EQ(se.status, DynamicsStatus::ok) << se.message;
   ASSERT_EQ(sr.status, DynamicsStatus::ok) << sr.message;
   EXPECT_NEAR(se.mean_speed, sr.mean_speed, 1e-3 * sr.mean_speed);
+  // The rigid drive's map is one-dimensional (the speed): its multiplier,
+  // exact from the sensitivities when the first guess is already periodic
+  // (a 2 s start-up), lies inside the unit circle: no fallback.
+  const auto warm = mech::steady_by_shooting(r, {}, 0, 2.0, kStart);
+  ASSERT_EQ(warm.status, DynamicsStatus::ok) << warm.message;
+  EXPECT_GT(warm.largest_multiplier, 0.0);
+  EXPECT_LT(warm.largest_multiplier, 1.0);
+  EXPECT_TRUE(warm.message.empty()) << warm.message;
+  EXPECT_NEAR(warm.mean_speed, sr.mean_speed, 1e-6 * sr.mean_speed);
   EXPECT_NEAR(se.mean_motor_power, sr.mean_motor_power, 1e-2 * sr.mean_motor_power);
 }
 

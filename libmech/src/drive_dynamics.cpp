@@ -266,10 +266,10 @@ struct Record {
 };
 
 // Integrates one revolution from (theta, w1, w2), recording what `rec` asks.
-// The absolute tolerance is o.atol times each state's `scale` (twist, speeds). The
-// extrema of the coupling moment and both speeds are found as the roots of
-// their derivatives (the integrator's root finding): exact to the
-// integration's accuracy, with no sampling.
+// The absolute tolerance is o.atol times each state's `scale` (twist, speeds).
+// The extrema of the coupling moment and both speeds are roots of their
+// slopes, located on the integrator's dense output step by step: exact to
+// the integration's accuracy, with no sampling.
 Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* scale,
                       const double* start, const Record& rec) {
   const bool sensitivities = rec.sensitivities;
@@ -441,11 +441,14 @@ void fill_metrics(const ElasticDrive& d, const double* start, const Revolution& 
   s.motor_torque_max = std::max(a, b);
 }
 
-// Largest modulus of the eigenvalues of the 3 x 3 monodromy matrix in r.
-double largest_multiplier(const Revolution& r) {
+// Largest modulus of the eigenvalues of the monodromy matrix in r: 3 x 3, or
+// for the rigid drive (theta = 0, w1 = w2 = w) the scalar d w2(2 pi) / d w.
+double largest_multiplier(const Revolution& r, bool rigid) {
+  const double* S = r.end + kPlain;
+  if (rigid) return std::abs(S[7] + S[8]);
   Eigen::Matrix3d m;
   for (int i = 0; i < kOrbit; ++i)
-    for (int j = 0; j < kOrbit; ++j) m(i, j) = r.end[kPlain + 3 * i + j];
+    for (int j = 0; j < kOrbit; ++j) m(i, j) = S[3 * i + j];
   return m.eigenvalues().cwiseAbs().maxCoeff();
 }
 
@@ -466,7 +469,6 @@ struct Shooting {
   Revolution last;
   bool valid = false, sensitive = false;
   double multiplier = 0;  // largest of the last Jacobian's monodromy matrix
-  int revolutions = 0;
 
   // One revolution from P x; with sensitivities (twice the cost of a plain
   // revolution) only when a Jacobian is asked for.
@@ -479,11 +481,10 @@ struct Shooting {
     }
     sensitive = with_jacobian;
     last = revolution(*d, *o, scale, start, {.sensitivities = sensitive});
-    ++revolutions;
     steps += last.steps;
     valid = last.status == DynamicsStatus::ok;
     if (!valid) failure = last.status;
-    if (valid && sensitive) multiplier = largest_multiplier(last);
+    if (valid && sensitive) multiplier = largest_multiplier(last, n == 1);
     return valid;
   }
   void residual(double* f) const {
@@ -539,7 +540,7 @@ SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta
           d, o, scale, start, {.sensitivities = true, .samples = samples, .out = samples > 0 ? &cycle : nullptr});
       s.steps += last.steps;
       s.residual = change;
-      s.largest_multiplier = largest_multiplier(last);
+      s.largest_multiplier = largest_multiplier(last, d.fidelity == DriveFidelity::rigid);
       fill_metrics(d, start, last, std::move(cycle), s);
       return s;
     }
