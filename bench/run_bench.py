@@ -162,6 +162,9 @@ def main():
                              "mechopt_benchmark": name, "mechopt_seconds": a["seconds"],
                              "evaluations": a["evaluations"],
                              "mechopt_error": rel(a["value"], reference)})
+    a = m["BM_ElasticSteadyFromStartup"]
+    rows.append({"case": "elastic_steady_from_startup_guess", "mechopt_benchmark": "BM_ElasticSteadyFromStartup",
+                 "mechopt_seconds": a["seconds"], "mechopt_error": rel(a["value"], peak_elastic)})
     # The elastic drive's steady state over methods and tolerances, and the
     # map of where each method works.
     for name, a in m.items():
