@@ -131,11 +131,6 @@ MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S&
   return out;
 }
 
-template <class S>
-MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S& w2) {
-  return mechanism_state(d, phi2, w2, PhaseRotation(d.phase_shift));
-}
-
 // Coupling moment c (phi1 - phi2) + k (phi1' - phi2') at the crank axis.
 template <class S>
 S coupling_moment(const ElasticDrive& d, const S& theta, const S& w1, const S& w2) {
