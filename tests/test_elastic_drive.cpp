@@ -206,6 +206,29 @@ TEST(Failures, ExplicitMethodFailsOnAStiffCouplingWhereBdfDoesNot) {
   EXPECT_EQ(b.status, DynamicsStatus::too_many_steps) << b.message;
 }
 
+TEST(Failures, FunctionalIterationExhaustsItsBudgetOnAStiffDampedCoupling) {
+  // The method map's failing cell (docs/performance.md): c = 1e10, critically
+  // damped. Adams' fixed-point corrector converges only on steps below the
+  // elastic mode's time scale (~1/15 000 s) and runs out of a 20 000-step
+  // budget; BDF's Newton corrector takes the slow motion's steps.
+  auto d = scene();
+  d.stiffness = 1e10;
+  d.damping = 2 * std::sqrt(1e10 * 40.0);
+  mech::OdeOptions adams = tolerance(1e-8, mech::OdeMethod::adams), bdf = tolerance(1e-8);
+  adams.max_steps = bdf.max_steps = 20000;
+  const auto a = mech::steady_by_shooting(d, adams, 0, 0, kStart);
+  const auto b = mech::steady_by_shooting(d, bdf, 0, 0, kStart);
+  EXPECT_EQ(a.status, DynamicsStatus::too_many_steps) << a.message;
+  EXPECT_EQ(b.status, DynamicsStatus::ok) << b.message;
+}
+
+TEST(Failures, NoPeriodicOrbitWithinTheRevolutionsAllowedIsAStatus) {
+  // Two revolutions from the rigid estimate cannot settle to 1e-12.
+  const auto s = mech::steady_by_cycles(scene(), {}, 2, 1e-12);
+  EXPECT_EQ(s.status, DynamicsStatus::no_periodic_orbit) << s.message;
+  EXPECT_NE(s.message.find("2 revolutions"), std::string::npos) << s.message;
+}
+
 TEST(ElasticDriveProblem, GradientDriversRefuse) {
   const auto p = problems::make_problem(opt::ConfigNode::parse(
       "problem: elastic_drive\nvariables: {damping: {min: 200, max: 10000}}\n", "<t>"));

@@ -537,7 +537,8 @@ SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta
     if (change <= tol) {
       Trajectory cycle;
       const Revolution last = revolution(
-          d, o, scale, start, {.sensitivities = true, .samples = samples, .out = samples > 0 ? &cycle : nullptr});
+          d, o, scale, start,
+          {.sensitivities = true, .samples = samples, .out = samples > 0 ? &cycle : nullptr});
       s.steps += last.steps;
       s.residual = change;
       s.largest_multiplier = largest_multiplier(last, d.fidelity == DriveFidelity::rigid);
@@ -606,6 +607,9 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   // the second takes the sensitivities for the exact multiplier.
   const bool guess_periodic = f0 <= kNoiseTol * o.rtol;
   bool converged = r0.status == DynamicsStatus::ok && sh.evaluate(x0, guess_periodic);
+  // The two revolutions from the guess are what a machine would run: if one
+  // fails (stall, step budget, solver), so does every other way to the orbit.
+  const DynamicsStatus from_guess = r0.status != DynamicsStatus::ok ? r0.status : sh.failure;
   if (converged) {
     double f1 = 0;
     sh.residual(f);
@@ -651,10 +655,12 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   }
   s.steps = sh.steps;
   if (!converged) {
-    s.status = r0.status != DynamicsStatus::ok   ? r0.status
-               : sh.failure != DynamicsStatus::ok ? sh.failure
-                                                  : DynamicsStatus::no_periodic_orbit;
-    s.message = "shooting did not converge (KINSOL flag " + std::to_string(flag) + ")";
+    s.status = from_guess != DynamicsStatus::ok ? from_guess : DynamicsStatus::no_periodic_orbit;
+    const std::string trial =
+        sh.failure != DynamicsStatus::ok ? std::string(", a trial revolution: ") + to_string(sh.failure) : "";
+    s.message = from_guess != DynamicsStatus::ok
+                    ? std::string("the integration from the first guess failed: ") + to_string(from_guess)
+                    : "shooting did not converge (KINSOL flag " + std::to_string(flag) + trial + ")";
     return s;
   }
   s.residual = 0;
@@ -662,7 +668,8 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   s.largest_multiplier = sh.multiplier;
   Trajectory cycle;  // resampled only when asked for (curves, charts)
   if (samples > 0) {
-    const Revolution r = revolution(d, o, sh.scale, sh.start, {.extrema = false, .samples = samples, .out = &cycle});
+    const Revolution r =
+        revolution(d, o, sh.scale, sh.start, {.extrema = false, .samples = samples, .out = &cycle});
     s.steps += r.steps;
   }
   fill_metrics(d, sh.start, sh.last, std::move(cycle), s);
@@ -695,18 +702,22 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
     return s;
   }
   SteadyCycle s = shoot_from(d, o, samples, theta_scale, guess);
-  if (s.status == DynamicsStatus::stalled) return s;
+  // An integration from the guess that fails (stall, step budget, solver)
+  // would fail again revolution by revolution: that is the answer.
+  if (s.status != DynamicsStatus::ok && s.status != DynamicsStatus::no_periodic_orbit) return s;
   if (s.status == DynamicsStatus::ok && s.largest_multiplier < 1) return s;
   // Newton failed (a poor start near a resonance) or found an orbit the
   // machine cannot hold (a multiplier outside the unit circle): integrate
   // revolution after revolution from the guess instead, which follows the
   // orbit the machine itself settles on.
-  const std::string why = s.status == DynamicsStatus::ok
-                              ? "shooting found an unstable orbit (multiplier " + std::to_string(s.largest_multiplier) + ")"
-                              : "shooting failed: " + s.message;
+  const std::string why =
+      s.status == DynamicsStatus::ok
+          ? "shooting found an unstable orbit (multiplier " + std::to_string(s.largest_multiplier) + ")"
+          : "shooting failed: " + s.message;
   SteadyCycle c = cycles_from(d, o, theta_scale, guess, 300, kNoiseTol * o.rtol, samples);
   c.steps += s.steps;
-  c.message = why + (c.status == DynamicsStatus::ok ? "; found by integrating revolutions" : "; " + c.message);
+  c.message =
+      why + (c.status == DynamicsStatus::ok ? "; found by integrating revolutions" : "; " + c.message);
   return c;
 }
 

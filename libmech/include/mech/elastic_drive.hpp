@@ -114,7 +114,8 @@ MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S&
   // One sine and cosine: the second crank's by rotating the first's.
   const S c0 = cos(phi2), s0 = sin(phi2);
   for (int i = 0; i < 2; ++i) {
-    const S c = i == 0 ? c0 : S(c0 * shift.c - s0 * shift.s), s = i == 0 ? s0 : S(s0 * shift.c + c0 * shift.s);
+    const S c = i == 0 ? c0 : S(c0 * shift.c - s0 * shift.s);
+    const S s = i == 0 ? s0 : S(s0 * shift.c + c0 * shift.s);
     const auto p = slider_crank_point(d.template mechanism<S>(i), c, s);
     out.inertia += mB * p.dx * p.dx;
     out.half_inertia_derivative += mB * p.dx * p.ddx;
