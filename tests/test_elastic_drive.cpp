@@ -79,6 +79,7 @@ TEST(SteadyCycle, ExtremaFromRootsBoundDenseSamples) {
   // Loose steps (ERK, rtol 1e-6: ~0.07 rad) make the root search work.
   const auto s = mech::steady_by_shooting(scene(), tolerance(1e-6, mech::OdeMethod::erk), 20000, 0, kStart);
   ASSERT_EQ(s.status, DynamicsStatus::ok) << s.message;
+  ASSERT_EQ(s.cycle.coupling.size(), 20001u);
   const auto [lo, hi] = std::minmax_element(s.cycle.coupling.begin(), s.cycle.coupling.end());
   EXPECT_LE(*hi, s.coupling_max + 1e-9 * s.coupling_peak);
   EXPECT_GE(*lo, s.coupling_min - 1e-9 * s.coupling_peak);
