@@ -244,6 +244,21 @@ void sensitive_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi
     for (int j = 0; j < kOrbit; ++j) dz[kPlain + 3 * i + j] = dd[i].derivatives()[j];
 }
 
+// Appends one sample of a trajectory; returns its coupling moment (none in
+// the rigid drive).
+double append(Trajectory& tr, const ElasticDrive& d, double t, double phi2, double theta, double w1,
+              double w2) {
+  const double m = d.fidelity == DriveFidelity::rigid ? 0.0 : coupling_moment(d, theta, w1, w2);
+  tr.t.push_back(t);
+  tr.phi2.push_back(phi2);
+  tr.theta.push_back(theta);
+  tr.w1.push_back(w1);
+  tr.w2.push_back(w2);
+  tr.coupling.push_back(m);
+  tr.motor_torque.push_back(d.motor.torque(w1 * d.gear_ratio));
+  return m;
+}
+
 // Smallest and largest value seen.
 struct Range {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -327,15 +342,7 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
   auto add = [&](const double* v) {
     for (int i = 0; i < 3; ++i) ranges[i]->add(v[i]);
   };
-  auto record = [&](double phi2, const double* z) {
-    out->phi2.push_back(phi2);
-    out->t.push_back(z[3]);
-    out->theta.push_back(z[0]);
-    out->w1.push_back(z[1]);
-    out->w2.push_back(z[2]);
-    out->coupling.push_back(coupling_moment(d, z[0], z[1], z[2]));
-    out->motor_torque.push_back(d.motor.torque(z[1] * d.gear_ratio));
-  };
+  auto record = [&](double phi2, const double* z) { append(*out, d, z[3], phi2, z[0], z[1], z[2]); };
   double v0[3], g0[3], v1[3], g1[3], z[kSensitive];
   watched(0.0, z0, v0, g0);
   add(v0);
@@ -410,6 +417,13 @@ double rigid_speed_estimate(const ElasticDrive& d, double mean) {
     (d.motor_moment(mid) > mean ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+// The rigid estimate of the orbit's start (theta, w1, w2): the static twist
+// under the mean resistance, and the speed at which the motor balances it.
+void rigid_guess(const ElasticDrive& d, double mean, double* z) {
+  z[0] = d.fidelity == DriveFidelity::rigid ? 0.0 : mean / d.stiffness;
+  z[1] = z[2] = rigid_speed_estimate(d, mean);
 }
 
 // Scale of the twist theta: the largest resistance moment over c.
@@ -692,9 +706,8 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
                 std::to_string(most) + " N m at the crank";
     return s;
   }
-  const double w = rigid_speed_estimate(d, mean);
-  const bool rigid = d.fidelity == DriveFidelity::rigid;
-  double guess[3] = {rigid ? 0.0 : mean / d.stiffness, w, w};
+  double guess[3];
+  rigid_guess(d, mean, guess);
   if (warmup > 0 && !startup_guess(d, o, warmup, initial_speed, guess)) {
     SteadyCycle s;
     s.status = DynamicsStatus::stalled;
@@ -724,8 +737,8 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
 SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max_cycles, double tol,
                              int samples) {
   const ResistanceSummary res = resistance_summary(d);
-  const double w = rigid_speed_estimate(d, res.mean);
-  double start[3] = {d.fidelity == DriveFidelity::rigid ? 0.0 : res.mean / d.stiffness, w, w};
+  double start[3];
+  rigid_guess(d, res.mean, start);
   return cycles_from(d, o, twist_scale(d, res), start, max_cycles, tol, samples);
 }
 
@@ -744,14 +757,7 @@ Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_en
   Integrator in(4, f, j, o, 0.0, y0);
   Trajectory& tr = out.trajectory;
   auto record = [&](double t, const double* y) {
-    tr.t.push_back(t);
-    tr.phi2.push_back(y[1]);
-    tr.theta.push_back(y[0] - y[1]);
-    tr.w1.push_back(y[2]);
-    tr.w2.push_back(y[3]);
-    const double m = d.fidelity == DriveFidelity::rigid ? 0.0 : coupling_moment(d, y[0] - y[1], y[2], y[3]);
-    tr.coupling.push_back(m);
-    tr.motor_torque.push_back(d.motor.torque(y[2] * d.gear_ratio));
+    const double m = append(tr, d, t, y[1], y[0] - y[1], y[2], y[3]);
     out.peak_coupling = std::max(out.peak_coupling, std::abs(m));
   };
   record(0, y0);
