@@ -4,6 +4,8 @@ CONFIG ?= configs/recuperative_drive/table1_sweep.yaml
 OUT    ?= results
 JOBS   ?= $(shell nproc)
 MAKEFLAGS += --no-print-directory
+# ccache (when present) shares objects between clones and worktrees.
+export CCACHE_BASEDIR := $(CURDIR)
 DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \
   libsundials-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libcli11-dev \
   nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath
@@ -17,6 +19,7 @@ SUNDIALS_PREFIX = $(abspath $(BUILD))/sundials
 configure: deps
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release \
+	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
 	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials)
 

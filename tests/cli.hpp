@@ -1,0 +1,67 @@
+// Runs the mechopt binary as a user would, for the end-to-end and regression
+// tests: exit code (or the signal that killed it), combined stdout+stderr,
+// under a wall-time limit, with the output directory's total size.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+
+namespace cli {
+
+struct Outcome {
+  int exit_code = -1;  // -1 when killed by a signal
+  int signal = 0;      // the signal, or 0
+  bool timed_out = false;
+  std::string output;  // stdout and stderr together
+  bool exited(int code) const { return signal == 0 && !timed_out && exit_code == code; }
+};
+
+// `mechopt ARGS` with `timeout` seconds at most (coreutils timeout sends
+// SIGTERM, then SIGKILL 5 s later; exit code 124 or a signal means it hung).
+inline Outcome run(const std::string& args, int timeout = 120) {
+  const std::string cmd = "timeout -k 5 " + std::to_string(timeout) + " " + MECHOPT_BINARY + " " +
+                          args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  Outcome o;
+  if (!pipe) return o;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe))
+    if (o.output.size() < (1u << 20)) o.output.append(buf, n);
+  const int status = pclose(pipe);
+  if (WIFEXITED(status)) {
+    o.exit_code = WEXITSTATUS(status);
+    // timeout(1) reports 124 on a timeout and 128 + N when the child died of signal N.
+    if (o.exit_code == 124) o.timed_out = true;
+    if (o.exit_code > 128 && o.exit_code < 160 && o.exit_code != 130 && o.exit_code != 143)
+      o.signal = o.exit_code - 128;
+  } else if (WIFSIGNALED(status)) {
+    o.signal = WTERMSIG(status);
+  }
+  return o;
+}
+
+// A config of the source tree, e.g. source("tests/repro/duplicate_key.yaml").
+inline std::string source(const std::string& relative) {
+  return std::string(MECHOPT_SOURCE_DIR) + "/" + relative;
+}
+
+// A fresh, empty directory under the test temp dir.
+inline std::string fresh_dir(const std::string& name) {
+  const std::string dir = testing::TempDir() + "/" + name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+// Bytes in every file under dir.
+inline std::uintmax_t directory_bytes(const std::string& dir) {
+  std::uintmax_t total = 0;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir, ec))
+    if (e.is_regular_file()) total += e.file_size();
+  return total;
+}
+
+}  // namespace cli
