@@ -17,10 +17,10 @@ using opt::Dimension;
 constexpr double kMinMargin = 1e-3;
 
 const std::vector<opt::VariableSpec> kVariables = {
-    {"l_co1", Dimension::length},           // synthesis: distance of C from O1 along the axis
-    {"crank_length", Dimension::length},    // free_links: l1
-    {"coupler_length", Dimension::length},  // free_links: l2
-    {"rocker_length", Dimension::length},   // free_links: l3
+    {"l_co1", Dimension::length, opt::kPositive},           // synthesis: distance of C from O1 along the axis
+    {"crank_length", Dimension::length, opt::kPositive},    // free_links: l1
+    {"coupler_length", Dimension::length, opt::kPositive},  // free_links: l2
+    {"rocker_length", Dimension::length, opt::kPositive},   // free_links: l3
 };
 
 const std::vector<MetricSpec> kMetrics = {
@@ -264,7 +264,6 @@ std::unique_ptr<opt::Problem> make_conveyor_swing(const opt::ConfigNode& root) {
           std::string("variable '") + v.name + "' belongs to design: " +
           (synthesis_var ? "synthesis" : "free_links") + ", but the model has design: " +
           (m.synthesis ? "synthesis" : "free_links"));
-    if (!(v.lower > 0)) root.at("variables").at(v.name).at("min").fail("expected a positive length");
   }
   return std::make_unique<ConveyorSwing>(std::move(m), std::move(vars));
 }

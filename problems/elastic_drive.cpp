@@ -12,9 +12,9 @@ namespace {
 using opt::Dimension;
 
 const std::vector<opt::VariableSpec> kVariables = {
-    {"stiffness", Dimension::dimensionless},  // c [N m / rad]
-    {"damping", Dimension::dimensionless},    // k [N m s / rad]
-    {"rod_length", Dimension::length},
+    {"stiffness", Dimension::rotational_stiffness, opt::kPositive},  // c
+    {"damping", Dimension::rotational_damping, opt::kNonNegative},  // k
+    {"rod_length", Dimension::length, opt::kPositive},
     {"phase_shift", Dimension::angle},
 };
 
@@ -186,9 +186,9 @@ std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
                      "overload_ratio", "rotor_inertia"});
       d.motor.synchronous_speed = mo.quantity_or("synchronous_speed", Dimension::angular_speed,
                                                  d.motor.synchronous_speed, opt::kPositive);
-      d.motor.critical_torque = mo.quantity_or("critical_torque", Dimension::dimensionless,
+      d.motor.critical_torque = mo.quantity_or("critical_torque", Dimension::torque,
                                                d.motor.critical_torque, opt::kPositive);
-      d.motor.rotor_inertia = mo.quantity_or("rotor_inertia", Dimension::dimensionless,
+      d.motor.rotor_inertia = mo.quantity_or("rotor_inertia", Dimension::inertia,
                                              d.motor.rotor_inertia, opt::kNonNegative);
       if (mo.has("critical_slip") && (mo.has("nominal_slip") || mo.has("overload_ratio")))
         mo.fail("give critical_slip, or nominal_slip with overload_ratio (eq. 27a), not both");
@@ -201,12 +201,12 @@ std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
         d.motor.critical_slip = mech::InductionMotor::critical_slip_from(sn, lam);
       }
     }
-    d.coupling_inertia = n.quantity_or("coupling_inertia", Dimension::dimensionless, d.coupling_inertia, opt::kNonNegative);
+    d.coupling_inertia = n.quantity_or("coupling_inertia", Dimension::inertia, d.coupling_inertia, opt::kNonNegative);
     d.gear_ratio = n.quantity_or("gear_ratio", Dimension::dimensionless, d.gear_ratio, opt::kPositive);
     d.gearbox_factor = n.quantity_or("gearbox_factor", Dimension::dimensionless, d.gearbox_factor, {1, HUGE_VAL, false, false});
     d.drive_efficiency = n.quantity_or("drive_efficiency", Dimension::dimensionless, d.drive_efficiency, {0, 1, true, false});
-    d.stiffness = n.quantity_or("stiffness", Dimension::dimensionless, d.stiffness, opt::kPositive);
-    d.damping = n.quantity_or("damping", Dimension::dimensionless, d.damping, opt::kNonNegative);
+    d.stiffness = n.quantity_or("stiffness", Dimension::rotational_stiffness, d.stiffness, opt::kPositive);
+    d.damping = n.quantity_or("damping", Dimension::rotational_damping, d.damping, opt::kNonNegative);
     d.crank_radius = n.quantity_or("crank_radius", Dimension::length, d.crank_radius, opt::kPositive);
     d.rod_length = n.quantity_or("rod_length", Dimension::length, d.rod_length, opt::kPositive);
     d.phase_shift = n.quantity_or("phase_shift", Dimension::angle, d.phase_shift);
@@ -216,7 +216,7 @@ std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
                                                                                : mech::Kinematics::binomial;
     d.cart_mass = n.quantity_or("cart_mass", Dimension::mass, d.cart_mass, opt::kNonNegative);
     d.rod_mass = n.quantity_or("rod_mass", Dimension::mass, d.rod_mass, opt::kNonNegative);
-    d.crank_inertia = n.quantity_or("crank_inertia", Dimension::dimensionless, d.crank_inertia, opt::kNonNegative);
+    d.crank_inertia = n.quantity_or("crank_inertia", Dimension::inertia, d.crank_inertia, opt::kNonNegative);
     d.roller_horizontal = n.quantity_or("roller_horizontal", Dimension::force, d.roller_horizontal, opt::kNonNegative);
     d.roller_vertical = n.quantity_or("roller_vertical", Dimension::force, d.roller_vertical, opt::kNonNegative);
     d.cart_weight = n.quantity_or("cart_weight", Dimension::force, d.cart_weight, opt::kNonNegative);

@@ -16,9 +16,9 @@ using opt::Dimension;
 constexpr double kMaxCrankRodRatio = 0.99;
 
 const std::vector<opt::VariableSpec> kVariables = {
-    {"rod_length", Dimension::length},
+    {"rod_length", Dimension::length, opt::kPositive},
     {"phase_shift", Dimension::angle},
-    {"crank_radius", Dimension::length},
+    {"crank_radius", Dimension::length, opt::kPositive},
     {"offset", Dimension::length},
 };
 
@@ -179,7 +179,8 @@ RecuperativeDriveModel parse_recuperative_drive_model(const opt::ConfigNode& roo
   d.offset = n.quantity_or("offset", Dimension::length, d.offset);
   d.phase_shift = n.quantity_or("phase_shift", Dimension::angle, d.phase_shift);
   d.crank_speed = n.quantity_or("crank_speed", Dimension::angular_speed, d.crank_speed, opt::kPositive);
-  d.cart_mass = n.quantity_or("cart_mass", Dimension::mass, d.cart_mass, opt::kNonNegative);
+  // > 0: T_min = 4 m r^2 w^2 / pi^2 (eq. 14) divides k2 and k3.
+  d.cart_mass = n.quantity_or("cart_mass", Dimension::mass, d.cart_mass, opt::kPositive);
   d.rod_mass_per_length = n.quantity_or("rod_mass_per_length", Dimension::linear_density,
                                         d.rod_mass_per_length, opt::kNonNegative);
   d.efficiency = n.quantity_or("efficiency", Dimension::dimensionless, d.efficiency, {0, 1, true, false});
@@ -218,9 +219,6 @@ std::unique_ptr<opt::Problem> make_recuperative_drive(const opt::ConfigNode& roo
                                                 {"crank_radius", d.crank_radius},
                                                 {"offset", d.offset}};
   auto vars = opt::parse_variables(root, kVariables, values);
-  for (const auto& v : vars)
-    if ((v.name == "rod_length" || v.name == "crank_radius") && !(v.lower > 0))
-      root.at("variables").at(v.name).at("min").fail("expected a positive length");
   return std::make_unique<RecuperativeDrive>(std::move(m), std::move(vars));
 }
 

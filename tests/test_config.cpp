@@ -118,4 +118,28 @@ TEST(Units, ConvertToSi) {
   EXPECT_FALSE(opt::parse_quantity("inf m", Dimension::length).error.empty());
 }
 
+// Every dimension the problems use, each unit against its SI definition
+// (tf: tonne-force, 1000 kg x standard gravity 9.80665 m/s^2).
+TEST(Units, EveryDimensionTheProblemsUse) {
+  using opt::Dimension;
+  struct Case { const char* text; Dimension d; double si; };
+  const Case cases[] = {
+      {"110 kN m/rad", Dimension::rotational_stiffness, 110e3},
+      {"110 kN*m / rad", Dimension::rotational_stiffness, 110e3},
+      {"2000 N m s/rad", Dimension::rotational_damping, 2000},
+      {"2 kN m", Dimension::torque, 2000},   {"5 tf", Dimension::force, 5 * 9806.65},
+      {"1.5 MN", Dimension::force, 1.5e6},   {"3 kN/m", Dimension::linear_stiffness, 3000},
+      {"0.32 kg m^2", Dimension::inertia, 0.32}, {"0.32 kg*m^2", Dimension::inertia, 0.32},
+      {"11 kW", Dimension::power, 11000},    {"2 MPa", Dimension::pressure, 2e6},
+      {"0.5 1/mm", Dimension::inverse_length, 500}, {"4 kJ", Dimension::energy, 4000},
+  };
+  for (const auto& c : cases) {
+    const auto q = opt::parse_quantity(c.text, c.d);
+    EXPECT_TRUE(q.error.empty()) << c.text << ": " << q.error;
+    EXPECT_DOUBLE_EQ(q.value, c.si) << c.text;
+  }
+  EXPECT_NE(opt::parse_quantity("110 kN m", Dimension::rotational_stiffness).error.find("is a torque"),
+            std::string::npos);
+}
+
 }  // namespace

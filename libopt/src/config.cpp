@@ -39,6 +39,35 @@ std::string child_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
 
+std::string line_col(const YAML::Mark& m) {
+  return std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+}
+
+// yaml-cpp keeps a key written twice and reads the first: a config that sets
+// a value twice is an error naming both lines.
+void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const std::string& path) {
+  if (n.IsSequence())
+    for (size_t i = 0; i < n.size(); ++i)
+      reject_duplicate_keys(n[i], file, path + "[" + std::to_string(i) + "]");
+  if (!n.IsMap()) return;
+  std::vector<std::pair<std::string, YAML::Mark>> seen;
+  for (const auto& kv : n) {
+    if (!kv.first.IsScalar()) {
+      throw ConfigError(file + ":" + line_col(kv.first.Mark()) + ": " +
+                        (path.empty() ? "" : "key '" + path + "': ") + "expected a plain key name");
+    }
+    const std::string key = kv.first.Scalar();
+    for (const auto& [k, mark] : seen)
+      if (k == key)
+        throw ConfigError(file + ":" + line_col(kv.first.Mark()) + ": key '" + child_path(path, key) +
+                          "': written twice (first at line " + std::to_string(mark.line + 1) +
+                          ", again at line " + std::to_string(kv.first.Mark().line + 1) +
+                          "); give it once");
+    seen.emplace_back(key, kv.first.Mark());
+    reject_duplicate_keys(kv.second, file, child_path(path, key));
+  }
+}
+
 }  // namespace
 
 ConfigNode ConfigNode::load(const std::string& file) {
@@ -54,6 +83,7 @@ ConfigNode ConfigNode::parse(const std::string& text, const std::string& name) {
     YAML::Node root = YAML::Load(text);
     if (!root.IsMap())
       throw ConfigError(name + ":1:1: expected a YAML mapping of keys at the top level");
+    reject_duplicate_keys(root, name, "");
     return ConfigNode(root, name, "");
   } catch (const YAML::Exception& e) {
     throw ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ":" +
@@ -139,13 +169,16 @@ double ConfigNode::quantity(Dimension d) const {
 double ConfigNode::quantity_or(const std::string& key, Dimension d, double fallback,
                                const Domain& domain) const {
   if (!has(key)) return fallback;
-  const ConfigNode k = at(key);
-  const double v = k.quantity(d);
+  return at(key).quantity(d, domain);
+}
+
+double ConfigNode::quantity(Dimension d, const Domain& domain) const {
+  const double v = quantity(d);
   if (!domain.contains(v)) {
     auto end = [&](double x) { return std::isinf(x) ? std::string(x < 0 ? "-inf" : "inf") : fmt_number(x); };
-    k.fail("expected a value in " + std::string(domain.lo_open ? "(" : "[") + end(domain.lo) + ", " +
-           end(domain.hi) + (domain.hi_open ? ")" : "]") +
-           (si_unit(d).empty() ? "" : " " + si_unit(d)) + ", got '" + k.text() + "'");
+    fail("expected a value in " + std::string(domain.lo_open ? "(" : "[") + end(domain.lo) + ", " +
+         end(domain.hi) + (domain.hi_open ? ")" : "]") +
+         (si_unit(d).empty() ? "" : " " + si_unit(d)) + ", got '" + text() + "'");
   }
   return v;
 }

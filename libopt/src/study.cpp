@@ -13,10 +13,16 @@
 namespace opt {
 namespace {
 
+int variable_index(const Problem& p, const std::string& name) {
+  const auto& v = p.variables();
+  for (size_t i = 0; i < v.size(); ++i)
+    if (v[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
 const Variable* find_variable(const Problem& p, const std::string& name) {
-  for (const auto& v : p.variables())
-    if (v.name == name) return &v;
-  return nullptr;
+  const int i = variable_index(p, name);
+  return i < 0 ? nullptr : &p.variables()[i];
 }
 
 std::string fmt(double v, int precision = 6) {
@@ -32,18 +38,25 @@ std::string join(const std::vector<std::string>& v) {
   return out;
 }
 
-std::vector<double> parse_values(const ConfigNode& n, Dimension d) {
+// Points a sweep may have in all (the product over its axes).
+constexpr double kMaxGridPoints = 100000;
+
+std::vector<double> parse_values(const ConfigNode& n, const Variable& v) {
   std::vector<double> out;
   if (n.is_sequence()) {
-    for (const auto& item : n.items()) out.push_back(item.quantity(d));
+    for (const auto& item : n.items()) out.push_back(item.quantity(v.dimension, v.domain));
   } else {
     n.allow_only({"from", "to", "step"});
-    const double from = n.at("from").quantity(d), to = n.at("to").quantity(d);
-    const double step = n.at("step").quantity(d);
+    const double from = n.at("from").quantity(v.dimension, v.domain);
+    const double to = n.at("to").quantity(v.dimension, v.domain);
+    const double step = n.at("step").quantity(v.dimension);
     if (!(step > 0) || to < from) n.fail("expected from <= to and step > 0");
-    const int count = static_cast<int>(std::floor((to - from) / step + 1e-9)) + 1;
-    if (count > 100000) n.fail("the grid has more than 100000 points");
-    for (int i = 0; i < count; ++i) out.push_back(from + i * step);
+    // Counted in double: a tiny step must not overflow an integer.
+    const double count = std::floor((to - from) / step + 1e-9) + 1;
+    if (!(count <= kMaxGridPoints))
+      n.fail("the grid would have " + fmt(count, 3) + " points; the limit is " +
+             fmt(kMaxGridPoints) + " (a larger step, or fewer values)");
+    for (int i = 0; i < static_cast<int>(count); ++i) out.push_back(from + i * step);
   }
   if (out.empty()) n.fail("expected at least one value");
   return out;
@@ -377,10 +390,10 @@ std::vector<Variable> parse_variables(const ConfigNode& root,
     if (!vars.has(c.name)) continue;
     const ConfigNode n = vars.at(c.name);
     n.allow_only({"min", "max", "initial"});
-    Variable v{c.name, c.dimension, n.at("min").quantity(c.dimension),
-               n.at("max").quantity(c.dimension), model_values.at(c.name)};
+    Variable v{c.name, c.dimension, n.at("min").quantity(c.dimension, c.domain),
+               n.at("max").quantity(c.dimension, c.domain), model_values.at(c.name), c.domain};
     if (!(v.lower < v.upper)) n.fail("expected min < max");
-    if (n.has("initial")) v.initial = n.at("initial").quantity(c.dimension);
+    if (n.has("initial")) v.initial = n.at("initial").quantity(c.dimension, c.domain);
     out.push_back(v);
   }
   return out;
@@ -436,14 +449,19 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     if (st.has("optimize")) s.optimize = st.at("optimize").boolean();
     if (s.type == "sweep") {
       const ConfigNode g = st.at("grid");
+      double points = 1;
       for (const auto& name : g.keys()) {
-        const Variable* v = find_variable(p, name);
-        if (!v) g.fail("grid variable '" + name + "' is not among the config's variables");
-        s.grid.push_back({name, parse_values(g.at(name), v->dimension)});
+        const int i = variable_index(p, name);
+        if (i < 0) g.fail("grid variable '" + name + "' is not among the config's variables");
+        s.grid.push_back({name, i, parse_values(g.at(name), p.variables()[i])});
+        points *= static_cast<double>(s.grid.back().values.size());
       }
       if (s.grid.empty() || s.grid.size() > 2) g.fail("expected one or two grid variables");
       if (s.grid.size() != p.variables().size())
         g.fail("a sweep needs a grid for every variable in 'variables'");
+      if (points > kMaxGridPoints)
+        g.fail("the grid would have " + fmt(points, 3) + " points in all; the limit is " +
+               fmt(kMaxGridPoints));
     }
     if (st.has("columns"))
       for (const auto& c : st.at("columns").items()) {
@@ -516,13 +534,14 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
     int infeasible = 0;
     for (size_t i = 0; i < n0; ++i)
       for (size_t k = 0; k < n1; ++k) {
+        // x in the variables' order, whatever order the grid keys were written in.
         Eigen::VectorXd x(s.grid.size());
-        x[0] = s.grid[0].values[i];
-        if (s.grid.size() > 1) x[1] = s.grid[1].values[k];
+        x[s.grid[0].index] = s.grid[0].values[i];
+        if (s.grid.size() > 1) x[s.grid[1].index] = s.grid[1].values[k];
         const Evaluation e = p.evaluate(x, {}, false);
         infeasible += !e.ok();
         std::vector<std::string> row;
-        for (int d = 0; d < x.size(); ++d) csv << x[d] << ",", row.push_back(fmt(x[d]));
+        for (const auto& a : s.grid) csv << x[a.index] << ",", row.push_back(fmt(x[a.index]));
         csv << e.status;
         for (const auto& m : names)
           csv << "," << (e.metrics.count(m) ? fmt(e.at(m), 17) : std::string());

@@ -18,18 +18,6 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Where a quantity may lie (SI), with open or closed ends.
-struct Domain {
-  double lo = -HUGE_VAL, hi = HUGE_VAL;
-  bool lo_open = false, hi_open = false;
-  bool contains(double v) const {
-    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
-  }
-};
-inline const Domain kAnyValue{};
-inline const Domain kPositive{0, HUGE_VAL, true, false};
-inline const Domain kNonNegative{0, HUGE_VAL, false, false};
-
 // A node of a config, with the file and key path it came from.
 class ConfigNode {
  public:
@@ -60,6 +48,8 @@ class ConfigNode {
   std::string text() const;                                   // a scalar as written
   std::string choice(const std::vector<std::string>& options) const;
   double quantity(Dimension d) const;                         // SI value
+  // The same, and outside `domain` is an error naming the domain.
+  double quantity(Dimension d, const Domain& domain) const;
   double number() const { return quantity(Dimension::dimensionless); }
   // The quantity under `key` if present, else `fallback`; outside `domain`
   // is an error naming the domain.

@@ -18,6 +18,7 @@ struct Variable {
   Dimension dimension = Dimension::dimensionless;  // values are SI: m, rad, ...
   double lower = 0, upper = 0;
   double initial = 0;
+  Domain domain = kAnyValue;  // of the model value (the bounds lie in it)
 };
 
 struct MetricValue {

@@ -16,10 +16,13 @@
 
 namespace opt {
 
-// A variable a problem can free, with the dimension its bounds are given in.
+// A variable a problem can free: the dimension its bounds are given in and
+// the domain every value it takes (bounds, initial value, grid points) must
+// lie in, as the model value itself.
 struct VariableSpec {
   std::string name;
   Dimension dimension;
+  Domain domain = kAnyValue;
 };
 
 // Reads `variables: {NAME: {min: .., max: .., initial: ..}}`; the initial value
@@ -30,6 +33,7 @@ std::vector<Variable> parse_variables(const ConfigNode& root,
 
 struct GridAxis {
   std::string variable;
+  int index = 0;               // of the variable in Problem::variables()
   std::vector<double> values;  // SI
 };
 
