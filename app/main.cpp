@@ -1,5 +1,6 @@
 // mechopt command line: parse, dispatch, print. Exit codes: 0 done, 1 runtime
 // failure, 2 bad input (config or arguments).
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "opt/derivatives.hpp"
+#include "opt/interrupt.hpp"
 #include "opt/study.hpp"
 #include "problems/registry.hpp"
 
@@ -25,7 +27,8 @@ usage:
   mechopt list                            problems, variables, metrics and algorithms
   mechopt --help | --version
 
-exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input
+exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input,
+  130/143 stopped by SIGINT/SIGTERM (what was done is written, marked interrupted)
 )";
 
 struct Args {
@@ -132,7 +135,16 @@ int run(const Args& a) {
   if (a.command == "check-derivatives") return check(*problem);
   opt::RunSpec spec = opt::parse_run(root, *problem);
   if (!a.output.empty()) spec.output_directory = a.output;
+  // SIGINT/SIGTERM: the evaluation under way finishes, what is done is
+  // written and marked interrupted, and the exit code is 128 + the signal.
+  opt::install_stop_handlers();
   opt::run_study(*problem, spec, std::cout);
+  if (opt::stop_requested()) {
+    const int sig = opt::stop_signal() ? opt::stop_signal() : SIGINT;
+    std::cerr << "mechopt: interrupted by " << (sig == SIGTERM ? "SIGTERM" : "SIGINT")
+              << "; what was done is in " << spec.output_directory << "/result.json\n";
+    return 128 + sig;
+  }
   return 0;
 }
 

@@ -56,7 +56,7 @@ class ElasticDriveProblem : public TabledProblem {
 
   bool provides_gradients() const override { return false; }
 
-  opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                            bool) const override {
     const mech::ElasticDrive d = drive(x);
     auto want = [&](const char* n) {

@@ -76,7 +76,7 @@ class ModelProblem : public TabledProblem {
  public:
   using TabledProblem::TabledProblem;
 
-  opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                            bool gradient) const override {
     return with_scalar(x, gradient, [&](const auto& xs) {
       MetricSink<typename std::decay_t<decltype(xs)>::value_type> sink(wanted);

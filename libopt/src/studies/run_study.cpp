@@ -13,7 +13,9 @@ nlohmann::json metrics_json(const Problem& p, const Eigen::VectorXd& x) {
   const Evaluation e = p.evaluate(x, {}, false);
   nlohmann::json m = nlohmann::json::object();
   for (const auto& [name, v] : e.metrics) m[name] = v.value;
-  return {{"status", e.status}, {"metrics", m}};
+  nlohmann::json j = {{"status", e.status}, {"metrics", m}};
+  if (!e.message.empty()) j["message"] = e.message;
+  return j;
 }
 
 nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) {
