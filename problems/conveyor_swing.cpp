@@ -1,4 +1,5 @@
 #include "problems/conveyor_swing.hpp"
+#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -197,8 +198,6 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
 
 }  // namespace
 
-const std::vector<opt::VariableSpec>& conveyor_swing_variables() { return kVariables; }
-
 std::unique_ptr<opt::Problem> make_conveyor_swing(const opt::ConfigNode& root) {
   Model m;
   double rod = 200, platform = 3200, cg_along = 1.2, cg_across = 1.0, speed = 12;
@@ -267,5 +266,8 @@ std::unique_ptr<opt::Problem> make_conveyor_swing(const opt::ConfigNode& root) {
   }
   return std::make_unique<ConveyorSwing>(std::move(m), std::move(vars));
 }
+
+const Registration kRegistration{
+    {"conveyor_swing", "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)", kVariables, make_conveyor_swing}};
 
 }  // namespace problems

@@ -1,4 +1,5 @@
 #include "problems/elastic_drive.hpp"
+#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -168,8 +169,6 @@ class ElasticDriveProblem : public TabledProblem {
 
 }  // namespace
 
-const std::vector<opt::VariableSpec>& elastic_drive_variables() { return kVariables; }
-
 std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
   Model m;
   auto& d = m.drive;
@@ -248,5 +247,8 @@ std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
   auto vars = opt::parse_variables(root, kVariables, values);
   return std::make_unique<ElasticDriveProblem>(std::move(m), std::move(vars));
 }
+
+const Registration kRegistration{
+    {"elastic_drive", "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)", kVariables, make_elastic_drive}};
 
 }  // namespace problems

@@ -1,4 +1,5 @@
 #include "problems/recuperative_drive.hpp"
+#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -209,8 +210,6 @@ RecuperativeDriveModel parse_recuperative_drive_model(const opt::ConfigNode& roo
   return m;
 }
 
-const std::vector<opt::VariableSpec>& recuperative_drive_variables() { return kVariables; }
-
 std::unique_ptr<opt::Problem> make_recuperative_drive(const opt::ConfigNode& root) {
   RecuperativeDriveModel m = parse_recuperative_drive_model(root);
   const auto& d = m.drive;
@@ -221,5 +220,8 @@ std::unique_ptr<opt::Problem> make_recuperative_drive(const opt::ConfigNode& roo
   auto vars = opt::parse_variables(root, kVariables, values);
   return std::make_unique<RecuperativeDrive>(std::move(m), std::move(vars));
 }
+
+const Registration kRegistration{
+    {"recuperative_drive", "twin slider-crank recuperative drive of a roller forming installation (seed 000)", kVariables, make_recuperative_drive}};
 
 }  // namespace problems

@@ -19,6 +19,13 @@ struct Entry {
   Factory make;
 };
 
+// Each problem registers itself from its own file, at start-up:
+//   const problems::Registration kRegistration{{"name", "summary", kVariables, make}};
+struct Registration {
+  explicit Registration(Entry e);
+};
+
+// Every registered problem, sorted by name.
 const std::vector<Entry>& registry();
 
 // Builds the problem named by the config's `problem` key from its `model` and
