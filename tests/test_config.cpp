@@ -143,3 +143,21 @@ TEST(Units, EveryDimensionTheProblemsUse) {
 }
 
 }  // namespace
+
+namespace {
+
+// Model values with units of every kind read through the parameter tables.
+TEST(CommandLine, ParameterTableReadsUnitsAndSections) {
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/elastic_drive/optimum.yaml";
+  Outcome o = run("eval " + cfg + " --set \"stiffness=110 kN m/rad\" --set \"coupling_inertia=0.32 kg m^2\"");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto j = nlohmann::json::parse(o.output);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["stiffness"].get<double>(), 110000);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["coupling_inertia"].get<double>(), 0.32);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["motor"]["critical_torque"].get<double>(), 215.4);
+  o = run("eval " + cfg + " --set \"stiffness=110 kN m\"");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("key 'model.stiffness': expected a rotational stiffness"), std::string::npos) << o.output;
+}
+
+}  // namespace

@@ -29,12 +29,6 @@ std::string join(const std::vector<std::string>& v) {
   return out;
 }
 
-std::string fmt_number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
 std::string child_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
@@ -175,10 +169,8 @@ double ConfigNode::quantity_or(const std::string& key, Dimension d, double fallb
 double ConfigNode::quantity(Dimension d, const Domain& domain) const {
   const double v = quantity(d);
   if (!domain.contains(v)) {
-    auto end = [&](double x) { return std::isinf(x) ? std::string(x < 0 ? "-inf" : "inf") : fmt_number(x); };
-    fail("expected a value in " + std::string(domain.lo_open ? "(" : "[") + end(domain.lo) + ", " +
-         end(domain.hi) + (domain.hi_open ? ")" : "]") +
-         (si_unit(d).empty() ? "" : " " + si_unit(d)) + ", got '" + text() + "'");
+    const bool interval = std::isfinite(domain.lo) && std::isfinite(domain.hi);
+    fail("expected a value " + std::string(interval ? "in " : "") + to_string(domain, d) + ", got '" + text() + "'");
   }
   return v;
 }

@@ -95,21 +95,20 @@ void check_metric(const ConfigNode& n, const Problem& p, const std::string& metr
 
 }  // namespace
 
-std::vector<Variable> parse_variables(const ConfigNode& root,
-                                      const std::vector<VariableSpec>& candidates,
-                                      const std::map<std::string, double>& model_values) {
+std::vector<Variable> parse_variables(const ConfigNode& root, const std::vector<Parameter>& parameters) {
   std::vector<Variable> out;
   if (!root.has("variables")) return out;
   const ConfigNode vars = root.at("variables");
   std::vector<std::string> names;
-  for (const auto& c : candidates) names.push_back(c.name);
+  for (const auto& c : parameters)
+    if (c.variable) names.push_back(c.name);
   vars.allow_only(names);
-  for (const auto& c : candidates) {
-    if (!vars.has(c.name)) continue;
+  for (const auto& c : parameters) {
+    if (!c.variable || !vars.has(c.name)) continue;
     const ConfigNode n = vars.at(c.name);
     n.allow_only({"min", "max", "initial"});
     Variable v{c.name, c.dimension, n.at("min").quantity(c.dimension, c.domain),
-               n.at("max").quantity(c.dimension, c.domain), model_values.at(c.name), c.domain};
+               n.at("max").quantity(c.dimension, c.domain), c.value, c.domain};
     if (!(v.lower < v.upper)) n.fail("expected min < max");
     if (n.has("initial")) v.initial = n.at("initial").quantity(c.dimension, c.domain);
     out.push_back(v);
