@@ -105,7 +105,7 @@ const opt::ParameterTable<Model> kTable = {
               "seed 001 eq. (2)"),
      MECHOPT_STORED_AT(m.drive.crank_inertia)},
     {quantity("roller_horizontal", Dimension::force, kNonNegative,
-              "F_01 + F_02 per cart (the printed 2 x 7962 N stall the motor)", "seed 001 eq. (12)"),
+              "F_01 + F_02 per cart (seed 000's F_B; the printed 2 x 7962 N stall the motor)", "seed 001 eq. (12)"),
      MECHOPT_STORED_AT(m.drive.roller_horizontal)},
     {quantity("roller_vertical", Dimension::force, kNonNegative, "R_01 + R_02 per cart", "seed 001 eq. (13)"),
      MECHOPT_STORED_AT(m.drive.roller_vertical)},
@@ -243,8 +243,17 @@ class ElasticDriveProblem : public TabledProblem {
 
 }  // namespace
 
+// Seed 001's drive with the assumptions its text leaves open (docs/reproduction.md):
+// the printed roller loads (2 x 7962 N per cart) stall the 11 kW motor, so the
+// carts take seed 000's F_B = 3562 N with the vertical forces balanced, the
+// resistance opposes the motion, and a start-up begins at the motor's
+// synchronous speed (Kloss's starting torque cannot start the load).
 Model default_model() {
   Model m;
+  m.drive.roller_horizontal = 3562;
+  m.drive.roller_vertical = 10124.9;
+  m.drive.resistance_opposes_motion = true;
+  m.start_speed = 10.686;
   m.drive.motor.critical_slip = mech::InductionMotor::critical_slip_from(m.nominal_slip, m.overload_ratio);
   return m;
 }

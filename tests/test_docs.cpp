@@ -24,7 +24,7 @@ TEST(Docs, ConfigReferenceIsTheParameterTables) {
   const auto o = cli::run("list --markdown");
   ASSERT_TRUE(o.exited(0)) << o.output;
   EXPECT_EQ(doc.substr(start, e - start), o.output)
-      << "regenerate: build/bin/mechopt list --markdown, between the markers in docs/config.md";
+      << "regenerate with tools/update_config_reference.py";
 }
 
 }  // namespace

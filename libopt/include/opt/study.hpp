@@ -35,7 +35,7 @@ struct Reference {
 };
 
 struct RunSpec {
-  std::string type = "optimize";  // optimize | sweep | pareto
+  std::string type = "optimize";  // optimize | sweep | pareto | evaluate (the model values)
   Objective objective;
   std::vector<Constraint> constraints;
   bool optimize = true;           // sweeps: also run the driver

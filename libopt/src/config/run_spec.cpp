@@ -147,7 +147,7 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
   if (root.has("study")) {
     const ConfigNode st = root.at("study");
     st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points"});
-    s.type = st.at("type").choice({"optimize", "sweep", "pareto"});
+    s.type = st.at("type").choice({"optimize", "sweep", "pareto", "evaluate"});
     if (s.type == "pareto") {
       const ConfigNode ob = st.at("objectives");
       for (const auto& item : ob.items()) {
@@ -186,7 +186,9 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
         s.columns.push_back(c.text());
       }
   }
-  if (s.objective.metric.empty() && (s.type == "optimize" || s.optimize))
+  // Nothing to optimise and no study: every metric at the model values.
+  if (!root.has("study") && !root.has("objective") && !root.has("variables")) s.type = "evaluate";
+  if (s.objective.metric.empty() && (s.type == "optimize" || (s.type == "sweep" && s.optimize)))
     root.fail("missing required key 'objective' (e.g. objective: {minimize: METRIC})");
   if ((s.type == "optimize" || s.type == "pareto") && p.variables().empty())
     root.fail("missing required key 'variables': an optimisation needs at least one");
