@@ -67,7 +67,7 @@ class ElasticDriveProblem : public TabledProblem {
       if (want(n)) e.metrics[n] = {v, {}};
     };
     const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
-    if (s.status != mech::DynamicsStatus::ok) {
+    if (s.status != mech::Status::ok) {
       e.status = mech::to_string(s.status);
       return e;
     }
@@ -104,11 +104,11 @@ class ElasticDriveProblem : public TabledProblem {
     mech::Trajectory tr;
     if (m_.startup_curves) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 2e-3, nullptr, m_.start_speed);
-      if (st.status != mech::DynamicsStatus::ok) return {};
+      if (st.status != mech::Status::ok) return {};
       tr = st.trajectory;
     } else {
       const auto s = mech::steady_by_shooting(d, m_.ode, 720, m_.warmup, m_.start_speed);
-      if (s.status != mech::DynamicsStatus::ok) return {};
+      if (s.status != mech::Status::ok) return {};
       tr = s.cycle;
     }
     for (size_t i = 0; i < tr.t.size(); ++i)

@@ -17,17 +17,6 @@
 
 namespace mech {
 
-const char* to_string(DynamicsStatus s) {
-  switch (s) {
-    case DynamicsStatus::ok: return "ok";
-    case DynamicsStatus::too_many_steps: return "too_many_steps";
-    case DynamicsStatus::solver_failure: return "solver_failure";
-    case DynamicsStatus::stalled: return "stalled";
-    case DynamicsStatus::no_periodic_orbit: return "no_periodic_orbit";
-  }
-  return "unknown";
-}
-
 namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
@@ -116,11 +105,11 @@ class Integrator {
 
   // Advances to t (interpolated output); the state is in y(). max_steps
   // bounds the whole integration, not one call.
-  DynamicsStatus advance(double t) { return evolve(t, false); }
+  Status advance(double t) { return evolve(t, false); }
 
   // One internal step, never past `stop`; the state is in y() at time(), and
   // dense() interpolates within the step just taken.
-  DynamicsStatus step(double stop) {
+  Status step(double stop) {
     if (method_ == OdeMethod::erk) ERKStepSetStopTime(mem_, stop);
     else CVodeSetStopTime(mem_, stop);
     return evolve(stop, true);
@@ -140,18 +129,18 @@ class Integrator {
   }
 
  private:
-  DynamicsStatus evolve(double t, bool one_step) {
+  Status evolve(double t, bool one_step) {
     const long left = max_steps_ - steps();
-    if (left <= 0) return DynamicsStatus::too_many_steps;
+    if (left <= 0) return Status::too_many_steps;
     if (method_ == OdeMethod::erk) ERKStepSetMaxNumSteps(mem_, left);
     else CVodeSetMaxNumSteps(mem_, left);
     const int flag = method_ == OdeMethod::erk
                          ? ERKStepEvolve(mem_, t, y_, &reached_, one_step ? ARK_ONE_STEP : ARK_NORMAL)
                          : CVode(mem_, t, y_, &reached_, one_step ? CV_ONE_STEP : CV_NORMAL);
-    if (flag >= 0) return DynamicsStatus::ok;
-    if (stalled_) return DynamicsStatus::stalled;
-    if (flag == CV_TOO_MUCH_WORK) return DynamicsStatus::too_many_steps;  // == ARK_TOO_MUCH_WORK
-    return DynamicsStatus::solver_failure;
+    if (flag >= 0) return Status::ok;
+    if (stalled_) return Status::stalled;
+    if (flag == CV_TOO_MUCH_WORK) return Status::too_many_steps;  // == ARK_TOO_MUCH_WORK
+    return Status::integration_failed;
   }
   static int rhs(double t, N_Vector y, N_Vector dy, void* data) {
     auto* self = static_cast<Integrator*>(data);
@@ -266,7 +255,7 @@ struct Range {
 };
 
 struct Revolution {
-  DynamicsStatus status = DynamicsStatus::ok;
+  Status status = Status::ok;
   double end[kSensitive] = {};  // z at phi2 = 2 pi (quadratures unless bare, S with sensitivities)
   Range coupling, w1, w2;       // over the revolution: at its ends and interior extrema
   long steps = 0;
@@ -356,7 +345,7 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
     // v'' e^2 / 2), so a few iterations reach the integration's accuracy.
     double a = 0;
     int sample = 1;
-    while (a < kTwoPi && (r.status = in.step(kTwoPi)) == DynamicsStatus::ok) {
+    while (a < kTwoPi && (r.status = in.step(kTwoPi)) == Status::ok) {
       const double b = in.time();
       watched(b, in.y(), v1, g1);
       for (int i = 0; i < 3 && rec.extrema; ++i) {
@@ -478,7 +467,7 @@ struct Shooting {
   double P[3][3] = {};  // start = P u
   double R[3][3] = {};  // F = R (end - start)
   long steps = 0;
-  DynamicsStatus failure = DynamicsStatus::ok;
+  Status failure = Status::ok;
   double u[3] = {}, start[3] = {};  // the last evaluation's
   Revolution last;
   bool valid = false, sensitive = false;
@@ -496,7 +485,7 @@ struct Shooting {
     sensitive = with_jacobian;
     last = revolution(*d, *o, scale, start, {.sensitivities = sensitive});
     steps += last.steps;
-    valid = last.status == DynamicsStatus::ok;
+    valid = last.status == Status::ok;
     if (!valid) failure = last.status;
     if (valid && sensitive) multiplier = largest_multiplier(last, n == 1);
     return valid;
@@ -539,7 +528,7 @@ SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta
   for (s.iterations = 1; s.iterations <= max_cycles; ++s.iterations) {
     const Revolution r = revolution(d, o, scale, start, {.extrema = false});
     s.steps += r.steps;
-    if (r.status != DynamicsStatus::ok) {
+    if (r.status != Status::ok) {
       s.status = r.status;
       s.message = "integration failed in revolution " + std::to_string(s.iterations);
       return s;
@@ -560,7 +549,7 @@ SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta
       return s;
     }
   }
-  s.status = DynamicsStatus::no_periodic_orbit;
+  s.status = Status::not_converged;
   s.message = "the state still changed after " + std::to_string(max_cycles) + " revolutions";
   return s;
 }
@@ -571,7 +560,7 @@ bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double 
                    double* guess) {
   const Startup st = simulate_startup(d, o, t, 1e-3, nullptr, w0);
   const Trajectory& tr = st.trajectory;
-  if (st.status != DynamicsStatus::ok || tr.phi2.back() < kTwoPi) return false;
+  if (st.status != Status::ok || tr.phi2.back() < kTwoPi) return false;
   const double target = kTwoPi * std::floor(tr.phi2.back() / kTwoPi);
   size_t i = tr.phi2.size() - 1;
   while (i > 0 && tr.phi2[i - 1] >= target) --i;
@@ -620,10 +609,10 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   // contraction) unless the first residual is itself down in the noise: then
   // the second takes the sensitivities for the exact multiplier.
   const bool guess_periodic = f0 <= kNoiseTol * o.rtol;
-  bool converged = r0.status == DynamicsStatus::ok && sh.evaluate(x0, guess_periodic);
+  bool converged = r0.status == Status::ok && sh.evaluate(x0, guess_periodic);
   // The two revolutions from the guess are what a machine would run: if one
   // fails (stall, step budget, solver), so does every other way to the orbit.
-  const DynamicsStatus from_guess = r0.status != DynamicsStatus::ok ? r0.status : sh.failure;
+  const Status from_guess = r0.status != Status::ok ? r0.status : sh.failure;
   if (converged) {
     double f1 = 0;
     sh.residual(f);
@@ -631,7 +620,7 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
     converged = f1 <= ftol;
     if (!guess_periodic) sh.multiplier = f1 / f0;
   }
-  if (!converged && r0.status == DynamicsStatus::ok && sh.valid) {
+  if (!converged && r0.status == Status::ok && sh.valid) {
     Context ctx;
     N_Vector u = N_VNew_Serial(sh.n, ctx.ctx), ones = N_VNew_Serial(sh.n, ctx.ctx);
     std::copy(x0, x0 + sh.n, N_VGetArrayPointer(u));
@@ -669,11 +658,11 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   }
   s.steps = sh.steps;
   if (!converged) {
-    s.status = from_guess != DynamicsStatus::ok ? from_guess : DynamicsStatus::no_periodic_orbit;
+    s.status = from_guess != Status::ok ? from_guess : Status::not_converged;
     const std::string trial =
-        sh.failure != DynamicsStatus::ok ? std::string(", a trial revolution: ") + to_string(sh.failure) : "";
-    s.message = from_guess != DynamicsStatus::ok
-                    ? std::string("the integration from the first guess failed: ") + to_string(from_guess)
+        sh.failure != Status::ok ? ", a trial revolution: " + std::string(to_string(sh.failure)) : "";
+    s.message = from_guess != Status::ok
+                    ? "the integration from the first guess failed: " + std::string(to_string(from_guess))
                     : "shooting did not converge (KINSOL flag " + std::to_string(flag) + trial + ")";
     return s;
   }
@@ -701,7 +690,7 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
     // Over a periodic cycle the motor's mean moment (per crank angle) must
     // cover the resistance's; Kloss's curve never exceeds its critical torque.
     SteadyCycle s;
-    s.status = DynamicsStatus::stalled;
+    s.status = Status::stalled;
     s.message = "the mean resistance " + std::to_string(mean) + " N m exceeds the motor's largest moment " +
                 std::to_string(most) + " N m at the crank";
     return s;
@@ -710,27 +699,27 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
   rigid_guess(d, mean, guess);
   if (warmup > 0 && !startup_guess(d, o, warmup, initial_speed, guess)) {
     SteadyCycle s;
-    s.status = DynamicsStatus::stalled;
+    s.status = Status::stalled;
     s.message = "the start-up did not complete a revolution in " + std::to_string(warmup) + " s";
     return s;
   }
   SteadyCycle s = shoot_from(d, o, samples, theta_scale, guess);
   // An integration from the guess that fails (stall, step budget, solver)
   // would fail again revolution by revolution: that is the answer.
-  if (s.status != DynamicsStatus::ok && s.status != DynamicsStatus::no_periodic_orbit) return s;
-  if (s.status == DynamicsStatus::ok && s.largest_multiplier < 1) return s;
+  if (s.status != Status::ok && s.status != Status::not_converged) return s;
+  if (s.status == Status::ok && s.largest_multiplier < 1) return s;
   // Newton failed (a poor start near a resonance) or found an orbit the
   // machine cannot hold (a multiplier outside the unit circle): integrate
   // revolution after revolution from the guess instead, which follows the
   // orbit the machine itself settles on.
   const std::string why =
-      s.status == DynamicsStatus::ok
+      s.status == Status::ok
           ? "shooting found an unstable orbit (multiplier " + std::to_string(s.largest_multiplier) + ")"
           : "shooting failed: " + s.message;
   SteadyCycle c = cycles_from(d, o, theta_scale, guess, 300, kNoiseTol * o.rtol, samples);
   c.steps += s.steps;
   c.message =
-      why + (c.status == DynamicsStatus::ok ? "; found by integrating revolutions" : "; " + c.message);
+      why + (c.status == Status::ok ? "; found by integrating revolutions" : "; " + c.message);
   return c;
 }
 
@@ -765,7 +754,7 @@ Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_en
   for (int k = 1; k <= n; ++k) {
     const double t = std::min(t_end, k * dt_out);
     out.status = in.advance(t);
-    if (out.status != DynamicsStatus::ok) {
+    if (out.status != Status::ok) {
       out.message = std::string("start-up integration stopped at t = ") + std::to_string(tr.t.back());
       break;
     }
@@ -773,7 +762,7 @@ Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_en
   }
   out.steps = in.steps();
   out.final_speed = tr.w2.back();
-  if (steady && steady->status == DynamicsStatus::ok && out.status == DynamicsStatus::ok) {
+  if (steady && steady->status == Status::ok && out.status == Status::ok) {
     // Per revolution peak |coupling| against the steady one: the first
     // revolution from which all stay within 1%.
     std::vector<std::pair<double, double>> revs;  // (start time, peak)

@@ -3,25 +3,17 @@
 // state found directly by shooting over one crank revolution with KINSOL
 // (Newton with the monodromy matrix from the variational equations), or by
 // integrating cycle after cycle. Failures (too many steps, a stalled motor,
-// no periodic orbit) are statuses, never exceptions.
+// no periodic orbit: mech::Status) are statuses, never exceptions.
 #pragma once
 #include <string>
 #include <vector>
 
 #include "mech/elastic_drive.hpp"
+#include "mech/status.hpp"
 
 namespace mech {
 
 enum class OdeMethod { bdf, adams, erk };
-
-enum class DynamicsStatus {
-  ok,
-  too_many_steps,     // the integrator hit its step limit
-  solver_failure,     // error test or Newton (corrector) failures in the integrator
-  stalled,            // the crank stopped or turned back: no steady motion
-  no_periodic_orbit,  // the shooting Newton iteration did not converge
-};
-const char* to_string(DynamicsStatus s);
 
 // bdf, adams: CVODE (BDF with Newton and a dense autodiff Jacobian; Adams
 // with functional iteration, for non-stiff motion); erk: ARKODE ERKStep,
@@ -39,7 +31,7 @@ struct Trajectory {
 };
 
 struct SteadyCycle {
-  DynamicsStatus status = DynamicsStatus::ok;
+  Status status = Status::ok;
   std::string message;
   double theta0 = 0, w10 = 0, w20 = 0;  // the periodic state at phi2 = 0 (mod 2 pi)
   double period = 0;                    // time of one crank revolution [s]
@@ -79,7 +71,7 @@ SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max
                              double tol = 1e-9, int samples = 720);
 
 struct Startup {
-  DynamicsStatus status = DynamicsStatus::ok;
+  Status status = Status::ok;
   std::string message;
   Trajectory trajectory;
   double peak_coupling = 0;    // max |coupling moment| during the run [N m]
