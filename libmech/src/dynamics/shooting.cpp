@@ -1,191 +1,24 @@
-#include "mech/drive_dynamics.hpp"
-
-#include <arkode/arkode_erkstep.h>
-#include <cvodes/cvodes.h>
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <Eigen/Eigenvalues>
-#include <algorithm>
 #include <cmath>
-#include <functional>
-#include <numbers>
-#include <stdexcept>
+#include <string>
+
+#include "internal.hpp"
 
 namespace mech {
-
+namespace dynamics {
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
-constexpr int kStall = 1;  // recoverable-error code a right-hand side returns when the crank stops
-constexpr int kMaxStates = 18;  // the largest system integrated (the orbit with its sensitivities)
-constexpr int kMaxRhs = 9;      // the most components an autodiff Jacobian differentiates
 // The periodicity residual of a revolution carries the revolution's global
 // integration error, measured at 10-400 rtol on these drives (scaled states):
 // Newton aims at kPeriodicTol rtol and, where that noise stops its line
 // search, accepts kNoiseTol rtol (the start is then as good as the
 // integration that defines it).
 constexpr double kPeriodicTol = 100, kNoiseTol = 1000;
-
-// SUNDIALS prints its warnings and errors to stderr by default; every outcome
-// is a status here, so they are silenced.
-void silent(int, const char*, const char*, char*, void*) {}
-
-// One SUNDIALS context per integration (they are cheap and not thread-shared).
-struct Context {
-  SUNContext ctx = nullptr;
-  Context() {
-    if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
-  }
-  ~Context() { SUNContext_Free(&ctx); }
-};
-
-// y' = f(t, y) with an optional dense Jacobian, on CVODE (BDF, Adams; Newton
-// with a dense direct solver) or ARKODE ERKStep (explicit, no Jacobian).
-class Integrator {
- public:
-  using Rhs = std::function<int(double, const double*, double*)>;
-  using Jac = std::function<void(double, const double*, double*)>;  // row-major n x n
-
-  // atol: one absolute tolerance per component (nullptr: o.atol for all).
-  Integrator(int n, Rhs f, Jac j, const OdeOptions& o, double t0, const double* y0,
-             const double* atol = nullptr)
-      : n_(n), f_(std::move(f)), j_(std::move(j)), method_(o.method), max_steps_(o.max_steps) {
-    y_ = N_VNew_Serial(n, ctx_.ctx);
-    // Fused vector operations: a stage combination is one loop, not a chain
-    // of pairwise sums (the per-call overhead dominates on these few states).
-    N_VEnableFusedOps_Serial(y_, SUNTRUE);
-    std::copy(y0, y0 + n, N_VGetArrayPointer(y_));
-    atol_ = N_VNew_Serial(n, ctx_.ctx);
-    work_ = N_VNew_Serial(n, ctx_.ctx);
-    if (atol) std::copy(atol, atol + n, N_VGetArrayPointer(atol_));
-    else N_VConst(o.atol, atol_);
-    if (method_ == OdeMethod::erk) {
-      mem_ = ERKStepCreate(rhs, t0, y_, ctx_.ctx);
-      ERKStepSVtolerances(mem_, o.rtol, atol_);
-      ERKStepSetTableNum(mem_, ARKODE_DORMAND_PRINCE_7_4_5);  // order 5 with a 4th-order error estimate
-      ERKStepSetUserData(mem_, this);
-      ERKStepSetMaxNumSteps(mem_, o.max_steps);
-      ERKStepSetErrHandlerFn(mem_, silent, nullptr);
-    } else {
-      mem_ = CVodeCreate(method_ == OdeMethod::bdf ? CV_BDF : CV_ADAMS, ctx_.ctx);
-      CVodeInit(mem_, rhs, t0, y_);
-      CVodeSVtolerances(mem_, o.rtol, atol_);
-      CVodeSetUserData(mem_, this);
-      CVodeSetMaxNumSteps(mem_, o.max_steps);
-      CVodeSetErrHandlerFn(mem_, silent, nullptr);
-      if (method_ == OdeMethod::adams) {
-        // Adams is for non-stiff motion: functional (fixed-point) iteration,
-        // no Jacobian or linear solve (as LSODA does in its non-stiff mode).
-        NLS_ = SUNNonlinSol_FixedPoint(y_, 0, ctx_.ctx);
-        CVodeSetNonlinearSolver(mem_, NLS_);
-      } else {
-        A_ = SUNDenseMatrix(n, n, ctx_.ctx);
-        LS_ = SUNLinSol_Dense(y_, A_, ctx_.ctx);
-        CVodeSetLinearSolver(mem_, LS_, A_);
-        if (j_) CVodeSetJacFn(mem_, jac);
-      }
-    }
-  }
-  ~Integrator() {
-    if (method_ == OdeMethod::erk) ERKStepFree(&mem_);
-    else CVodeFree(&mem_);
-    if (LS_) SUNLinSolFree(LS_);
-    if (NLS_) SUNNonlinSolFree(NLS_);
-    if (A_) SUNMatDestroy(A_);
-    N_VDestroy(y_);
-    N_VDestroy(atol_);
-    N_VDestroy(work_);
-  }
-  Integrator(const Integrator&) = delete;
-  Integrator& operator=(const Integrator&) = delete;
-
-  // Advances to t (interpolated output); the state is in y(). max_steps
-  // bounds the whole integration, not one call.
-  Status advance(double t) { return evolve(t, false); }
-
-  // One internal step, never past `stop`; the state is in y() at time(), and
-  // dense() interpolates within the step just taken.
-  Status step(double stop) {
-    if (method_ == OdeMethod::erk) ERKStepSetStopTime(mem_, stop);
-    else CVodeSetStopTime(mem_, stop);
-    return evolve(stop, true);
-  }
-  void dense(double t, double* out) {
-    if (method_ == OdeMethod::erk) ERKStepGetDky(mem_, t, 0, work_);
-    else CVodeGetDky(mem_, t, 0, work_);
-    std::copy(N_VGetArrayPointer(work_), N_VGetArrayPointer(work_) + n_, out);
-  }
-  const double* y() const { return N_VGetArrayPointer(y_); }
-  double time() const { return reached_; }
-  long steps() const {
-    long s = 0;
-    if (method_ == OdeMethod::erk) ERKStepGetNumSteps(mem_, &s);
-    else CVodeGetNumSteps(mem_, &s);
-    return s;
-  }
-
- private:
-  Status evolve(double t, bool one_step) {
-    const long left = max_steps_ - steps();
-    if (left <= 0) return Status::too_many_steps;
-    if (method_ == OdeMethod::erk) ERKStepSetMaxNumSteps(mem_, left);
-    else CVodeSetMaxNumSteps(mem_, left);
-    const int flag = method_ == OdeMethod::erk
-                         ? ERKStepEvolve(mem_, t, y_, &reached_, one_step ? ARK_ONE_STEP : ARK_NORMAL)
-                         : CVode(mem_, t, y_, &reached_, one_step ? CV_ONE_STEP : CV_NORMAL);
-    if (flag >= 0) return Status::ok;
-    if (stalled_) return Status::stalled;
-    if (flag == CV_TOO_MUCH_WORK) return Status::too_many_steps;  // == ARK_TOO_MUCH_WORK
-    return Status::integration_failed;
-  }
-  static int rhs(double t, N_Vector y, N_Vector dy, void* data) {
-    auto* self = static_cast<Integrator*>(data);
-    const int r = self->f_(t, N_VGetArrayPointer(y), N_VGetArrayPointer(dy));
-    if (r == kStall) self->stalled_ = true;
-    return r;
-  }
-  static int jac(double t, N_Vector y, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector,
-                 N_Vector) {
-    auto* self = static_cast<Integrator*>(data);
-    double m[kMaxStates * kMaxStates];
-    self->j_(t, N_VGetArrayPointer(y), m);
-    for (int r = 0; r < self->n_; ++r)
-      for (int c = 0; c < self->n_; ++c) SM_ELEMENT_D(J, r, c) = m[r * self->n_ + c];
-    return 0;
-  }
-
-  Context ctx_;
-  int n_;
-  Rhs f_;
-  Jac j_;
-  double reached_ = 0;
-  OdeMethod method_;
-  long max_steps_;
-  N_Vector y_ = nullptr, atol_ = nullptr, work_ = nullptr;
-  void* mem_ = nullptr;
-  SUNMatrix A_ = nullptr;
-  SUNLinearSolver LS_ = nullptr;
-  SUNNonlinearSolver NLS_ = nullptr;
-  bool stalled_ = false;
-};
-
-// Dense Jacobian of a templated right-hand side g(y, dy) of the first M of
-// n components by forward autodiff, row-major n x n (columns M..n-1 zero:
-// quadratures do not feed back).
-template <int M, class G>
-void autodiff_jacobian(int n, const double* y, G&& g, double* J) {
-  using D = DualN<M>;
-  D yd[M], dd[kMaxRhs];
-  for (int i = 0; i < M; ++i) yd[i] = D(y[i], M, i);
-  g(yd, dd);
-  std::fill(J, J + n * n, 0.0);
-  for (int r = 0; r < n && r < kMaxRhs; ++r)
-    for (int c = 0; c < M; ++c) J[r * n + c] = dd[r].derivatives()[c];
-}
 
 // The system in the crank angle phi2 as the independent variable, over one
 // revolution: z = (theta, w1, w2 | t, int M dt, int M^2 dt, int P_motor dt,
@@ -231,21 +64,6 @@ void sensitive_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi
   for (int i = 0; i < kPlain; ++i) dz[i] = dd[i].value();
   for (int i = 0; i < kOrbit; ++i)
     for (int j = 0; j < kOrbit; ++j) dz[kPlain + 3 * i + j] = dd[i].derivatives()[j];
-}
-
-// Appends one sample of a trajectory; returns its coupling moment (none in
-// the rigid drive).
-double append(Trajectory& tr, const ElasticDrive& d, double t, double phi2, double theta, double w1,
-              double w2) {
-  const double m = d.fidelity == DriveFidelity::rigid ? 0.0 : coupling_moment(d, theta, w1, w2);
-  tr.t.push_back(t);
-  tr.phi2.push_back(phi2);
-  tr.theta.push_back(theta);
-  tr.w1.push_back(w1);
-  tr.w2.push_back(w2);
-  tr.coupling.push_back(m);
-  tr.motor_torque.push_back(d.motor.torque(w1 * d.gear_ratio));
-  return m;
 }
 
 // Smallest and largest value seen.
@@ -554,23 +372,6 @@ SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta
   return s;
 }
 
-// The state (theta, w1, w2) where a start-up from `w0` last crossed a whole
-// revolution of the crank after t seconds; false if it stalled or never turned.
-bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double w0,
-                   double* guess) {
-  const Startup st = simulate_startup(d, o, t, 1e-3, nullptr, w0);
-  const Trajectory& tr = st.trajectory;
-  if (st.status != Status::ok || tr.phi2.back() < kTwoPi) return false;
-  const double target = kTwoPi * std::floor(tr.phi2.back() / kTwoPi);
-  size_t i = tr.phi2.size() - 1;
-  while (i > 0 && tr.phi2[i - 1] >= target) --i;
-  const double a = (target - tr.phi2[i - 1]) / (tr.phi2[i] - tr.phi2[i - 1]);
-  guess[0] = tr.theta[i - 1] + a * (tr.theta[i] - tr.theta[i - 1]);
-  guess[1] = tr.w1[i - 1] + a * (tr.w1[i] - tr.w1[i - 1]);
-  guess[2] = tr.w2[i - 1] + a * (tr.w2[i] - tr.w2[i - 1]);
-  return guess[2] > 0;
-}
-
 // Newton (KINSOL, line search, the exact Jacobian from the variational
 // equations) on the periodicity residual from `guess`.
 SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, double theta_scale,
@@ -680,6 +481,9 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
 }
 
 }  // namespace
+}  // namespace dynamics
+
+using namespace dynamics;
 
 SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
                                double warmup, double initial_speed) {
@@ -729,62 +533,6 @@ SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max
   double start[3];
   rigid_guess(d, res.mean, start);
   return cycles_from(d, o, twist_scale(d, res), start, max_cycles, tol, samples);
-}
-
-Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
-                         const SteadyCycle* steady, double initial_speed) {
-  Startup out;
-  const double y0[4] = {0, 0, initial_speed, initial_speed};
-  const PhaseRotation shift(d.phase_shift);
-  auto f = [&](double, const double* y, double* dy) {
-    drive_rhs(d, shift, y, dy);
-    return 0;
-  };
-  auto j = [&](double, const double* y, double* J) {
-    autodiff_jacobian<4>(4, y, [&](const DualN<4>* yy, DualN<4>* dy) { drive_rhs(d, shift, yy, dy); }, J);
-  };
-  Integrator in(4, f, j, o, 0.0, y0);
-  Trajectory& tr = out.trajectory;
-  auto record = [&](double t, const double* y) {
-    const double m = append(tr, d, t, y[1], y[0] - y[1], y[2], y[3]);
-    out.peak_coupling = std::max(out.peak_coupling, std::abs(m));
-  };
-  record(0, y0);
-  const int n = static_cast<int>(std::ceil(t_end / dt_out));
-  for (int k = 1; k <= n; ++k) {
-    const double t = std::min(t_end, k * dt_out);
-    out.status = in.advance(t);
-    if (out.status != Status::ok) {
-      out.message = std::string("start-up integration stopped at t = ") + std::to_string(tr.t.back());
-      break;
-    }
-    record(t, in.y());
-  }
-  out.steps = in.steps();
-  out.final_speed = tr.w2.back();
-  if (steady && steady->status == Status::ok && out.status == Status::ok) {
-    // Per revolution peak |coupling| against the steady one: the first
-    // revolution from which all stay within 1%.
-    std::vector<std::pair<double, double>> revs;  // (start time, peak)
-    double peak = 0, start = 0;
-    int rev = 0;
-    for (size_t i = 0; i < tr.t.size(); ++i) {
-      const int r = static_cast<int>(std::floor(tr.phi2[i] / kTwoPi));
-      if (r != rev) {
-        revs.emplace_back(start, peak);
-        rev = r, peak = 0, start = tr.t[i];
-      }
-      peak = std::max(peak, std::abs(tr.coupling[i]));
-    }
-    for (size_t i = revs.size(); i-- > 0;) {
-      if (std::abs(revs[i].second - steady->coupling_peak) > 0.01 * steady->coupling_peak) {
-        out.time_to_steady = i + 1 < revs.size() ? revs[i + 1].first : -1;
-        break;
-      }
-      if (i == 0) out.time_to_steady = 0;
-    }
-  }
-  return out;
 }
 
 }  // namespace mech
