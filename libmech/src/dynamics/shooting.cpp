@@ -30,6 +30,8 @@ constexpr double kPeriodicTol = 100, kNoiseTol = 1000;
 constexpr int kOrbit = 3, kQuadratures = 6, kPlain = kOrbit + kQuadratures;
 constexpr int kSensitive = kPlain + kOrbit * kOrbit;
 
+// dz = f(phi2, z) for the orbit and (with `quadratures`) the quadratures:
+// reads z[0..2] only.
 template <class S>
 void angle_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi2, const S* z, S* dz,
                bool quadratures = true) {
@@ -111,15 +113,14 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
   // Newton matrix of the implicit methods: df/dz of the orbit and the
   // quadratures, and the same 3 x 3 block on each column of S (the second
   // derivatives left out: they only slow the corrector, never the answer).
+  // The right-hand side reads only the orbit's states (nothing feeds back),
+  // so only they are differentiated, and the quadratures' rows exist only
+  // when they are integrated (n > 3): z has n components, no more.
   auto j = [&](double phi2, const double* z, double* J) {
-    autodiff_jacobian<kOrbit>(n, z,
-                              [&](const DualN<kOrbit>* zz, DualN<kOrbit>* dz) {
-                                DualN<kOrbit> full[kPlain];
-                                for (int i = 0; i < kPlain; ++i)
-                                  full[i] = i < kOrbit ? zz[i] : DualN<kOrbit>(z[i]);
-                                angle_rhs(d, shift, phi2, full, dz);
-                              },
-                              J);
+    autodiff_jacobian<kOrbit>(
+        n, z,
+        [&](const DualN<kOrbit>* zz, DualN<kOrbit>* dz) { angle_rhs(d, shift, phi2, zz, dz, n > kOrbit); },
+        J);
     for (int c = 0; c < (sensitivities ? kOrbit : 0); ++c)  // column c of S: rows kPlain + 3 i + c
       for (int i = 0; i < kOrbit; ++i)
         for (int k = 0; k < kOrbit; ++k) J[(kPlain + 3 * i + c) * n + kPlain + 3 * k + c] = J[i * n + k];
