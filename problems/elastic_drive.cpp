@@ -91,6 +91,10 @@ class ElasticDriveProblem : public TabledProblem {
     put("largest_multiplier", s.largest_multiplier);
     if (want("startup_peak_coupling_torque") || want("time_to_steady")) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
+      if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
+        e.status = mech::to_string(st.status);
+        return e;
+      }
       put("startup_peak_coupling_torque", st.peak_coupling * side);
       put("time_to_steady", st.time_to_steady);
     }

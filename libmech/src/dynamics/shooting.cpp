@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "internal.hpp"
 
@@ -291,6 +292,7 @@ struct Shooting {
   Revolution last;
   bool valid = false, sensitive = false;
   double multiplier = 0;  // largest of the last Jacobian's monodromy matrix
+  std::exception_ptr error;  // thrown in a KINSOL callback
 
   // One revolution from P x; with sensitivities (twice the cost of a plain
   // revolution) only when a Jacobian is asked for.
@@ -326,17 +328,53 @@ struct Shooting {
 
 int shooting_residual(N_Vector u, N_Vector F, void* data) {
   auto& s = *static_cast<Shooting*>(data);
-  if (!s.evaluate(N_VGetArrayPointer(u), false)) return 1;  // recoverable: KINSOL's line search backs off
-  s.residual(N_VGetArrayPointer(F));
-  return 0;
+  return guarded("residual", s.error, [&] {
+    if (!s.evaluate(N_VGetArrayPointer(u), false)) return 1;  // recoverable: KINSOL's line search backs off
+    s.residual(N_VGetArrayPointer(F));
+    return 0;
+  });
 }
 
 int shooting_jacobian(N_Vector u, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector) {
   auto& s = *static_cast<Shooting*>(data);
-  if (!s.evaluate(N_VGetArrayPointer(u), true)) return 1;
-  for (int i = 0; i < s.n; ++i)
-    for (int j = 0; j < s.n; ++j) SM_ELEMENT_D(J, i, j) = s.jacobian(i, j);
-  return 0;
+  return guarded("newton_jacobian", s.error, [&] {
+    if (!s.evaluate(N_VGetArrayPointer(u), true)) return 1;
+    for (int i = 0; i < s.n; ++i)
+      for (int j = 0; j < s.n; ++j) SM_ELEMENT_D(J, i, j) = s.jacobian(i, j);
+    return 0;
+  });
+}
+
+// KINSOL (Newton, line search, the exact Jacobian) on the shooting problem
+// from x, left at its last iterate; returns KINSOL's flag. What a callback
+// threw is rethrown once KINSOL has returned.
+int newton(Shooting& sh, double* x, double ftol, int& iterations) {
+  const Context ctx = new_context();
+  const Vector u = new_vector(sh.n, ctx.get()), ones = new_vector(sh.n, ctx.get());
+  std::copy(x, x + sh.n, N_VGetArrayPointer(u.get()));
+  N_VConst(1.0, ones.get());
+  const Matrix J = new_matrix(sh.n, ctx.get());
+  const LinearSolver LS = new_dense_solver(u.get(), J.get(), ctx.get());
+  const Memory kin(setup(KINCreate(ctx.get()), "KINCreate"), [](void* m) { KINFree(&m); });
+  void* k = kin.get();
+  setup(KINInit(k, shooting_residual, u.get()), "KINInit");
+  setup(KINSetUserData(k, &sh), "KINSetUserData");
+  setup(KINSetErrHandlerFn(k, silent, nullptr), "KINSetErrHandlerFn");
+  setup(KINSetLinearSolver(k, LS.get(), J.get()), "KINSetLinearSolver");
+  setup(KINSetJacFn(k, shooting_jacobian), "KINSetJacFn");
+  setup(KINSetFuncNormTol(k, ftol), "KINSetFuncNormTol");
+  setup(KINSetScaledStepTol(k, ftol), "KINSetScaledStepTol");  // a step this small is inside the noise
+  setup(KINSetNumMaxIters(k, 50), "KINSetNumMaxIters");
+  // A fresh Jacobian every iteration: quadratic convergence, and the last
+  // one gives the orbit's multipliers.
+  setup(KINSetMaxSetupCalls(k, 1), "KINSetMaxSetupCalls");
+  const int flag = KINSol(k, u.get(), KIN_LINESEARCH, ones.get(), ones.get());
+  if (sh.error) std::rethrow_exception(std::exchange(sh.error, nullptr));
+  long iters = 0;
+  setup(KINGetNumNonlinSolvIters(k, &iters), "KINGetNumNonlinSolvIters");
+  iterations = static_cast<int>(iters);
+  std::copy(N_VGetArrayPointer(u.get()), N_VGetArrayPointer(u.get()) + sh.n, x);
+  return flag;
 }
 
 // Revolution after revolution from `start` until the state repeats.
@@ -423,37 +461,11 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
     if (!guess_periodic) sh.multiplier = f1 / f0;
   }
   if (!converged && r0.status == Status::ok && sh.valid) {
-    Context ctx;
-    N_Vector u = N_VNew_Serial(sh.n, ctx.ctx), ones = N_VNew_Serial(sh.n, ctx.ctx);
-    std::copy(x0, x0 + sh.n, N_VGetArrayPointer(u));
-    N_VConst(1.0, ones);
-    void* kin = KINCreate(ctx.ctx);
-    KINInit(kin, shooting_residual, u);
-    KINSetUserData(kin, &sh);
-    KINSetErrHandlerFn(kin, silent, nullptr);
-    SUNMatrix J = SUNDenseMatrix(sh.n, sh.n, ctx.ctx);
-    SUNLinearSolver LS = SUNLinSol_Dense(u, J, ctx.ctx);
-    KINSetLinearSolver(kin, LS, J);
-    KINSetJacFn(kin, shooting_jacobian);
-    KINSetFuncNormTol(kin, ftol);
-    KINSetScaledStepTol(kin, ftol);  // a step this small is inside the noise
-    KINSetNumMaxIters(kin, 50);
-    // A fresh Jacobian every iteration: quadratic convergence, and the last
-    // one gives the orbit's multipliers.
-    KINSetMaxSetupCalls(kin, 1);
-    flag = KINSol(kin, u, KIN_LINESEARCH, ones, ones);
-    long iters = 0;
-    KINGetNumNonlinSolvIters(kin, &iters);
-    s.iterations = static_cast<int>(iters);
+    flag = newton(sh, x0, ftol, s.iterations);
     // Stopped by a tiny step or a failed line search: accepted if the
     // residual is within the noise.
     const bool noise_limited = flag == KIN_STEP_LT_STPTOL || flag == KIN_LINESEARCH_NONCONV;
-    converged = (flag >= 0 || noise_limited) && sh.evaluate(N_VGetArrayPointer(u), false);
-    KINFree(&kin);
-    SUNLinSolFree(LS);
-    SUNMatDestroy(J);
-    N_VDestroy(u);
-    N_VDestroy(ones);
+    converged = (flag >= 0 || noise_limited) && sh.evaluate(x0, false);
     sh.residual(f);
     for (int i = 0; i < sh.n; ++i)
       converged = converged && (!noise_limited || std::abs(f[i]) <= kNoiseTol * o.rtol);
@@ -486,8 +498,10 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
 
 using namespace dynamics;
 
-SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
-                               double warmup, double initial_speed) {
+namespace {
+
+SteadyCycle shooting(const ElasticDrive& d, const OdeOptions& o, int samples, double warmup,
+                     double initial_speed) {
   const ResistanceSummary res = resistance_summary(d);
   const double mean = res.mean, theta_scale = twist_scale(d, res);
   const double most = d.motor_moment(d.motor.synchronous_speed / d.gear_ratio * (1 - d.motor.critical_slip));
@@ -502,11 +516,9 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
   }
   double guess[3];
   rigid_guess(d, mean, guess);
-  if (warmup > 0 && !startup_guess(d, o, warmup, initial_speed, guess)) {
+  if (warmup > 0) {
     SteadyCycle s;
-    s.status = Status::stalled;
-    s.message = "the start-up did not complete a revolution in " + std::to_string(warmup) + " s";
-    return s;
+    if ((s.status = startup_guess(d, o, warmup, initial_speed, guess, s.message)) != Status::ok) return s;
   }
   SteadyCycle s = shoot_from(d, o, samples, theta_scale, guess);
   // An integration from the guess that fails (stall, step budget, solver)
@@ -528,12 +540,31 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
   return c;
 }
 
+}  // namespace
+
+SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
+                               double warmup, double initial_speed) {
+  return entry_point<SteadyCycle>(
+      d, o,
+      {{"samples", double(samples), samples >= 0},
+       {"warm-up time", warmup, warmup >= 0 && std::isfinite(warmup)},
+       {"initial speed", initial_speed, initial_speed >= 0 && std::isfinite(initial_speed)}},
+      [&] { return shooting(d, o, samples, warmup, initial_speed); });
+}
+
 SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max_cycles, double tol,
                              int samples) {
-  const ResistanceSummary res = resistance_summary(d);
-  double start[3];
-  rigid_guess(d, res.mean, start);
-  return cycles_from(d, o, twist_scale(d, res), start, max_cycles, tol, samples);
+  return entry_point<SteadyCycle>(
+      d, o,
+      {{"samples", double(samples), samples >= 0},
+       {"revolutions", double(max_cycles), max_cycles >= 1},
+       {"tolerance", tol, tol > 0 && std::isfinite(tol)}},
+      [&] {
+        const ResistanceSummary res = resistance_summary(d);
+        double start[3];
+        rigid_guess(d, res.mean, start);
+        return cycles_from(d, o, twist_scale(d, res), start, max_cycles, tol, samples);
+      });
 }
 
 }  // namespace mech

@@ -1,53 +1,38 @@
+// The start-up transient in time from phi = 0: the two-mass drive, eqs (29)
+// and (40), sampled at equal steps; the samples kept for charts are bounded
+// and the peak and the time to the steady state are found on the fly, so
+// memory does not grow with the time span and the step budget bounds the work.
+#include <array>
 #include <cmath>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "internal.hpp"
 
 namespace mech {
 namespace dynamics {
+namespace {
 
-// Appends one sample of a trajectory; returns its coupling moment (none in
-// the rigid drive).
-double append(Trajectory& tr, const ElasticDrive& d, double t, double phi2, double theta, double w1,
-              double w2) {
-  const double m = d.fidelity == DriveFidelity::rigid ? 0.0 : coupling_moment(d, theta, w1, w2);
-  tr.t.push_back(t);
-  tr.phi2.push_back(phi2);
-  tr.theta.push_back(theta);
-  tr.w1.push_back(w1);
-  tr.w2.push_back(w2);
-  tr.coupling.push_back(m);
-  tr.motor_torque.push_back(d.motor.torque(w1 * d.gear_ratio));
-  return m;
+// Columns of a trajectory in the order `append` writes a sample.
+std::array<std::vector<double>*, 7> columns(Trajectory& tr) {
+  return {&tr.t, &tr.phi2, &tr.theta, &tr.w1, &tr.w2, &tr.coupling, &tr.motor_torque};
 }
 
-// The state (theta, w1, w2) where a start-up from `w0` last crossed a whole
-// revolution of the crank after t seconds; false if it stalled or never turned.
-bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double w0,
-                   double* guess) {
-  const Startup st = simulate_startup(d, o, t, 1e-3, nullptr, w0);
-  const Trajectory& tr = st.trajectory;
-  if (st.status != Status::ok || tr.phi2.back() < kTwoPi) return false;
-  const double target = kTwoPi * std::floor(tr.phi2.back() / kTwoPi);
-  size_t i = tr.phi2.size() - 1;
-  while (i > 0 && tr.phi2[i - 1] >= target) --i;
-  const double a = (target - tr.phi2[i - 1]) / (tr.phi2[i] - tr.phi2[i - 1]);
-  guess[0] = tr.theta[i - 1] + a * (tr.theta[i] - tr.theta[i - 1]);
-  guess[1] = tr.w1[i - 1] + a * (tr.w1[i] - tr.w1[i - 1]);
-  guess[2] = tr.w2[i - 1] + a * (tr.w2[i] - tr.w2[i - 1]);
-  return guess[2] > 0;
+// Keeps every other sample (the first, third, ...).
+void halve(Trajectory& tr) {
+  for (std::vector<double>* c : columns(tr)) {
+    for (size_t i = 0; 2 * i < c->size(); ++i) (*c)[i] = (*c)[2 * i];
+    c->resize((c->size() + 1) / 2);
+  }
 }
 
-}  // namespace dynamics
-
-using namespace dynamics;
-
-Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
-                         const SteadyCycle* steady, double initial_speed) {
-  Startup out;
-  const double y0[4] = {0, 0, initial_speed, initial_speed};
+// Integrates from phi = 0 with both masses at w0, calling sample(t, y) with
+// y = (phi1, phi2, w1, w2) at t = 0, dt_out, 2 dt_out, ..., t_end until the
+// integration stops; returns its status and steps.
+template <class Sample>
+Status run(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out, double w0,
+           Sample&& sample, long& steps) {
+  const double y0[4] = {0, 0, w0, w0};
   const PhaseRotation shift(d.phase_shift);
   auto f = [&](double, const double* y, double* dy) {
     drive_rhs(d, shift, y, dy);
@@ -57,47 +42,112 @@ Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_en
     autodiff_jacobian<4>(4, y, [&](const DualN<4>* yy, DualN<4>* dy) { drive_rhs(d, shift, yy, dy); }, J);
   };
   Integrator in(4, f, j, o, 0.0, y0);
-  Trajectory& tr = out.trajectory;
-  auto record = [&](double t, const double* y) {
-    const double m = append(tr, d, t, y[1], y[0] - y[1], y[2], y[3]);
-    out.peak_coupling = std::max(out.peak_coupling, std::abs(m));
-  };
-  record(0, y0);
-  const int n = static_cast<int>(std::ceil(t_end / dt_out));
-  for (int k = 1; k <= n; ++k) {
+  sample(0.0, y0);
+  Status status = Status::ok;
+  const double n = std::ceil(t_end / dt_out);  // a double: 1e9 s in 1 ms steps overflows an int
+  for (double k = 1; k <= n && status == Status::ok; ++k) {
     const double t = std::min(t_end, k * dt_out);
-    out.status = in.advance(t);
-    if (out.status != Status::ok) {
-      out.message = std::string("start-up integration stopped at t = ") + std::to_string(tr.t.back());
-      break;
-    }
-    record(t, in.y());
+    if ((status = in.advance(t)) == Status::ok) sample(t, in.y());
   }
-  out.steps = in.steps();
-  out.final_speed = tr.w2.back();
-  if (steady && steady->status == Status::ok && out.status == Status::ok) {
-    // Per revolution peak |coupling| against the steady one: the first
-    // revolution from which all stay within 1%.
-    std::vector<std::pair<double, double>> revs;  // (start time, peak)
-    double peak = 0, start = 0;
-    int rev = 0;
-    for (size_t i = 0; i < tr.t.size(); ++i) {
-      const int r = static_cast<int>(std::floor(tr.phi2[i] / kTwoPi));
-      if (r != rev) {
-        revs.emplace_back(start, peak);
-        rev = r, peak = 0, start = tr.t[i];
-      }
-      peak = std::max(peak, std::abs(tr.coupling[i]));
+  steps = in.steps();
+  return status;
+}
+
+Startup startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
+                const SteadyCycle* steady, double w0) {
+  Startup out;
+  Trajectory& tr = out.trajectory;
+  double last[5] = {};  // the last sample: t, phi2, theta, w1, w2
+  long seen = 0, stride = 1;  // samples so far; every stride-th is kept
+  // Revolution by revolution, the peak |coupling| against the steady one:
+  // `since` is the start of the run of revolutions within 1% of it that
+  // lasts to the end (0: from the start; -1: the last one was off).
+  const bool timed = steady && steady->status == Status::ok;
+  const double target = timed ? steady->coupling_peak : 0;
+  double peak = 0, start = 0, since = 0;
+  long rev = 0, revolutions = 0;
+  auto sample = [&](double t, const double* y) {
+    const double phi2 = y[1], theta = y[0] - y[1], m = sample_coupling(d, theta, y[2], y[3]);
+    out.peak_coupling = std::max(out.peak_coupling, std::abs(m));
+    const auto r = static_cast<long>(std::floor(phi2 / kTwoPi));
+    if (r != rev) {  // a revolution ended at the previous sample
+      ++revolutions;
+      if (std::abs(peak - target) > 0.01 * target) since = -1;
+      else if (since < 0) since = start;
+      rev = r, peak = 0, start = t;
     }
-    for (size_t i = revs.size(); i-- > 0;) {
-      if (std::abs(revs[i].second - steady->coupling_peak) > 0.01 * steady->coupling_peak) {
-        out.time_to_steady = i + 1 < revs.size() ? revs[i + 1].first : -1;
-        break;
-      }
-      if (i == 0) out.time_to_steady = 0;
+    peak = std::max(peak, std::abs(m));
+    if (seen++ % stride == 0) {
+      append(tr, d, t, phi2, theta, y[2], y[3]);
+      if (tr.t.size() == static_cast<size_t>(kStartupSamples)) halve(tr), stride *= 2;
     }
-  }
+    last[0] = t, last[1] = phi2, last[2] = theta, last[3] = y[2], last[4] = y[3];
+  };
+  out.status = run(d, o, t_end, dt_out, w0, sample, out.steps);
+  if (tr.t.back() != last[0]) append(tr, d, last[0], last[1], last[2], last[3], last[4]);  // the end
+  out.final_speed = last[4];
+  if (out.status != Status::ok)
+    out.message = "start-up integration stopped at t = " + std::to_string(last[0]);
+  else if (timed)
+    out.time_to_steady = revolutions > 0 ? since : -1;
   return out;
+}
+
+}  // namespace
+
+double sample_coupling(const ElasticDrive& d, double theta, double w1, double w2) {
+  return d.fidelity == DriveFidelity::rigid ? 0.0 : coupling_moment(d, theta, w1, w2);
+}
+
+double append(Trajectory& tr, const ElasticDrive& d, double t, double phi2, double theta, double w1,
+              double w2) {
+  const double m = sample_coupling(d, theta, w1, w2);
+  const double row[7] = {t, phi2, theta, w1, w2, m, d.motor.torque(w1 * d.gear_ratio)};
+  const auto c = columns(tr);
+  for (size_t i = 0; i < c.size(); ++i) c[i]->push_back(row[i]);
+  return m;
+}
+
+Status startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double w0, double* guess,
+                     std::string& why) {
+  // The last upward crossing of a multiple of 2 pi between two samples
+  // (1 ms apart), interpolated linearly.
+  double prev[4] = {}, level = 0, at = 0;  // prev: phi2, theta, w1, w2 at time `at`
+  bool first = true;
+  auto sample = [&](double time, const double* y) {
+    const double now[4] = {y[1], y[0] - y[1], y[2], y[3]};
+    const double l = kTwoPi * std::floor(now[0] / kTwoPi);
+    if (!first && l >= kTwoPi && prev[0] < l) {
+      const double a = (l - prev[0]) / (now[0] - prev[0]);
+      for (int i = 0; i < 3; ++i) guess[i] = prev[i + 1] + a * (now[i + 1] - prev[i + 1]);
+      level = l;
+    }
+    std::copy(now, now + 4, prev);
+    at = time, first = false;
+  };
+  long steps = 0;
+  if (const Status s = run(d, o, t, 1e-3, w0, sample, steps); s != Status::ok) {
+    why = "the warm-up start-up (" + std::to_string(t) + " s) stopped at t = " + std::to_string(at) + " s";
+    return s;
+  }
+  if (level == 0 || level != kTwoPi * std::floor(prev[0] / kTwoPi) || !(guess[2] > 0)) {
+    why = "the start-up did not complete a revolution in " + std::to_string(t) + " s";
+    return Status::stalled;
+  }
+  return Status::ok;
+}
+
+}  // namespace dynamics
+
+using namespace dynamics;
+
+Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
+                         const SteadyCycle* steady, double initial_speed) {
+  return entry_point<Startup>(d, o,
+                              {{"start-up time", t_end, t_end > 0 && std::isfinite(t_end)},
+                               {"output step", dt_out, dt_out > 0 && std::isfinite(dt_out)},
+                               {"initial speed", initial_speed, initial_speed >= 0 && std::isfinite(initial_speed)}},
+                              [&] { return startup(d, o, t_end, dt_out, steady, initial_speed); });
 }
 
 }  // namespace mech
