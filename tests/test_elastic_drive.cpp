@@ -4,7 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "mech/drive_dynamics.hpp"
 #include "opt/config.hpp"
@@ -246,6 +252,224 @@ TEST(Failures, NoPeriodicOrbitWithinTheRevolutionsAllowedIsAStatus) {
   const auto s = mech::steady_by_cycles(scene(), {}, 2, 1e-12);
   EXPECT_EQ(s.status, Status::not_converged) << s.message;
   EXPECT_NE(s.message.find("2 revolutions"), std::string::npos) << s.message;
+}
+
+// Odd inputs are typed statuses before any integration (check()).
+
+TEST(Inputs, RodNoLongerThanItsCrankCannotAssemble) {
+  // At psi = 90 deg the pin is r above the slider axis: a rod of l <= r
+  // cannot reach it (it used to integrate and report 'stalled').
+  for (double l : {0.15, 0.2}) {
+    auto d = scene();
+    d.rod_length = l;  // crank_radius 0.2
+    EXPECT_EQ(mech::check(d), Status::cannot_assemble) << l;
+    const auto s = mech::steady_by_shooting(d, {}, 0, 0, kStart);
+    EXPECT_EQ(s.status, Status::cannot_assemble) << s.message;
+    EXPECT_NE(s.message.find("rod_length"), std::string::npos) << s.message;
+    EXPECT_EQ(mech::steady_by_shooting(d, {}, 0, 3.0, kStart).status, Status::cannot_assemble);
+    EXPECT_EQ(mech::steady_by_cycles(d, {}).status, Status::cannot_assemble);
+    EXPECT_EQ(mech::simulate_startup(d, {}, 1.0, 1e-3).status, Status::cannot_assemble);
+  }
+  auto d = scene();
+  d.rod_length = 0.2000001;  // just longer: assembles
+  EXPECT_EQ(mech::check(d), Status::ok);
+}
+
+TEST(Inputs, NonPhysicalParametersAreInvalid) {
+  // What bounds and grid values may bring: each is invalid_parameter, named
+  // in the message, before the integrator sees it.
+  const double nan = std::nan(""), inf = HUGE_VAL;
+  const std::pair<const char*, void (*)(mech::ElasticDrive&, double)> fields[] = {
+      {"stiffness", [](mech::ElasticDrive& d, double v) { d.stiffness = v; }},
+      {"damping", [](mech::ElasticDrive& d, double v) { d.damping = v; }},
+      {"cart_mass", [](mech::ElasticDrive& d, double v) { d.cart_mass = v; }},
+      {"rod_mass", [](mech::ElasticDrive& d, double v) { d.rod_mass = v; }},
+      {"drive_efficiency", [](mech::ElasticDrive& d, double v) { d.drive_efficiency = v; }},
+      {"rod_length", [](mech::ElasticDrive& d, double v) { d.rod_length = v; }},
+      {"phase_shift", [](mech::ElasticDrive& d, double v) { d.phase_shift = v; }},
+      {"gear_ratio", [](mech::ElasticDrive& d, double v) { d.gear_ratio = v; }},
+      {"critical_slip", [](mech::ElasticDrive& d, double v) { d.motor.critical_slip = v; }},
+  };
+  const std::vector<std::pair<const char*, double>> bad = {
+      {"stiffness", -1000}, {"stiffness", 0},  {"stiffness", nan},      {"stiffness", inf},
+      {"damping", -1},      {"damping", nan},  {"cart_mass", -1},       {"cart_mass", nan},
+      {"rod_mass", -64},    {"drive_efficiency", 0}, {"drive_efficiency", 1.5},
+      {"drive_efficiency", -0.9}, {"rod_length", inf}, {"rod_length", -0.8},
+      {"phase_shift", nan}, {"gear_ratio", 0}, {"critical_slip", 1}};
+  for (const auto& [name, v] : bad) {
+    auto d = scene();
+    for (const auto& [n, set] : fields)
+      if (std::string(n) == name) set(d, v);
+    std::string why;
+    EXPECT_EQ(mech::check(d, &why), Status::invalid_parameter) << name << " = " << v;
+    EXPECT_NE(why.find(name), std::string::npos) << why;
+    const auto s = mech::steady_by_shooting(d, {}, 0, 0, kStart);
+    EXPECT_EQ(s.status, Status::invalid_parameter) << name << " = " << v << ": " << s.message;
+    EXPECT_EQ(mech::simulate_startup(d, {}, 1.0, 1e-3).status, Status::invalid_parameter) << name;
+  }
+  // The domains' closed ends are physical: no damping, an ideal gearbox,
+  // massless carts (the rods still carry inertia).
+  auto d = scene();
+  d.damping = 0;
+  d.drive_efficiency = 1;
+  d.cart_mass = 0;
+  EXPECT_EQ(mech::check(d), Status::ok);
+  // Neither side of the coupling may lose all its inertia (eqs 1, 9).
+  d.rod_mass = 0;
+  EXPECT_EQ(mech::check(d), Status::invalid_parameter);
+  d = scene();
+  d.motor.rotor_inertia = d.coupling_inertia = 0;
+  EXPECT_EQ(mech::check(d), Status::invalid_parameter);
+}
+
+TEST(Inputs, InvalidRunSettingsAreInvalid) {
+  mech::OdeOptions o;
+  o.rtol = 0;
+  EXPECT_EQ(mech::steady_by_shooting(scene(), o, 0, 0, kStart).status, Status::invalid_parameter);
+  o = {};
+  o.atol = std::nan("");
+  EXPECT_EQ(mech::simulate_startup(scene(), o, 1.0, 1e-3).status, Status::invalid_parameter);
+  o = {};
+  o.max_steps = 0;
+  EXPECT_EQ(mech::steady_by_cycles(scene(), o).status, Status::invalid_parameter);
+  const auto st = mech::simulate_startup(scene(), {}, 1.0, 0.0);  // ceil(1 / 0) samples
+  EXPECT_EQ(st.status, Status::invalid_parameter);
+  EXPECT_NE(st.message.find("output step"), std::string::npos) << st.message;
+  EXPECT_EQ(mech::simulate_startup(scene(), {}, std::nan(""), 1e-3).status, Status::invalid_parameter);
+  EXPECT_EQ(mech::steady_by_shooting(scene(), {}, 0, -1.0, kStart).status, Status::invalid_parameter);
+  EXPECT_EQ(mech::steady_by_cycles(scene(), {}, 0).status, Status::invalid_parameter);
+}
+
+TEST(ElasticDriveProblem, GridValueOutsideTheDomainIsInvalidParameter) {
+  // tests/repro/bounds_bypass_domain_negative_stiffness.yaml: a variable's
+  // bounds let c = -1000 through; the evaluation says so.
+  const auto p = problems::make_problem(opt::ConfigNode::parse(
+      "problem: elastic_drive\nvariables: {stiffness: {min: -1e308, max: 1e308}}\n", "<t>"));
+  EXPECT_EQ(p->evaluate(Eigen::VectorXd::Constant(1, -1000.0), {}, false).status, "invalid_parameter");
+}
+
+// No C++ exception crosses a SUNDIALS callback: a throwing callback (here a
+// test hook, mech::callback_hook) ends its solver with the library's
+// unrecoverable flag, and the entry point returns evaluation_error.
+
+struct Injected {
+  static inline std::string target;  // the callback that throws ("" : none)
+  static inline long after = 0;      // calls of it that pass first
+  static inline std::set<std::string> seen;
+  static void hook(const char* callback) {
+    seen.insert(callback);
+    if (target == callback && after-- <= 0) throw std::runtime_error("injected failure in " + target);
+  }
+  Injected(std::string t, long n) {
+    target = std::move(t), after = n, seen.clear();
+    mech::callback_hook = hook;
+  }
+  ~Injected() { mech::callback_hook = nullptr; }
+};
+
+// The soft, lightly damped coupling whose shooting needs KINSOL (see
+// MultiplierPredictsHowFastRevolutionsSettle).
+mech::ElasticDrive newton_scene() {
+  auto d = scene(50);
+  d.stiffness = 3000;
+  return d;
+}
+
+TEST(CallbackFailures, EveryCallbackIsGuarded) {
+  {
+    const Injected none("", 0);
+    ASSERT_EQ(mech::steady_by_shooting(newton_scene(), tolerance(1e-10), 0, 0, kStart).status, Status::ok);
+    EXPECT_EQ(Injected::seen, (std::set<std::string>{"rhs", "jacobian", "residual", "newton_jacobian"}));
+  }
+  for (const char* target : {"rhs", "jacobian", "residual", "newton_jacobian"})
+    for (long after : {0L, 2L}) {  // the first call, or a later one (5 residuals, 4 Newton Jacobians in all)
+      const Injected fault(target, after);
+      const auto s = mech::steady_by_shooting(newton_scene(), tolerance(1e-10), 0, 0, kStart);
+      EXPECT_EQ(s.status, Status::evaluation_error) << target << " " << after << ": " << s.message;
+      EXPECT_EQ(s.message, std::string("injected failure in ") + target);
+    }
+  // The explicit and Adams integrators' right-hand sides; the start-up's.
+  for (auto m : {mech::OdeMethod::erk, mech::OdeMethod::adams}) {
+    const Injected fault("rhs", 100);
+    EXPECT_EQ(mech::steady_by_shooting(scene(), tolerance(1e-8, m), 0, 0, kStart).status,
+              Status::evaluation_error);
+  }
+  {
+    const Injected fault("rhs", 100);
+    const auto st = mech::simulate_startup(scene(), {}, 1.0, 1e-3, nullptr, kStart);
+    EXPECT_EQ(st.status, Status::evaluation_error) << st.message;
+  }
+  // Nothing is left behind: the same run without the fault is as before.
+  const auto a = mech::steady_by_shooting(newton_scene(), tolerance(1e-10), 0, 0, kStart);
+  ASSERT_EQ(a.status, Status::ok) << a.message;
+  EXPECT_GT(a.iterations, 0);
+}
+
+TEST(CallbackFailures, AnythingThrownIsRecorded) {
+  mech::callback_hook = [](const char*) { throw 42; };
+  const auto s = mech::steady_by_cycles(scene(), {});
+  mech::callback_hook = nullptr;
+  EXPECT_EQ(s.status, Status::evaluation_error);
+  EXPECT_EQ(s.message, "unknown exception");
+}
+
+// Memory and work stay bounded whatever the time span.
+
+TEST(Startup, HugeTimeSpanEndsOnTheStepBudgetFastAndSmall) {
+  // 1e9 s at 1 ms used to allocate 1e12 samples (std::bad_alloc) or, past
+  // an int's range, to return at once with a wrong 'ok'. The default budget
+  // of 1e5 steps (~150 s of motion) ends it: 0.1-0.2 s measured in Release
+  // on a shared 2-core machine, 1 s is the bound (10 s under AddressSanitizer,
+  // which slows this code ~5x); the samples kept (7 doubles each) stay within
+  // the cap of 100 000, i.e. under 6 MB.
+#if defined(__SANITIZE_ADDRESS__)
+  const double bound = 10.0;
+#else
+  const double bound = 1.0;
+#endif
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto st = mech::simulate_startup(scene(), {}, 1e9, 1e-3, nullptr, kStart);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(st.status, Status::too_many_steps) << st.message;
+  EXPECT_EQ(st.steps, 100000);
+  EXPECT_LT(seconds, bound);
+  EXPECT_LE(st.trajectory.t.size(), 100000u);
+  EXPECT_LE(st.trajectory.t.capacity(), 200000u);
+  EXPECT_GT(st.trajectory.t.back(), 10.0);  // it did run
+  EXPECT_GT(st.peak_coupling, 0.0);
+  // The warm-up of the steady state likewise, with the start-up's status.
+  const auto s = mech::steady_by_shooting(scene(), {}, 0, 1e9, kStart);
+  EXPECT_EQ(s.status, Status::too_many_steps) << s.message;
+  EXPECT_NE(s.message.find("warm-up"), std::string::npos) << s.message;
+}
+
+TEST(Startup, KeptSamplesAreDecimatedEvenlyAndTheMetricsUseThemAll) {
+  // 15 s at 0.1 ms is 150 001 samples, past the cap of 100 000: every other
+  // one is kept (75 001, 0.2 ms apart, ending at 15 s). The peak and the time
+  // to steady come from all samples: a 9 s run at the same step keeps all of
+  // its 90 001 and gives the same values, exactly (the same integration up to
+  // 9 s; its start-up peak and settling, ~1 s, lie well inside). The scene:
+  // the signed resistance (eqs 18-20 as printed) from 5 rad/s, which takes
+  // a second to settle (from synchronous speed every revolution is already
+  // within 1%).
+  auto d = scene();
+  d.resistance_opposes_motion = false;
+  const auto steady = mech::steady_by_shooting(d, {}, 0, 0, kStart);
+  ASSERT_EQ(steady.status, Status::ok) << steady.message;
+  const auto full = mech::simulate_startup(d, {}, 9.0, 1e-4, &steady, 5.0);
+  const auto cut = mech::simulate_startup(d, {}, 15.0, 1e-4, &steady, 5.0);
+  ASSERT_EQ(full.status, Status::ok) << full.message;
+  ASSERT_EQ(cut.status, Status::ok) << cut.message;
+  ASSERT_EQ(full.trajectory.t.size(), 90001u);
+  ASSERT_EQ(cut.trajectory.t.size(), 75001u);
+  for (size_t i = 0; i < cut.trajectory.t.size(); i += 997)
+    EXPECT_NEAR(cut.trajectory.t[i], 2e-4 * i, 1e-9) << i;
+  EXPECT_EQ(cut.trajectory.t.back(), 15.0);
+  EXPECT_EQ(cut.trajectory.coupling[4500], full.trajectory.coupling[9000]);  // t = 0.9 s, the same sample
+  EXPECT_EQ(cut.peak_coupling, full.peak_coupling);
+  ASSERT_GT(full.time_to_steady, 0.5);
+  ASSERT_LT(full.time_to_steady, 2.0);
+  EXPECT_EQ(cut.time_to_steady, full.time_to_steady);
 }
 
 TEST(ElasticDriveProblem, GradientDriversRefuse) {
