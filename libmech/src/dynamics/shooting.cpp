@@ -1,3 +1,7 @@
+// The periodic steady state of the elastic drive: one revolution integrated
+// in the crank angle (quadratures, extrema by root finding, variational
+// equations), shooting on it with KINSOL, its Floquet multipliers, and
+// revolution after revolution as the fallback.
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -493,13 +497,7 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   return s;
 }
 
-}  // namespace
-}  // namespace dynamics
-
-using namespace dynamics;
-
-namespace {
-
+// steady_by_shooting once its inputs are checked.
 SteadyCycle shooting(const ElasticDrive& d, const OdeOptions& o, int samples, double warmup,
                      double initial_speed) {
   const ResistanceSummary res = resistance_summary(d);
@@ -541,6 +539,9 @@ SteadyCycle shooting(const ElasticDrive& d, const OdeOptions& o, int samples, do
 }
 
 }  // namespace
+}  // namespace dynamics
+
+using namespace dynamics;
 
 SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
                                double warmup, double initial_speed) {

@@ -111,27 +111,26 @@ double append(Trajectory& tr, const ElasticDrive& d, double t, double phi2, doub
 Status startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double w0, double* guess,
                      std::string& why) {
   // The last upward crossing of a multiple of 2 pi between two samples
-  // (1 ms apart), interpolated linearly.
+  // (1 ms apart), interpolated linearly. The first sample is at phi2 = 0.
   double prev[4] = {}, level = 0, at = 0;  // prev: phi2, theta, w1, w2 at time `at`
-  bool first = true;
   auto sample = [&](double time, const double* y) {
     const double now[4] = {y[1], y[0] - y[1], y[2], y[3]};
     const double l = kTwoPi * std::floor(now[0] / kTwoPi);
-    if (!first && l >= kTwoPi && prev[0] < l) {
+    if (l >= kTwoPi && prev[0] < l) {
       const double a = (l - prev[0]) / (now[0] - prev[0]);
       for (int i = 0; i < 3; ++i) guess[i] = prev[i + 1] + a * (now[i + 1] - prev[i + 1]);
       level = l;
     }
     std::copy(now, now + 4, prev);
-    at = time, first = false;
+    at = time;
   };
   long steps = 0;
   if (const Status s = run(d, o, t, 1e-3, w0, sample, steps); s != Status::ok) {
-    why = "the warm-up start-up (" + std::to_string(t) + " s) stopped at t = " + std::to_string(at) + " s";
+    why = "the warm-up start-up (" + detail::text(t) + " s) stopped at t = " + detail::text(at) + " s";
     return s;
   }
   if (level == 0 || level != kTwoPi * std::floor(prev[0] / kTwoPi) || !(guess[2] > 0)) {
-    why = "the start-up did not complete a revolution in " + std::to_string(t) + " s";
+    why = "the start-up did not complete a revolution in " + detail::text(t) + " s";
     return Status::stalled;
   }
   return Status::ok;
