@@ -278,28 +278,24 @@ TEST(Inputs, RodNoLongerThanItsCrankCannotAssemble) {
 TEST(Inputs, NonPhysicalParametersAreInvalid) {
   // What bounds and grid values may bring: each is invalid_parameter, named
   // in the message, before the integrator sees it.
+  using D = mech::ElasticDrive;
   const double nan = std::nan(""), inf = HUGE_VAL;
-  const std::pair<const char*, void (*)(mech::ElasticDrive&, double)> fields[] = {
-      {"stiffness", [](mech::ElasticDrive& d, double v) { d.stiffness = v; }},
-      {"damping", [](mech::ElasticDrive& d, double v) { d.damping = v; }},
-      {"cart_mass", [](mech::ElasticDrive& d, double v) { d.cart_mass = v; }},
-      {"rod_mass", [](mech::ElasticDrive& d, double v) { d.rod_mass = v; }},
-      {"drive_efficiency", [](mech::ElasticDrive& d, double v) { d.drive_efficiency = v; }},
-      {"rod_length", [](mech::ElasticDrive& d, double v) { d.rod_length = v; }},
-      {"phase_shift", [](mech::ElasticDrive& d, double v) { d.phase_shift = v; }},
-      {"gear_ratio", [](mech::ElasticDrive& d, double v) { d.gear_ratio = v; }},
-      {"critical_slip", [](mech::ElasticDrive& d, double v) { d.motor.critical_slip = v; }},
-  };
-  const std::vector<std::pair<const char*, double>> bad = {
-      {"stiffness", -1000}, {"stiffness", 0},  {"stiffness", nan},      {"stiffness", inf},
-      {"damping", -1},      {"damping", nan},  {"cart_mass", -1},       {"cart_mass", nan},
-      {"rod_mass", -64},    {"drive_efficiency", 0}, {"drive_efficiency", 1.5},
-      {"drive_efficiency", -0.9}, {"rod_length", inf}, {"rod_length", -0.8},
-      {"phase_shift", nan}, {"gear_ratio", 0}, {"critical_slip", 1}};
-  for (const auto& [name, v] : bad) {
+  const struct {
+    const char* name;
+    double D::*field;
+    double value;
+  } bad[] = {{"stiffness", &D::stiffness, -1000},          {"stiffness", &D::stiffness, 0},
+             {"stiffness", &D::stiffness, nan},            {"stiffness", &D::stiffness, inf},
+             {"damping", &D::damping, -1},                 {"damping", &D::damping, nan},
+             {"cart_mass", &D::cart_mass, -1},             {"cart_mass", &D::cart_mass, nan},
+             {"rod_mass", &D::rod_mass, -64},              {"drive_efficiency", &D::drive_efficiency, 0},
+             {"drive_efficiency", &D::drive_efficiency, 1.5}, {"drive_efficiency", &D::drive_efficiency, -0.9},
+             {"rod_length", &D::rod_length, inf},          {"rod_length", &D::rod_length, -0.8},
+             {"phase_shift", &D::phase_shift, nan},        {"gear_ratio", &D::gear_ratio, 0},
+             {"gearbox_factor", &D::gearbox_factor, 0.5}};
+  for (const auto& [name, field, v] : bad) {
     auto d = scene();
-    for (const auto& [n, set] : fields)
-      if (std::string(n) == name) set(d, v);
+    d.*field = v;
     std::string why;
     EXPECT_EQ(mech::check(d, &why), Status::invalid_parameter) << name << " = " << v;
     EXPECT_NE(why.find(name), std::string::npos) << why;
@@ -307,6 +303,9 @@ TEST(Inputs, NonPhysicalParametersAreInvalid) {
     EXPECT_EQ(s.status, Status::invalid_parameter) << name << " = " << v << ": " << s.message;
     EXPECT_EQ(mech::simulate_startup(d, {}, 1.0, 1e-3).status, Status::invalid_parameter) << name;
   }
+  auto slip = scene();
+  slip.motor.critical_slip = 1;  // Kloss's curve needs 0 < s_kr < 1
+  EXPECT_EQ(mech::check(slip), Status::invalid_parameter);
   // The domains' closed ends are physical: no damping, an ideal gearbox,
   // massless carts (the rods still carry inertia).
   auto d = scene();
