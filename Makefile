@@ -45,6 +45,7 @@ SAN_ENV = ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1:strict_st
   LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan.supp:print_suppressions=0
 sanitize: deps
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
+	@mkdir -p $(ASAN_BUILD) && echo '*' > $(ASAN_BUILD)/.gitignore  # git ignores the whole dir
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Release -DMECHOPT_SANITIZE=ON -DMECHOPT_BENCH=OFF \
 	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \

@@ -462,7 +462,7 @@ def judge(cmd, code, sig, timed_out, work, stem, fails):
             fails.append((f"{cmd}: exit 2 message over several lines", " / ".join(lines)[:200]))
     elif code == 1:
         if not (len(lines) == 1 and MESSAGE1.match(lines[0])):
-            fails.append((f"{cmd}: exit 1 without one 'mechopt: error:' line", (lines or ["(no message)"])[-1][:200]))
+            fails.append((f"{cmd}: exit 1 without a one-line 'mechopt: error|failed:' message", (lines or ["(no message)"])[-1][:200]))
         elif INTERNAL.search(lines[0]):
             fails.append((f"{cmd}: exit 1 with an internal message", lines[0][:200]))
     elif code != 0:
