@@ -40,7 +40,7 @@ void BM_SwingOptimum(benchmark::State& state, const char* algorithm) {
   const opt::NloptDriver driver(o);
   opt::Result r;
   for (auto _ : state) {
-    r = driver.minimize(*p, {"peak_moment"}, cons, p->initial_point());
+    r = driver.minimize(*p, {"peak_crank_torque"}, cons, p->initial_point());
     benchmark::DoNotOptimize(r);
   }
   state.counters["value"] = r.x[0];

@@ -19,9 +19,9 @@ using opt::Dimension;
 constexpr double kMinMargin = 1e-3;
 
 const std::vector<MetricSpec> kMetrics = {
-    {"peak_moment", "N m"},         // max |M| over the cycle, eq. (6)
-    {"mean_abs_moment", "N m"},     // cycle mean of |M|
-    {"rms_moment", "N m"},
+    {"peak_crank_torque", "N m", "peak_moment"},         // max |M| over the cycle, eq. (6)
+    {"mean_abs_crank_torque", "N m", "mean_abs_moment"},     // cycle mean of |M|
+    {"rms_crank_torque", "N m", "rms_moment"},
     {"max_pressure_angle", "rad"},  // max over the cycle, [gamma]_max of Table 2
     {"time_ratio", ""},             // K_w, eq. (5)
     {"swing_angle", "rad"},         // rocker swing between dead centres (2 theta)
@@ -184,13 +184,13 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     const auto dc = mech::dead_centres(k);
     out.put("swing_angle", abs(dc.theta3_folded - dc.theta3_extended));
     out.put("time_ratio", mech::time_ratio(dc));
-    if (!out.want_any("peak_moment", "mean_abs_moment", "rms_moment", "max_pressure_angle")) return;
-    const bool means = out.want_any("mean_abs_moment", "rms_moment");
+    if (!out.want_any("peak_crank_torque", "mean_abs_crank_torque", "rms_crank_torque", "max_pressure_angle")) return;
+    const bool means = out.want_any("mean_abs_crank_torque", "rms_crank_torque");
     const auto r = mech::swing_metrics(d.mech, model_.cycle_points, means);
-    out.put("peak_moment", r.peak_moment);
+    out.put("peak_crank_torque", r.peak_moment);
     if (means) {
-      out.put("mean_abs_moment", r.mean_abs_moment);
-      out.put("rms_moment", r.rms_moment);
+      out.put("mean_abs_crank_torque", r.mean_abs_moment);
+      out.put("rms_crank_torque", r.rms_moment);
     }
     out.put("max_pressure_angle", r.max_pressure_angle);
   }
@@ -215,7 +215,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
       return {};
     auto model_at = [&](const auto& xs) { return design(xs).mech; };
     const int n = model_.cycle_points;
-    if (metric == "peak_moment")
+    if (metric == "peak_crank_torque")
       return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
         using std::abs;
         return std::decay_t<decltype(phi)>(abs(mech::swing_point(m, phi).moment()));

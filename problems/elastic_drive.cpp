@@ -19,18 +19,18 @@ const std::vector<MetricSpec> kMetrics = {
     {"rms_coupling_torque", "N m"},   // time RMS over the steady cycle
     {"min_coupling_torque", "N m"},
     {"max_coupling_torque", "N m"},
-    {"mean_speed", "rad/s"},          // crank, steady cycle
+    {"mean_crank_speed", "rad/s", "mean_speed"},          // crank, steady cycle
     {"speed_irregularity", ""},       // (w2max - w2min) / w2mean
-    {"motor_torque_min", "N m"},      // motor shaft
-    {"motor_torque_max", "N m"},
-    {"motor_speed_min", "rad/s"},     // motor shaft
-    {"motor_speed_max", "rad/s"},
+    {"min_motor_torque", "N m", "motor_torque_min"},      // motor shaft
+    {"max_motor_torque", "N m", "motor_torque_max"},
+    {"min_motor_speed", "rad/s", "motor_speed_min"},     // motor shaft
+    {"max_motor_speed", "rad/s", "motor_speed_max"},
     {"mean_motor_power", "W"},
     {"mean_resistance_power", "W"},
     {"mean_damping_power", "W"},
     {"energy_balance_error", ""},     // |P_motor - P_res - P_damping| / P_motor
     {"largest_multiplier", ""},       // of the steady orbit (< 1: it attracts; docs/config.md)
-    {"startup_peak_coupling_torque", "N m"},  // start-up transient
+    {"peak_startup_coupling_torque", "N m", "startup_peak_coupling_torque"},  // start-up transient
     {"time_to_steady", "s"},          // start-up: every revolution's peak within 1% after it
 };
 
@@ -171,12 +171,12 @@ class ElasticDriveProblem : public TabledProblem {
     put("rms_coupling_torque", s.coupling_rms * side);
     put("min_coupling_torque", s.coupling_min * side);
     put("max_coupling_torque", s.coupling_max * side);
-    put("mean_speed", s.mean_speed);
+    put("mean_crank_speed", s.mean_speed);
     put("speed_irregularity", s.speed_irregularity);
-    put("motor_torque_min", s.motor_torque_min);
-    put("motor_torque_max", s.motor_torque_max);
-    put("motor_speed_min", s.motor_speed_min);
-    put("motor_speed_max", s.motor_speed_max);
+    put("min_motor_torque", s.motor_torque_min);
+    put("max_motor_torque", s.motor_torque_max);
+    put("min_motor_speed", s.motor_speed_min);
+    put("max_motor_speed", s.motor_speed_max);
     put("mean_motor_power", s.mean_motor_power);
     put("mean_resistance_power", s.mean_resistance_power);
     put("mean_damping_power", s.mean_damping_power);
@@ -184,13 +184,13 @@ class ElasticDriveProblem : public TabledProblem {
         std::abs(s.mean_motor_power - s.mean_resistance_power - s.mean_damping_power) /
             std::max(std::abs(s.mean_motor_power), 1e-12));
     put("largest_multiplier", s.largest_multiplier);
-    if (want("startup_peak_coupling_torque") || want("time_to_steady")) {
+    if (want("peak_startup_coupling_torque") || want("time_to_steady")) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
       if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
         e.status = mech::to_string(st.status);
         return e;
       }
-      put("startup_peak_coupling_torque", st.peak_coupling * side);
+      put("peak_startup_coupling_torque", st.peak_coupling * side);
       put("time_to_steady", st.time_to_steady);
     }
     return e;

@@ -41,6 +41,7 @@ class MetricSink {
 
 struct MetricSpec {
   std::string name, unit;
+  std::string formerly = "";  // an earlier name, still accepted in configs
 };
 
 // A problem's name, its table of metrics with units, and its variables.
@@ -55,6 +56,11 @@ class TabledProblem : public opt::Problem {
     std::vector<std::string> out;
     for (const auto& m : metrics_) out.push_back(m.name);
     return out;
+  }
+  std::string renamed_metric(const std::string& old) const override {
+    for (const auto& m : metrics_)
+      if (!old.empty() && m.formerly == old) return m.name;
+    return "";
   }
   std::string metric_unit(const std::string& metric) const override {
     for (const auto& m : metrics_)

@@ -91,9 +91,9 @@ const std::vector<MetricSpec> kMetrics = {
     {"k1", ""},                          // T_max / T_cp, eq. (15)
     {"k2", ""},                          // T_cp / T_min
     {"k3", ""},                          // T_max / T_min
-    {"peak_total_moment", "N m"},        // max |M| over the cycle, eq. (21)
-    {"mean_total_moment", "N m"},
-    {"rms_total_moment", "N m"},
+    {"peak_crank_torque", "N m", "peak_total_moment"},        // max |M| over the cycle, eq. (21)
+    {"mean_crank_torque", "N m", "mean_total_moment"},
+    {"rms_crank_torque", "N m", "rms_total_moment"},
     {"crank_rod_ratio", ""},             // (r + |e|) / l
 };
 
@@ -140,7 +140,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
       return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
         return std::decay_t<decltype(phi)>(mech::drive_point(dr, phi).kinetic_energy);
       });
-    if (metric == "peak_total_moment")
+    if (metric == "peak_crank_torque")
       return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
         using std::abs;
         return std::decay_t<decltype(phi)>(abs(mech::drive_point(dr, phi).total_moment()));
@@ -171,7 +171,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
     }
     mech::CycleNeeds needs;
     needs.peak_energy = out.want_any("peak_kinetic_energy", "k1", "k3");
-    needs.moments = out.want_any("peak_total_moment", "mean_total_moment", "rms_total_moment");
+    needs.moments = out.want_any("peak_crank_torque", "mean_crank_torque", "rms_crank_torque");
     const bool need_cycle = needs.peak_energy || needs.moments ||
                             out.want_any("mean_kinetic_energy", "k2");
     if (!need_cycle) {
@@ -197,9 +197,9 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
       out.put("k3", m.k3);
     }
     if (needs.moments) {
-      out.put("peak_total_moment", m.peak_total_moment);
-      out.put("mean_total_moment", m.mean_total_moment);
-      out.put("rms_total_moment", m.rms_total_moment);
+      out.put("peak_crank_torque", m.peak_total_moment);
+      out.put("mean_crank_torque", m.mean_total_moment);
+      out.put("rms_crank_torque", m.rms_total_moment);
     }
   }
 

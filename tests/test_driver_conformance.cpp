@@ -44,7 +44,7 @@ const std::vector<Case>& cases() {
       {"conveyor_l_co1", [] {
          return from_yaml("problem: conveyor_swing\nvariables: {l_co1: {min: 0.9 m, max: 2.4 m}}\n");
        },
-       "peak_moment", {{"max_pressure_angle", true, 60 * M_PI / 180}}, 98310.834286910226,
+       "peak_crank_torque", {{"max_pressure_angle", true, 60 * M_PI / 180}}, 98310.834286910226,
        "tools/reference_seed002.json (a kink: two moment troughs equal)"},
   };
   return c;

@@ -92,3 +92,16 @@ TEST(Repro, VariableBoundsMeetTheModelValuesDomain) {
 }
 
 }  // namespace
+
+namespace {
+
+// Metric names follow one scheme (statistic, then quantity); a config with
+// an earlier name still runs, with a one-line notice naming the new one.
+TEST(Repro, RenamedMetricIsAcceptedWithANotice) {
+  const std::string dir = cli::fresh_dir("repro_renamed");
+  const auto r = cli::run("run " + cli::source("tests/repro/ipopt_huge_upper_bound.yaml") + " --output " + dir);
+  EXPECT_NE(r.output.find("ipopt_huge_upper_bound.yaml:9:16: metric 'peak_moment' is now called 'peak_crank_torque'"),
+            std::string::npos) << r.output;
+}
+
+}  // namespace

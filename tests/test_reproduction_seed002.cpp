@@ -57,7 +57,7 @@ TEST(Seed002Reference, PeakMomentsAgreeWithHighPrecisionReference) {
                             {1.8, 137188.88866149927}};
   const auto p = family();
   for (const auto& [l_co1, peak] : kRef)
-    EXPECT_NEAR(at(*p, l_co1).at("peak_moment"), peak, 1e-10 * peak) << l_co1;
+    EXPECT_NEAR(at(*p, l_co1).at("peak_crank_torque"), peak, 1e-10 * peak) << l_co1;
   EXPECT_NEAR(at(*p, 1.2).at("crank_length"), 0.35548393472677394, 1e-14);
   EXPECT_NEAR(at(*p, 1.2).at("coupler_length"), 1.2716334533860779, 1e-14);
 }
@@ -92,7 +92,7 @@ TEST(Seed002Table1, Variant0HasNoCrankRockerSynthesis) {
   const auto e = at(*p, 0.6);
   EXPECT_EQ(e.status, "synthesis_failed");
   EXPECT_LT(e.at("synthesis_margin"), 0.0);
-  EXPECT_FALSE(e.metrics.count("peak_moment"));
+  EXPECT_FALSE(e.metrics.count("peak_crank_torque"));
 }
 
 TEST(Seed002Optimum, ContinuousOptimumBeatsEveryVariant) {
@@ -109,7 +109,7 @@ variables: {l_co1: {min: 0.9 m, max: 2.4 m}}
     opt::DriverOptions o;
     o.algorithm = alg;
     o.xtol_rel = 1e-10;
-    const auto r = opt::NloptDriver(o).minimize(*p, {"peak_moment"}, cons, p->initial_point());
+    const auto r = opt::NloptDriver(o).minimize(*p, {"peak_crank_torque"}, cons, p->initial_point());
     ASSERT_EQ(r.status, opt::DriverStatus::converged) << alg << ": " << r.message;
     if (where != 0) {
       EXPECT_NEAR(r.x[0], where, 1e-6) << alg;
@@ -122,13 +122,13 @@ variables: {l_co1: {min: 0.9 m, max: 2.4 m}}
   EXPECT_NEAR(where, 1.5224536093493499, 1e-8);
   EXPECT_NEAR(best, 98310.834286910226, 1e-9 * best);
   for (int i = 2; i <= 4; ++i) {  // variants within the pressure-angle limit
-    EXPECT_LT(best, 0.95 * at(*p, kPaper[i].l_co1).at("peak_moment")) << kPaper[i].l_co1;
+    EXPECT_LT(best, 0.95 * at(*p, kPaper[i].l_co1).at("peak_crank_torque")) << kPaper[i].l_co1;
   }
   // A 1 mm scan around the optimum finds nothing lower (the max is nonsmooth).
   for (double l = where - 0.05; l <= where + 0.05; l += 0.001) {
     const auto e = at(*p, l);
     if (e.ok() && e.at("max_pressure_angle") <= 60 * kDeg) {
-      EXPECT_GE(e.at("peak_moment"), best - 1e-6 * best) << "l_co1 = " << l;
+      EXPECT_GE(e.at("peak_crank_torque"), best - 1e-6 * best) << "l_co1 = " << l;
     }
   }
 }
@@ -144,11 +144,11 @@ TEST(Seed002Drivers, IpoptNeedsTheEpigraphOnTheKink) {
   o.library = "ipopt";
   o.max_iterations = 200;
   const Eigen::VectorXd x0 = Eigen::VectorXd::Constant(1, 1.2);
-  const auto with = opt::IpoptDriver(o).minimize(*p, {"peak_moment"}, cons, x0);
+  const auto with = opt::IpoptDriver(o).minimize(*p, {"peak_crank_torque"}, cons, x0);
   ASSERT_EQ(with.status, opt::DriverStatus::converged) << with.message;
   EXPECT_NEAR(with.x[0], 1.5224536093493499, 1e-8);
   o.epigraph = false;
-  const auto without = opt::IpoptDriver(o).minimize(*p, {"peak_moment"}, cons, x0);
+  const auto without = opt::IpoptDriver(o).minimize(*p, {"peak_crank_torque"}, cons, x0);
   EXPECT_NE(without.status, opt::DriverStatus::converged) << without.message;
   EXPECT_GT(without.evaluations, 10 * with.evaluations);
 }
@@ -164,7 +164,7 @@ variables: {l_co1: {min: 0.3 m, max: 3 m, initial: 0.6 m}}
   opt::DriverOptions o;
   o.xtol_rel = 1e-10;
   const std::vector<opt::Constraint> cons = {{"max_pressure_angle", true, 60 * kDeg}};
-  const auto r = opt::NloptDriver(o).minimize(*p, {"peak_moment"}, cons, p->initial_point());
+  const auto r = opt::NloptDriver(o).minimize(*p, {"peak_crank_torque"}, cons, p->initial_point());
   ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
   EXPECT_NE(r.message.find("phase 1 restored it"), std::string::npos) << r.message;
   EXPECT_NEAR(r.x[0], 1.5224536093493499, 1e-8);  // tools/reference_seed002.json
@@ -186,7 +186,7 @@ TEST(Seed002Failures, SweepRecordsEveryStatus) {
                      ->evaluate(none, {}, false);
   EXPECT_EQ(e.status, "toggle_in_cycle");
   EXPECT_LT(e.at("rotation_margin"), 0.0);
-  EXPECT_FALSE(e.metrics.count("peak_moment"));
+  EXPECT_FALSE(e.metrics.count("peak_crank_torque"));
 }
 
 }  // namespace

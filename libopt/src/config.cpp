@@ -100,11 +100,12 @@ ConfigNode ConfigNode::parse(const std::string& text, const std::string& name) {
   }
 }
 
+std::string ConfigNode::where() const {
+  return mark_.line >= 0 ? file_ + ":" + line_col(mark_) : file_;
+}
+
 void ConfigNode::fail(const std::string& what) const {
-  std::string where = file_;
-  if (mark_.line >= 0)
-    where += ":" + std::to_string(mark_.line + 1) + ":" + std::to_string(mark_.column + 1);
-  throw ConfigError(where + ": " + (path_.empty() ? "" : "key '" + path_ + "': ") + what);
+  throw ConfigError(where() + ": " + (path_.empty() ? "" : "key '" + path_ + "': ") + what);
 }
 
 void ConfigNode::expect_map() const {

@@ -61,6 +61,8 @@ class ConfigNode {
   int integer(int min, int max) const;
   bool boolean() const;
 
+  // "FILE:LINE:COL" of this node (1-based).
+  std::string where() const;
   // "FILE:LINE:COL: key 'PATH': WHAT" (line and column 1-based).
   [[noreturn]] void fail(const std::string& what) const;
 

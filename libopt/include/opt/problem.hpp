@@ -74,6 +74,12 @@ class Problem {
   virtual const std::vector<Variable>& variables() const = 0;
   // Every metric this problem can compute, objectives and constraints alike.
   virtual std::vector<std::string> metric_names() const = 0;
+  // The current name of a metric once called `old`, or "" (configs written
+  // with the old name still run, with a notice).
+  virtual std::string renamed_metric(const std::string& old) const {
+    (void)old;
+    return "";
+  }
   // SI unit of a metric for printing, e.g. "J", "N m", "" for ratios.
   virtual std::string metric_unit(const std::string& metric) const = 0;
   // Constraints that keep the model evaluable (e.g. the rod must reach the

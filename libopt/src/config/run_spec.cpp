@@ -1,6 +1,7 @@
 // Reading a run from a config: variables, objective, constraints, study,
 // driver, grid, output and reference, each key checked against the problem.
 #include <cmath>
+#include <iostream>
 
 #include "opt/study.hpp"
 #include "report/report.hpp"
@@ -88,9 +89,15 @@ DriverOptions parse_driver(const ConfigNode& n) {
   return o;
 }
 
-void check_metric(const ConfigNode& n, const Problem& p, const std::string& metric) {
-  if (!p.has_metric(metric))
-    n.fail("unknown metric '" + metric + "'; expected one of: " + join(p.metric_names()));
+// The metric named `name` at node n: a metric of p, or one renamed since
+// (with a notice on stderr); anything else is an error listing the metrics.
+std::string metric(const ConfigNode& n, const Problem& p, const std::string& name) {
+  if (p.has_metric(name)) return name;
+  const std::string now = p.renamed_metric(name);
+  if (now.empty()) n.fail("unknown metric '" + name + "'; expected one of: " + join(p.metric_names()));
+  std::cerr << "mechopt: note: " << n.where() << ": metric '" << name << "' is now called '" << now
+            << "'; the old name will go\n";
+  return now;
 }
 
 }  // namespace
@@ -124,14 +131,13 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     if (o.keys().size() != 1) o.fail("expected exactly one of minimize or maximize");
     s.objective.maximize = o.has("maximize");
     const ConfigNode m = o.at(s.objective.maximize ? "maximize" : "minimize");
-    s.objective.metric = m.text();
-    check_metric(m, p, s.objective.metric);
+    s.objective.metric = metric(m, p, m.text());
   }
   if (root.has("constraints")) {
     const ConfigNode cs = root.at("constraints");
-    for (const auto& name : cs.keys()) {
-      const ConfigNode c = cs.at(name);
-      check_metric(c, p, name);
+    for (const auto& key : cs.keys()) {
+      const ConfigNode c = cs.at(key);
+      const std::string name = metric(c, p, key);
       c.allow_only({"max", "min", "equal"});
       const Dimension d = dimension_of(p.metric_unit(name));
       for (const char* side : {"max", "min"})
@@ -151,8 +157,7 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     if (s.type == "pareto") {
       const ConfigNode ob = st.at("objectives");
       for (const auto& item : ob.items()) {
-        check_metric(item, p, item.text());
-        s.objectives.push_back(item.text());
+        s.objectives.push_back(metric(item, p, item.text()));
       }
       if (s.objectives.size() != 2 || s.objectives[0] == s.objectives[1])
         ob.fail("expected two different metrics, both minimised: [f1, f2]");
@@ -182,8 +187,7 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     }
     if (st.has("columns"))
       for (const auto& c : st.at("columns").items()) {
-        check_metric(c, p, c.text());
-        s.columns.push_back(c.text());
+        s.columns.push_back(metric(c, p, c.text()));
       }
   }
   // Nothing to optimise and no study: every metric at the model values.
@@ -207,9 +211,9 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     for (const auto& key : r.keys()) {
       if (key == "source") { s.reference.source = r.at(key).text(); continue; }
       const Variable* v = find_variable(p, key);
-      if (!v) check_metric(r.at(key), p, key);
-      const Dimension d = v ? v->dimension : dimension_of(p.metric_unit(key));
-      for (const auto& item : r.at(key).items()) s.reference.columns[key].push_back(item.quantity(d));
+      const std::string column = v ? key : metric(r.at(key), p, key);
+      const Dimension d = v ? v->dimension : dimension_of(p.metric_unit(column));
+      for (const auto& item : r.at(key).items()) s.reference.columns[column].push_back(item.quantity(d));
     }
   }
   return s;
