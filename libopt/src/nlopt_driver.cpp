@@ -452,6 +452,8 @@ void finish(const Problem& problem, const Objective& objective,
   if (!e.ok()) {
     if (converged) result.status = DriverStatus::infeasible;
     result.message += "; final design infeasible: " + e.status;
+    if (result.evaluations > 0 && result.infeasible_evaluations == result.evaluations)
+      result.message += "; all " + std::to_string(result.evaluations) + " evaluations were infeasible";
     result.objective = kNan;
     return;
   }
