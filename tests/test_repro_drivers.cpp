@@ -126,4 +126,16 @@ TEST(ReproDrivers, IpoptWithAnAbsurdBoundGivesAFiniteFront) {
   }
 }
 
+// The root cause, at the design Ipopt jumped to: the pressure angle's
+// gradient is infinite there (acos at -1). The derivative check says so
+// instead of passing with no checks at all.
+TEST(ReproDrivers, InfiniteGradientFailsTheDerivativeCheck) {
+  const auto o = cli::run("check-derivatives " + cli::source("tests/repro/ipopt_huge_upper_bound.yaml") +
+                              " --set l_co1=61996449.46",
+                          kTimeout);
+  EXPECT_TRUE(o.exited(1)) << o.output;
+  EXPECT_NE(o.output.find("max_pressure_angle has a non-finite gradient"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("MISMATCH"), std::string::npos) << o.output;
+}
+
 }  // namespace
