@@ -161,7 +161,10 @@ class Nlp : public Ipopt::TNLP {
   void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
                          const Number*, Index, const Number*, const Number*, Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    solution = Eigen::Map<const Eigen::VectorXd>(x, std::min<Index>(n, nx_));
+    guard([&] {
+      solution = Eigen::Map<const Eigen::VectorXd>(x, std::min<Index>(n, nx_));
+      return true;
+    });
   }
 
  private:
