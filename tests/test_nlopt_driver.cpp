@@ -63,6 +63,22 @@ TEST(NloptDriver, EvaluationLimitIsAStatus) {
   const auto r = opt::NloptDriver(o).minimize(p, {"f"}, kCons, p.initial_point());
   EXPECT_EQ(r.status, opt::DriverStatus::max_evaluations);
   EXPECT_EQ(r.evaluations, 5);
+  EXPECT_FALSE(r.success()) << "a limit reached is not a converged optimum";
+  EXPECT_TRUE(r.stopped());
+  EXPECT_EQ(r.message.rfind("stopped on the evaluation limit (max_evaluations 5) before converging", 0), 0u)
+      << r.message;
+}
+
+TEST(IpoptDriver, IterationLimitIsAStopNotASuccess) {
+  opt::DriverOptions o;
+  o.library = "ipopt";
+  o.max_iterations = 2;
+  const Tutorial p = testing_problems::tutorial();
+  const auto r = opt::IpoptDriver(o).minimize(p, {"f"}, kCons, p.initial_point());
+  EXPECT_EQ(r.status, opt::DriverStatus::max_evaluations) << r.message;
+  EXPECT_FALSE(r.success());
+  EXPECT_EQ(r.message.rfind("stopped on the iteration limit (max_iterations 2) before converging", 0), 0u)
+      << r.message;
 }
 
 }  // namespace
