@@ -114,7 +114,7 @@ TEST_P(Conformance, ReachesTheDocumentedOptimumOrRefuses) {
   const auto driver = opt::make_driver(a.options);
   const auto r = driver->minimize(*p, {c.objective}, c.constraints, p->initial_point());
   // Which algorithm takes which problem is checked against NLopt's
-  // documentation in test_driver_capabilities (test_nlopt_driver.cpp).
+  // documentation in test_nlopt_driver.cpp (Capabilities.*).
   const std::string why = opt::driver_incompatibility(a.options, *p, {c.objective}, c.constraints);
   if (!why.empty()) {
     EXPECT_EQ(r.status, opt::DriverStatus::invalid_arguments) << r.message;
