@@ -20,8 +20,8 @@ Registration::Registration(Entry e) {
 const std::vector<Entry>& registry() { return entries(); }
 
 const std::vector<std::string>& config_keys() {
-  static const std::vector<std::string> keys = {"problem", "model",  "variables", "objective",
-                                                "constraints", "study", "output", "reference"};
+  static const std::vector<std::string> keys = {"base",        "problem", "model",  "variables", "objective",
+                                                "constraints", "study",   "output", "reference"};
   return keys;
 }
 

@@ -143,3 +143,47 @@ TEST(Units, EveryDimensionTheProblemsUse) {
 }
 
 }  // namespace
+
+namespace {
+
+// Model values with units of every kind read through the parameter tables.
+TEST(CommandLine, ParameterTableReadsUnitsAndSections) {
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/elastic_drive/optimum.yaml";
+  Outcome o = run("eval " + cfg + " --set \"stiffness=110 kN m/rad\" --set \"coupling_inertia=0.32 kg m^2\"");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto j = nlohmann::json::parse(o.output);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["stiffness"].get<double>(), 110000);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["coupling_inertia"].get<double>(), 0.32);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["motor"]["critical_torque"].get<double>(), 215.4);
+  o = run("eval " + cfg + " --set \"stiffness=110 kN m\"");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("key 'model.stiffness': expected a rotational stiffness"), std::string::npos) << o.output;
+}
+
+}  // namespace
+
+namespace {
+
+// `base: FILE` inherits a config's keys, map by map; the config's own values
+// win, and an error in the base names the base file and its line.
+TEST(CommandLine, BaseFileIsInheritedAndOverridden) {
+  const std::string dir = testing::TempDir() + "/base_config";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/base.yaml") << "problem: recuperative_drive\nmodel: {crank_radius: 0.25 m, rod_length: 0.9 m}\n";
+  std::ofstream(dir + "/run.yaml") << "base: base.yaml\nmodel: {rod_length: 0.7 m}\n";
+  Outcome o = run("eval " + dir + "/run.yaml");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto j = nlohmann::json::parse(o.output);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["crank_radius"].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["rod_length"].get<double>(), 0.7);
+  std::ofstream(dir + "/base.yaml") << "problem: recuperative_drive\nmodel:\n  crank_radius: 0.25 kg\n";
+  o = run("eval " + dir + "/run.yaml");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find(dir + "/base.yaml:3:17: key 'model.crank_radius'"), std::string::npos) << o.output;
+  std::ofstream(dir + "/run.yaml") << "base: run.yaml\n";
+  o = run("eval " + dir + "/run.yaml");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("more than 8 base files"), std::string::npos) << o.output;
+}
+
+}  // namespace

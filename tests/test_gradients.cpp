@@ -74,14 +74,19 @@ INSTANTIATE_TEST_SUITE_P(AllProblems, Gradients, ::testing::ValuesIn(kCases),
 
 namespace {
 
-const std::vector<opt::VariableSpec> kSixVariables = {
-    {"rod_length", opt::Dimension::length, opt::kPositive},
-    {"phase_shift", opt::Dimension::angle},
-    {"crank_radius", opt::Dimension::length, opt::kPositive},
-    {"offset", opt::Dimension::length},
-    {"cart_mass", opt::Dimension::mass, opt::kPositive},
-    {"crank_speed", opt::Dimension::angular_speed, opt::kPositive},
-};
+std::vector<opt::Parameter> six_parameters() {
+  using opt::Dimension;
+  std::vector<opt::Parameter> p = {
+      opt::variable("rod_length", Dimension::length, opt::kPositive, "l", ""),
+      opt::variable("phase_shift", Dimension::angle, opt::kAnyValue, "dphi", ""),
+      opt::variable("crank_radius", Dimension::length, opt::kPositive, "r", ""),
+      opt::variable("offset", Dimension::length, opt::kAnyValue, "e", ""),
+      opt::variable("cart_mass", Dimension::mass, opt::kPositive, "m", ""),
+      opt::variable("crank_speed", Dimension::angular_speed, opt::kPositive, "w", "")};
+  const double values[] = {0.8, 1.5, 0.2, 0.02, 1000, 10};
+  for (size_t i = 0; i < p.size(); ++i) p[i].value = values[i];
+  return p;
+}
 
 class SixVariables : public problems::ModelProblem<SixVariables> {
  public:
@@ -100,12 +105,9 @@ class SixVariables : public problems::ModelProblem<SixVariables> {
 };
 
 const problems::Registration kSix{
-    {"six_variables", "test only: six variables of the twin drive", kSixVariables,
+    {"six_variables", "test only: six variables of the twin drive", six_parameters(),
      [](const opt::ConfigNode& root) -> std::unique_ptr<opt::Problem> {
-       const std::map<std::string, double> values = {{"rod_length", 0.8}, {"phase_shift", 1.5},
-                                                     {"crank_radius", 0.2}, {"offset", 0.02},
-                                                     {"cart_mass", 1000}, {"crank_speed", 10}};
-       return std::make_unique<SixVariables>(opt::parse_variables(root, kSixVariables, values));
+       return std::make_unique<SixVariables>(opt::parse_variables(root, six_parameters()));
      }}};
 
 TEST(Gradients, SixVariablesThroughTheRegistry) {

@@ -1,6 +1,7 @@
 #include "opt/config.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -27,12 +28,6 @@ std::string join(const std::vector<std::string>& v) {
   std::string out;
   for (size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
   return out;
-}
-
-std::string fmt_number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
 }
 
 std::string child_path(const std::string& parent, const std::string& key) {
@@ -75,7 +70,21 @@ ConfigNode ConfigNode::load(const std::string& file) {
   if (!in) throw ConfigError(file + ": cannot read the config file (does it exist?)");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse(ss.str(), file);
+  ConfigNode root = parse(ss.str(), file);
+  ConfigNode* layer = &root;
+  for (int depth = 0; layer->node_["base"].IsDefined(); ++depth) {
+    const ConfigNode b(layer->node_["base"], layer->file_, "base", layer->mark_);
+    if (depth == 8) b.fail("more than 8 base files in a chain (does one name itself?)");
+    const std::string dir = std::filesystem::path(layer->file_).parent_path().string();
+    const std::string name = (dir.empty() ? "" : dir + "/") + b.text();
+    if (!std::ifstream(name)) b.fail("cannot read the base file '" + name + "'");
+    std::ifstream bin(name);
+    std::stringstream bs;
+    bs << bin.rdbuf();
+    layer->base_ = std::make_shared<ConfigNode>(parse(bs.str(), name));
+    layer = const_cast<ConfigNode*>(layer->base_.get());
+  }
+  return root;
 }
 
 ConfigNode ConfigNode::parse(const std::string& text, const std::string& name) {
@@ -103,19 +112,29 @@ void ConfigNode::expect_map() const {
 }
 
 bool ConfigNode::has(const std::string& key) const {
-  return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+  return (node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull()) || (base_ && base_->has(key));
 }
 
 ConfigNode ConfigNode::at(const std::string& key) const {
   expect_map();
   if (!has(key)) fail("missing required key '" + key + "'");
-  return ConfigNode(node_[key], file_, child_path(path_, key), mark_);
+  if (!(node_[key].IsDefined() && !node_[key].IsNull())) return base_->at(key);
+  ConfigNode child(node_[key], file_, child_path(path_, key), mark_);
+  // A map in both files: this one's keys over the base's.
+  if (base_ && base_->has(key) && child.is_map()) {
+    ConfigNode below = base_->at(key);
+    if (below.is_map()) child.base_ = std::make_shared<ConfigNode>(std::move(below));
+  }
+  return child;
 }
 
 std::vector<std::string> ConfigNode::keys() const {
   expect_map();
   std::vector<std::string> out;
   for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  if (base_ && base_->is_map())
+    for (const auto& k : base_->keys())
+      if (std::find(out.begin(), out.end(), k) == out.end()) out.push_back(k);
   return out;
 }
 
@@ -129,6 +148,7 @@ std::vector<ConfigNode> ConfigNode::items() const {
 
 void ConfigNode::allow_only(const std::vector<std::string>& allowed) const {
   expect_map();
+  if (base_ && base_->is_map()) base_->allow_only(allowed);
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
@@ -175,10 +195,8 @@ double ConfigNode::quantity_or(const std::string& key, Dimension d, double fallb
 double ConfigNode::quantity(Dimension d, const Domain& domain) const {
   const double v = quantity(d);
   if (!domain.contains(v)) {
-    auto end = [&](double x) { return std::isinf(x) ? std::string(x < 0 ? "-inf" : "inf") : fmt_number(x); };
-    fail("expected a value in " + std::string(domain.lo_open ? "(" : "[") + end(domain.lo) + ", " +
-         end(domain.hi) + (domain.hi_open ? ")" : "]") +
-         (si_unit(d).empty() ? "" : " " + si_unit(d)) + ", got '" + text() + "'");
+    const bool interval = std::isfinite(domain.lo) && std::isfinite(domain.hi);
+    fail("expected a value " + std::string(interval ? "in " : "") + to_string(domain, d) + ", got '" + text() + "'");
   }
   return v;
 }

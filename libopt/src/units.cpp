@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <sstream>
 
 namespace opt {
 namespace {
@@ -71,6 +72,21 @@ std::string to_string(Dimension d) {
     case Dimension::inverse_length: return "an inverse length";
   }
   return "a quantity";
+}
+
+std::string to_string(const Domain& d, Dimension dim) {
+  auto number = [](double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  };
+  const bool lo = std::isfinite(d.lo), hi = std::isfinite(d.hi);
+  std::string out;
+  if (!lo && !hi) out = "any";
+  else if (!hi) out = std::string(d.lo_open ? "> " : ">= ") + number(d.lo);
+  else if (!lo) out = std::string(d.hi_open ? "< " : "<= ") + number(d.hi);
+  else out = std::string(d.lo_open ? "(" : "[") + number(d.lo) + ", " + number(d.hi) + (d.hi_open ? ")" : "]");
+  return si_unit(dim).empty() || out == "any" ? out : out + " " + si_unit(dim);
 }
 
 std::vector<std::string> units_of(Dimension d) {

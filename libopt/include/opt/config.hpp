@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <memory>
 
 #include <stdexcept>
 #include <string>
@@ -26,6 +27,8 @@ class ConfigNode {
         mark_(node_.IsDefined() && node_.Mark().line >= 0 ? node_.Mark() : fallback) {}
 
   // Loads a YAML file; unreadable files and YAML syntax errors are ConfigErrors.
+  // `base: FILE` (relative to the file) names a config whose keys this one
+  // inherits and may override, map by map.
   static ConfigNode load(const std::string& file);
   static ConfigNode parse(const std::string& text, const std::string& name);
 
@@ -65,6 +68,7 @@ class ConfigNode {
   YAML::Node node_;
   std::string file_, path_;
   YAML::Mark mark_;
+  std::shared_ptr<const ConfigNode> base_;  // the same path in the base file, if any
 };
 
 }  // namespace opt

@@ -27,6 +27,8 @@ inline const Domain kPositive{0, HUGE_VAL, true, false};
 inline const Domain kNonNegative{0, HUGE_VAL, false, false};
 
 std::string to_string(Dimension d);
+// "any", "> 0 m", "(0, 1]": the domain with the SI unit of dim.
+std::string to_string(const Domain& d, Dimension dim);
 // The unit names accepted for a dimension, e.g. {"m", "mm", "cm"} for length.
 std::vector<std::string> units_of(Dimension d);
 // The SI unit written in result files, e.g. "m", "rad", "rad/s".

@@ -95,21 +95,20 @@ void check_metric(const ConfigNode& n, const Problem& p, const std::string& metr
 
 }  // namespace
 
-std::vector<Variable> parse_variables(const ConfigNode& root,
-                                      const std::vector<VariableSpec>& candidates,
-                                      const std::map<std::string, double>& model_values) {
+std::vector<Variable> parse_variables(const ConfigNode& root, const std::vector<Parameter>& parameters) {
   std::vector<Variable> out;
   if (!root.has("variables")) return out;
   const ConfigNode vars = root.at("variables");
   std::vector<std::string> names;
-  for (const auto& c : candidates) names.push_back(c.name);
+  for (const auto& c : parameters)
+    if (c.variable) names.push_back(c.name);
   vars.allow_only(names);
-  for (const auto& c : candidates) {
-    if (!vars.has(c.name)) continue;
+  for (const auto& c : parameters) {
+    if (!c.variable || !vars.has(c.name)) continue;
     const ConfigNode n = vars.at(c.name);
     n.allow_only({"min", "max", "initial"});
     Variable v{c.name, c.dimension, n.at("min").quantity(c.dimension, c.domain),
-               n.at("max").quantity(c.dimension, c.domain), model_values.at(c.name), c.domain};
+               n.at("max").quantity(c.dimension, c.domain), c.value, c.domain};
     if (!(v.lower < v.upper)) n.fail("expected min < max");
     if (n.has("initial")) v.initial = n.at("initial").quantity(c.dimension, c.domain);
     out.push_back(v);
@@ -148,7 +147,7 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
   if (root.has("study")) {
     const ConfigNode st = root.at("study");
     st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points"});
-    s.type = st.at("type").choice({"optimize", "sweep", "pareto"});
+    s.type = st.at("type").choice({"optimize", "sweep", "pareto", "evaluate"});
     if (s.type == "pareto") {
       const ConfigNode ob = st.at("objectives");
       for (const auto& item : ob.items()) {
@@ -187,7 +186,9 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
         s.columns.push_back(c.text());
       }
   }
-  if (s.objective.metric.empty() && (s.type == "optimize" || s.optimize))
+  // Nothing to optimise and no study: every metric at the model values.
+  if (!root.has("study") && !root.has("objective") && !root.has("variables")) s.type = "evaluate";
+  if (s.objective.metric.empty() && (s.type == "optimize" || (s.type == "sweep" && s.optimize)))
     root.fail("missing required key 'objective' (e.g. objective: {minimize: METRIC})");
   if ((s.type == "optimize" || s.type == "pareto") && p.variables().empty())
     root.fail("missing required key 'variables': an optimisation needs at least one");

@@ -41,6 +41,19 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
     return j;
   };
 
+  if (s.type == "evaluate") {
+    const Eigen::VectorXd x = p.initial_point(false);
+    const nlohmann::json e = metrics_json(p, x);
+    j["design_status"] = e["status"];
+    j["metrics"] = e["metrics"];
+    if (e.contains("message")) j["message"] = e["message"];
+    out << "every metric at the model values: " << e["status"].get<std::string>()
+        << (e.contains("message") ? " — " + e["message"].get<std::string>() : "") << "\n";
+    report::print_metrics(out, p, j["metrics"]);
+    if (s.chart && !stop_requested())
+      for (const auto& f : report::write_cycle_chart(p, {{"model values", x}}, dir)) files.push_back(f);
+    return finish();
+  }
   if (s.type == "pareto") {
     j["pareto"] = studies::pareto(p, s, out, dir, files);
     return finish();
