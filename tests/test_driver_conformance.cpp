@@ -161,8 +161,13 @@ namespace {
 // that a config builds it.
 constexpr double kEvaluationSeconds = 0.03;
 
-const std::vector<opt::VariableSpec> kSlowVariables = {{"x", opt::Dimension::dimensionless},
-                                                       {"y", opt::Dimension::dimensionless}};
+std::vector<opt::Parameter> slow_parameters() {
+  std::vector<opt::Parameter> p = {
+      opt::variable("x", opt::Dimension::dimensionless, opt::kAnyValue, "x", ""),
+      opt::variable("y", opt::Dimension::dimensionless, opt::kAnyValue, "y", "")};
+  p[0].value = -1.2, p[1].value = 1.0;  // Rosenbrock's classic start
+  return p;
+}
 
 class SlowRosenbrock : public opt::Problem {
  public:
@@ -186,10 +191,9 @@ class SlowRosenbrock : public opt::Problem {
 };
 
 const problems::Registration kSlow{
-    {"slow_rosenbrock", "test only: the bounded Rosenbrock, 30 ms an evaluation", kSlowVariables,
+    {"slow_rosenbrock", "test only: the bounded Rosenbrock, 30 ms an evaluation", slow_parameters(),
      [](const opt::ConfigNode& root) -> std::unique_ptr<opt::Problem> {
-       return std::make_unique<SlowRosenbrock>(
-           opt::parse_variables(root, kSlowVariables, {{"x", -1.2}, {"y", 1.0}}));
+       return std::make_unique<SlowRosenbrock>(opt::parse_variables(root, slow_parameters()));
      }}};
 
 // Every single-stage driver: each NLopt algorithm, and Ipopt.
