@@ -8,9 +8,9 @@ MAKEFLAGS += --no-print-directory
 export CCACHE_BASEDIR := $(CURDIR)
 DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \
   libsundials-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libcli11-dev \
-  nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath
+  nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath python3-yaml
 
-.PHONY: deps configure build run test bench clean
+.PHONY: deps configure build run test bench clean sanitize fuzz
 
 deps:
 	@bash tools/install_deps.sh $(DEB_PACKAGES)
@@ -40,5 +40,32 @@ test: build
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
 
+# ASan + UBSan build in its own directory (-O1, no debug info, no benchmarks),
+# linked with the same SUNDIALS build, then the whole test suite with every
+# finding fatal: abort_on_error turns a report into SIGABRT, which the CLI
+# tests see as a signal. Leak suppressions: tools/lsan.supp (docs/testing.md).
+ASAN_BUILD ?= build-asan
+SAN_ENV = ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+  UBSAN_OPTIONS=halt_on_error=1:abort_on_error=1:print_stacktrace=1 \
+  LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan.supp:print_suppressions=0
+sanitize: deps
+	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
+	@mkdir -p $(ASAN_BUILD) && echo '*' > $(ASAN_BUILD)/.gitignore  # git ignores the whole dir
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Release -DMECHOPT_SANITIZE=ON -DMECHOPT_BENCH=OFF \
+	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
+	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
+	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials)
+	cmake --build $(ASAN_BUILD) -j $(JOBS)
+	cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS)
+
+# Config fuzzer on the Release binary: N mutants of configs/**/*.yaml from SEED
+# (tools/fuzz_configs.py; failing mutants kept in FUZZ_OUT).
+N        ?= 300
+SEED     ?= 1
+FUZZ_OUT ?= $(BUILD)/fuzz
+fuzz: build
+	/usr/bin/python3 tools/fuzz_configs.py --binary $(BUILD)/bin/mechopt -n $(N) --seed $(SEED) \
+	  --jobs $(JOBS) --out $(FUZZ_OUT)
+
 clean:
-	rm -rf $(BUILD) $(OUT)
+	rm -rf $(BUILD) $(ASAN_BUILD) $(OUT)

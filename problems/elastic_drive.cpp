@@ -162,7 +162,7 @@ class ElasticDriveProblem : public TabledProblem {
       if (want(n)) e.metrics[n] = {v, {}};
     };
     const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
-    if (s.status != mech::DynamicsStatus::ok) {
+    if (s.status != mech::Status::ok) {
       e.status = mech::to_string(s.status);
       return e;
     }
@@ -186,6 +186,10 @@ class ElasticDriveProblem : public TabledProblem {
     put("largest_multiplier", s.largest_multiplier);
     if (want("startup_peak_coupling_torque") || want("time_to_steady")) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
+      if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
+        e.status = mech::to_string(st.status);
+        return e;
+      }
       put("startup_peak_coupling_torque", st.peak_coupling * side);
       put("time_to_steady", st.time_to_steady);
     }
@@ -199,11 +203,11 @@ class ElasticDriveProblem : public TabledProblem {
     mech::Trajectory tr;
     if (m_.startup_curves) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 2e-3, nullptr, m_.start_speed);
-      if (st.status != mech::DynamicsStatus::ok) return {};
+      if (st.status != mech::Status::ok) return {};
       tr = st.trajectory;
     } else {
       const auto s = mech::steady_by_shooting(d, m_.ode, 720, m_.warmup, m_.start_speed);
-      if (s.status != mech::DynamicsStatus::ok) return {};
+      if (s.status != mech::Status::ok) return {};
       tr = s.cycle;
     }
     for (size_t i = 0; i < tr.t.size(); ++i)

@@ -9,87 +9,135 @@
 namespace opt {
 namespace {
 
-// "Nice" tick step: 1, 2 or 5 times a power of ten, about n ticks over span.
-double tick_step(double span, int n) {
-  const double raw = span / n;
+// "Nice" tick step: 1, 2 or 5 times a power of ten, at least raw (raw > 0).
+double nice_step(double raw) {
   const double p = std::pow(10.0, std::floor(std::log10(raw)));
   for (double m : {1.0, 2.0, 5.0})
     if (m * p >= raw) return m * p;
   return 10 * p;
 }
 
-std::string fmt(double v) {
+std::string fmt(double v, int digits = 6) {
   std::ostringstream s;
-  s.precision(6);
-  s << v;
+  s.precision(digits);
+  s << v + 0.0;  // no "-0"
   return s.str();
+}
+
+// Text for SVG content and single-quoted attributes, at most 100 characters.
+std::string escape(const std::string& text) {
+  std::string out;
+  for (char c : text.substr(0, 100)) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
 }
 
 const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
 
 }  // namespace
 
+Axis make_axis(const std::vector<double>& values, double pad) {
+  constexpr double big = std::numeric_limits<double>::max();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (double v : values)
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  if (!(lo <= hi)) lo = 0, hi = 1;
+  // Centre and half-span from halves: finite for any finite lo, hi.
+  const double mid = lo / 2 + hi / 2, mag = std::max(std::abs(lo), std::abs(hi));
+  double half = hi / 2 - lo / 2;
+  if (!(half > 1e-9 * mag) || half < 1e-300) half = mag > 0 ? std::max(0.05 * mag, 1e-300) : 1.0;
+  half *= 1 + std::clamp(pad, 0.0, 1.0);
+  Axis a;
+  a.lo = std::max(mid - half, -big);
+  a.hi = std::min(mid + half, big);
+  // About 6 ticks; a coarser step while there would be more than kMaxTicks.
+  // Every loop below has a fixed bound.
+  const double h = a.hi / 2 - a.lo / 2;
+  double step = nice_step(h / 3);
+  for (int attempt = 0; attempt < 8 && a.ticks.empty(); ++attempt, step = nice_step(step * 1.5)) {
+    if (!std::isfinite(step) || !(step > 0)) break;
+    const double first = std::ceil(a.lo / step), last = std::floor(a.hi / step);
+    if (!(last - first < kMaxTicks)) continue;
+    for (int i = 0; i <= static_cast<int>(last - first); ++i) {
+      const double t = (first + i) * step;
+      if (t >= a.lo && t <= a.hi) a.ticks.push_back(t);
+    }
+    if (!a.ticks.empty()) {
+      // From the largest tick's leading digit down to the step's digit, and
+      // at least its integer digits (%g would switch to an exponent).
+      const double top = std::max({std::abs(a.ticks.front()), std::abs(a.ticks.back()), step});
+      const double e = std::floor(std::log10(top));
+      const double d = std::max(e + 1, e - std::floor(std::log10(step)) + 1);
+      a.digits = static_cast<int>(std::clamp(d, 3.0, 15.0));
+    }
+  }
+  if (a.ticks.empty()) a.ticks = {a.lo, a.hi};
+  return a;
+}
+
 bool write_svg(const Chart& chart, const std::string& file) {
   const double W = 780, H = 450, L = 80, R = 260, T = 40, B = 60;
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  std::vector<double> xs, ys;
   for (const auto& s : chart.series)
-    for (size_t i = 0; i < s.x.size(); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-      x0 = std::min(x0, s.x[i]); x1 = std::max(x1, s.x[i]);
-      y0 = std::min(y0, s.y[i]); y1 = std::max(y1, s.y[i]);
-    }
-  if (!(x1 >= x0)) { x0 = 0; x1 = 1; y0 = 0; y1 = 1; }
-  if (x1 == x0) { x0 -= 0.5; x1 += 0.5; }
-  if (y1 == y0) { y0 -= 0.5; y1 += 0.5; }
-  const double pad = 0.05 * (y1 - y0);
-  y0 -= pad; y1 += pad;
-  auto px = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
-  auto py = [&](double y) { return H - B - (y - y0) / (y1 - y0) * (H - T - B); };
+    for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) xs.push_back(s.x[i]), ys.push_back(s.y[i]);
+  const Axis ax = make_axis(xs), ay = make_axis(ys, 0.05);
+  // Fractions along the axis from halves, so that a span near the largest double cannot overflow.
+  auto px = [&](double x) { return L + (x / 2 - ax.lo / 2) / (ax.hi / 2 - ax.lo / 2) * (W - L - R); };
+  auto py = [&](double y) { return H - B - (y / 2 - ay.lo / 2) / (ay.hi / 2 - ay.lo / 2) * (H - T - B); };
 
   std::ofstream out(file);
   if (!out) return false;
   out << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
       << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n";
-  out << "<text x='" << W / 2 << "' y='22' text-anchor='middle' font-size='15'>" << chart.title
+  out << "<text x='" << W / 2 << "' y='22' text-anchor='middle' font-size='15'>" << escape(chart.title)
       << "</text>\n";
   out << "<rect x='" << L << "' y='" << T << "' width='" << W - L - R << "' height='"
       << H - T - B << "' fill='none' stroke='black'/>\n";
-  for (int axis = 0; axis < 2; ++axis) {
-    const double lo = axis ? y0 : x0, hi = axis ? y1 : x1, step = tick_step(hi - lo, 6);
-    for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * step; t += step) {
-      if (axis == 0)
-        out << "<line x1='" << px(t) << "' y1='" << H - B << "' x2='" << px(t) << "' y2='" << T
-            << "' stroke='#ddd'/><text x='" << px(t) << "' y='" << H - B + 16
-            << "' text-anchor='middle'>" << fmt(t) << "</text>\n";
-      else
-        out << "<line x1='" << L << "' y1='" << py(t) << "' x2='" << W - R << "' y2='" << py(t)
-            << "' stroke='#ddd'/><text x='" << L - 6 << "' y='" << py(t) + 4
-            << "' text-anchor='end'>" << fmt(t) << "</text>\n";
-    }
-  }
+  for (double t : ax.ticks)
+    out << "<line x1='" << px(t) << "' y1='" << H - B << "' x2='" << px(t) << "' y2='" << T
+        << "' stroke='#ddd'/><text x='" << px(t) << "' y='" << H - B + 16
+        << "' text-anchor='middle'>" << fmt(t, ax.digits) << "</text>\n";
+  for (double t : ay.ticks)
+    out << "<line x1='" << L << "' y1='" << py(t) << "' x2='" << W - R << "' y2='" << py(t)
+        << "' stroke='#ddd'/><text x='" << L - 6 << "' y='" << py(t) + 4
+        << "' text-anchor='end'>" << fmt(t, ay.digits) << "</text>\n";
   out << "<text x='" << (L + W - R) / 2 << "' y='" << H - 18 << "' text-anchor='middle'>"
-      << chart.x_label << "</text>\n";
+      << escape(chart.x_label) << "</text>\n";
   out << "<text transform='translate(18," << (T + H - B) / 2
-      << ") rotate(-90)' text-anchor='middle'>" << chart.y_label << "</text>\n";
+      << ") rotate(-90)' text-anchor='middle'>" << escape(chart.y_label) << "</text>\n";
   for (size_t k = 0; k < chart.series.size(); ++k) {
     const Series& s = chart.series[k];
     const char* color = kColors[k % 6];
+    const size_t n = std::min(s.x.size(), s.y.size());
+    const size_t stride = (n + kMaxDrawnPoints - 1) / kMaxDrawnPoints;  // 1 up to kMaxDrawnPoints
+    auto drawn = [&](size_t i) {
+      return (i % stride == 0 || i + 1 == n) && std::isfinite(s.x[i]) && std::isfinite(s.y[i]);
+    };
     if (s.style == Series::Style::line) {
       out << "<polyline fill='none' stroke='" << color << "' stroke-width='2' points='";
-      for (size_t i = 0; i < s.x.size(); ++i)
-        if (std::isfinite(s.y[i])) out << px(s.x[i]) << "," << py(s.y[i]) << " ";
+      for (size_t i = 0; i < n; ++i)
+        if (drawn(i)) out << px(s.x[i]) << "," << py(s.y[i]) << " ";
       out << "'/>\n";
     } else {
       const double r = s.style == Series::Style::star ? 7 : 4;
-      for (size_t i = 0; i < s.x.size(); ++i)
-        if (std::isfinite(s.y[i]))
+      for (size_t i = 0; i < n; ++i)
+        if (drawn(i))
           out << "<circle cx='" << px(s.x[i]) << "' cy='" << py(s.y[i]) << "' r='" << r
               << "' fill='" << (s.style == Series::Style::star ? color : "none")
               << "' stroke='" << color << "' stroke-width='2'/>\n";
     }
     const double ly = T + 14 + 20 * k;
     out << "<rect x='" << W - R + 12 << "' y='" << ly - 8 << "' width='14' height='4' fill='"
-        << color << "'/><text x='" << W - R + 32 << "' y='" << ly << "'>" << s.label
+        << color << "'/><text x='" << W - R + 32 << "' y='" << ly << "'>" << escape(s.label)
+        << (stride > 1 ? " (every " + std::to_string(stride) + "th of " + std::to_string(n) + ")" : "")
         << "</text>\n";
   }
   out << "</svg>\n";

@@ -18,6 +18,26 @@ struct Chart {
 };
 
 // Writes the chart as SVG; returns false if the file cannot be written.
+// Points with a non-finite coordinate are skipped; a series with more than
+// kMaxDrawnPoints points is thinned to every k-th point (said in its legend),
+// so a chart file stays under about 1 MB whatever the data.
 bool write_svg(const Chart& chart, const std::string& file);
+
+constexpr int kMaxTicks = 12;
+constexpr size_t kMaxDrawnPoints = 1000;
+
+// One chart axis: the plotted range and its ticks.
+struct Axis {
+  double lo = 0, hi = 1;      // finite, lo < hi
+  std::vector<double> ticks;  // increasing, inside [lo, hi], at most kMaxTicks
+  int digits = 6;             // significant digits that tell neighbouring ticks apart
+};
+
+// The axis for these values, in bounded work whatever they are: non-finite
+// values are skipped; no finite value gives [0, 1]; a flat range (a span
+// under 1e-9 of its magnitude: zero, a few ulp) is padded around its value
+// (by 5% of it, or 1 for zero); `pad` widens the range by that fraction of
+// its half-span on each side; the range never leaves the finite doubles.
+Axis make_axis(const std::vector<double>& values, double pad = 0);
 
 }  // namespace opt
