@@ -1,8 +1,9 @@
 // Driver conformance: every driver and algorithm on a shared table of
-// problems with known optima, one test per pair. Each pair either reaches the
-// optimum with a success status within its algorithm class's tolerance and
-// evaluation budget, or refuses the set-up with invalid_arguments when the
-// algorithm cannot take the problem's constraints.
+// problems with known optima, one test per pair. Each pair either converges
+// (a tolerance met: Result::success) to the optimum within its algorithm
+// class's tolerance and evaluation budget, or refuses the set-up with
+// invalid_arguments, before any evaluation, when the algorithm cannot take
+// the problem (constraints, gradients, dimension).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,10 +57,10 @@ struct Algo {
   double tol;        // relative error of f allowed for this class, and why
 };
 
-opt::DriverOptions nlopt(const std::string& a, int max_evaluations = 20000) {
+opt::DriverOptions nlopt(const std::string& a, int max_evaluations = 20000, double xtol_rel = 1e-10) {
   opt::DriverOptions o;
   o.algorithm = a;
-  o.xtol_rel = 1e-10;
+  o.xtol_rel = xtol_rel;
   o.max_evaluations = max_evaluations;
   o.record_history = false;
   return o;
@@ -76,11 +77,16 @@ const std::vector<Algo>& algos() {
     ip.record_history = false;
     v.push_back({"ipopt", ip, 1e-7});
     // CCSA methods (MMA, CCSAQ) end just outside curved constraints, and
-    // derivative-free methods stop on the step tolerance: 1e-5.
+    // derivative-free methods stop on the step tolerance: 1e-5. Their step
+    // tolerance is 1e-6: COBYLA's randomised simplex steps never meet 1e-8
+    // on HS071 (it stops on the evaluation limit, f already within 1e-9).
     v.push_back({"LD_MMA", nlopt("LD_MMA"), 1e-5});
     v.push_back({"LD_CCSAQ", nlopt("LD_CCSAQ"), 1e-5});
-    v.push_back({"LN_COBYLA", nlopt("LN_COBYLA"), 1e-5});
-    v.push_back({"LN_BOBYQA", nlopt("LN_BOBYQA"), 1e-5});
+    v.push_back({"LN_COBYLA", nlopt("LN_COBYLA", 20000, 1e-6), 1e-5});
+    v.push_back({"LN_BOBYQA", nlopt("LN_BOBYQA", 20000, 1e-6), 1e-5});
+    v.push_back({"LN_NEWUOA_BOUND", nlopt("LN_NEWUOA_BOUND", 20000, 1e-6), 1e-5});
+    v.push_back({"LN_NELDERMEAD", nlopt("LN_NELDERMEAD", 20000, 1e-6), 1e-5});
+    v.push_back({"LN_SBPLX", nlopt("LN_SBPLX", 20000, 1e-6), 1e-5});
     // Global searches hand over to a local polish (global-then-local).
     auto global = [](const std::string& g, int evals) {
       opt::DriverOptions o = nlopt(g, evals);
@@ -88,6 +94,7 @@ const std::vector<Algo>& algos() {
       return o;
     };
     v.push_back({"GN_DIRECT_L_then_SLSQP", global("GN_DIRECT_L", 500), 1e-7});
+    v.push_back({"GN_DIRECT_then_SLSQP", global("GN_DIRECT", 500), 1e-7});
     v.push_back({"GN_ISRES_then_SLSQP", global("GN_ISRES", 2000), 1e-7});
     opt::DriverOptions mlsl = global("G_MLSL_LDS", 2000);
     mlsl.local_algorithm = "LD_SLSQP";
@@ -95,14 +102,6 @@ const std::vector<Algo>& algos() {
     return v;
   }();
   return a;
-}
-
-// Can the algorithm (or the first of a chain) take these constraints?
-bool takes(const opt::DriverOptions& o, const std::vector<opt::Constraint>& k) {
-  if (k.empty() || o.library == "ipopt") return true;
-  const bool eq = std::any_of(k.begin(), k.end(), [](const auto& c) { return c.equal; });
-  return eq ? opt::algorithm_supports_equalities(o.algorithm)
-            : opt::algorithm_supports_constraints(o.algorithm);
 }
 
 using Pair = std::tuple<size_t, size_t>;
@@ -114,10 +113,13 @@ TEST_P(Conformance, ReachesTheDocumentedOptimumOrRefuses) {
   const auto p = c.make();
   const auto driver = opt::make_driver(a.options);
   const auto r = driver->minimize(*p, {c.objective}, c.constraints, p->initial_point());
-  bool chain_ok = takes(a.options, c.constraints);
-  if (a.options.polish) chain_ok = chain_ok && takes(*a.options.polish, c.constraints);
-  if (!chain_ok) {
+  // Which algorithm takes which problem is checked against NLopt's
+  // documentation in test_nlopt_driver.cpp (Capabilities.*).
+  const std::string why = opt::driver_incompatibility(a.options, *p, {c.objective}, c.constraints);
+  if (!why.empty()) {
     EXPECT_EQ(r.status, opt::DriverStatus::invalid_arguments) << r.message;
+    EXPECT_EQ(r.message, why);
+    EXPECT_EQ(r.evaluations, 0) << "refused before any work";
     return;
   }
   ASSERT_TRUE(r.success()) << to_string(r.status) << ": " << r.message;
@@ -140,5 +142,319 @@ std::vector<Pair> pairs() {
 INSTANTIATE_TEST_SUITE_P(AllPairs, Conformance, ::testing::ValuesIn(pairs()), [](const auto& info) {
   return cases()[std::get<0>(info.param)].name + "__" + algos()[std::get<1>(info.param)].name;
 });
+
+}  // namespace
+
+// Every driver's outcomes on the problems that break drivers: the wall-clock
+// limit, a stop request, an exception in the model, non-finite values, an
+// absurd bound, and an evaluation limit in a chain.
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+
+#include "opt/interrupt.hpp"
+
+namespace {
+
+// Bounded Rosenbrock (the conformance case above) whose evaluation sleeps
+// kEvaluationSeconds, like a slow model; registered like every problem, so
+// that a config builds it.
+constexpr double kEvaluationSeconds = 0.03;
+
+std::vector<opt::Parameter> slow_parameters() {
+  std::vector<opt::Parameter> p = {
+      opt::variable("x", opt::Dimension::dimensionless, opt::kAnyValue, "x", ""),
+      opt::variable("y", opt::Dimension::dimensionless, opt::kAnyValue, "y", "")};
+  p[0].value = -1.2, p[1].value = 1.0;  // Rosenbrock's classic start
+  return p;
+}
+
+class SlowRosenbrock : public opt::Problem {
+ public:
+  explicit SlowRosenbrock(std::vector<opt::Variable> v) : vars_(std::move(v)) {}
+  std::string name() const override { return "slow_rosenbrock"; }
+  const std::vector<opt::Variable>& variables() const override { return vars_; }
+  std::vector<std::string> metric_names() const override { return {"f"}; }
+  std::string metric_unit(const std::string&) const override { return ""; }
+  nlohmann::json settings() const override { return {}; }
+
+ protected:
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+                                    bool gradient) const override {
+    std::this_thread::sleep_for(std::chrono::duration<double>(kEvaluationSeconds));
+    return rosenbrock_.evaluate(x, wanted, gradient);
+  }
+
+ private:
+  std::vector<opt::Variable> vars_;
+  testing_problems::Analytic rosenbrock_ = testing_problems::rosenbrock();
+};
+
+const problems::Registration kSlow{
+    {"slow_rosenbrock", "test only: the bounded Rosenbrock, 30 ms an evaluation", slow_parameters(),
+     [](const opt::ConfigNode& root) -> std::unique_ptr<opt::Problem> {
+       return std::make_unique<SlowRosenbrock>(opt::parse_variables(root, slow_parameters()));
+     }}};
+
+// Every single-stage driver: each NLopt algorithm, and Ipopt.
+std::vector<std::string> every_driver() {
+  auto v = opt::nlopt_algorithms();
+  v.push_back("ipopt");
+  return v;
+}
+
+opt::DriverOptions single(const std::string& name) {
+  opt::DriverOptions o;
+  if (name == "ipopt") o.library = "ipopt";
+  else o.algorithm = name;
+  o.local_algorithm = "LD_SLSQP";
+  return o;
+}
+
+class EveryDriver : public ::testing::TestWithParam<std::string> {
+ protected:
+  void TearDown() override { opt::clear_stop(); }
+};
+
+// max_seconds is wall clock for every algorithm and for Ipopt (whose own
+// max_cpu_time would never fire here: sleeping costs no CPU time), honoured
+// to within the evaluation under way at the limit.
+TEST_P(EveryDriver, MaxSecondsIsWallClockWithinOneEvaluation) {
+  constexpr double kMaxSeconds = 0.2;
+  // The evaluation under way at the limit finishes; the final design is then
+  // evaluated once more for the report (unless it was the last one); 50 ms
+  // for the scheduler on the shared 2-core machine.
+  constexpr double kSlack = 2 * kEvaluationSeconds + 0.05;
+  const auto p = problems::make_problem(opt::ConfigNode::parse(
+      "problem: slow_rosenbrock\nvariables: {x: {min: -1.5, max: 0.5}, y: {min: -0.5, max: 1.5}}\n",
+      "<slow>"));
+  opt::DriverOptions o = single(GetParam());
+  o.max_seconds = kMaxSeconds;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = opt::make_driver(o)->minimize(*p, {"f"}, {}, p->initial_point());
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.status, opt::DriverStatus::max_time) << r.message;
+  EXPECT_FALSE(r.success());
+  EXPECT_TRUE(r.stopped());
+  EXPECT_GE(elapsed, kMaxSeconds);
+  EXPECT_LE(elapsed, kMaxSeconds + kSlack) << r.evaluations << " evaluations";
+  EXPECT_LE(r.seconds, elapsed);
+  EXPECT_NE(r.message.find("time limit (max_seconds 0.2 s, wall clock)"), std::string::npos) << r.message;
+  ASSERT_EQ(r.x.size(), 2);
+  EXPECT_TRUE(std::isfinite(r.objective)) << "the best design so far, evaluated";
+}
+
+// A problem that counts its evaluations, and on the k-th one requests a stop
+// (as SIGINT would) or throws.
+class Tripwire : public testing_problems::Analytic {
+ public:
+  enum class Action { stop, raise };
+  Tripwire(int at, Action action)
+      : Analytic(testing_problems::rosenbrock()), at_(at), action_(action) {}
+  mutable int evaluations = 0;
+
+ protected:
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+                                    bool gradient) const override {
+    if (++evaluations == at_) {
+      if (action_ == Action::raise) throw std::runtime_error("model exploded at evaluation " + std::to_string(at_));
+      opt::request_stop();
+    }
+    return Analytic::evaluate_model_at(x, wanted, gradient);
+  }
+
+ private:
+  int at_;
+  Action action_;
+};
+
+constexpr int kTripAt = 4;  // the start, then three of the library's
+
+// A stop request (SIGINT/SIGTERM) during an evaluation: it finishes, and
+// nothing more is evaluated, not even the final design again.
+TEST_P(EveryDriver, StopRequestEndsTheRunAfterTheEvaluationUnderWay) {
+  const Tripwire p(kTripAt, Tripwire::Action::stop);
+  const auto r = opt::make_driver(single(GetParam()))->minimize(p, {"f"}, {}, p.initial_point());
+  EXPECT_EQ(r.status, opt::DriverStatus::interrupted) << r.message;
+  EXPECT_FALSE(r.success());
+  EXPECT_EQ(p.evaluations, kTripAt);
+  EXPECT_NE(r.message.find("interrupted by a stop request"), std::string::npos) << r.message;
+  EXPECT_EQ(r.x.size(), 2);
+}
+
+// An exception in the model never crosses the library's C (NLopt) or
+// Fortran-backed (Ipopt) code: the library is stopped, nothing more is
+// evaluated, and the exception reaches the caller after the library returns.
+TEST_P(EveryDriver, ExceptionInTheModelIsRethrownAfterTheLibraryStops) {
+  const Tripwire p(kTripAt, Tripwire::Action::raise);
+  try {
+    opt::make_driver(single(GetParam()))->minimize(p, {"f"}, {}, p.initial_point());
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "model exploded at evaluation " + std::to_string(kTripAt));
+  }
+  EXPECT_EQ(p.evaluations, kTripAt);
+}
+
+INSTANTIATE_TEST_SUITE_P(All, EveryDriver, ::testing::ValuesIn(every_driver()),
+                         [](const auto& info) { return info.param; });
+
+// f = 1 + |x - (1, 1)|^2 on [-2, 3]^2, NaN (value and gradient) where
+// x0 > 1.5: the minimum f* = 1 at (1, 1) lies inside the finite region,
+// which DIRECT's first trisection (x0 = 0.5 + 5/3) already leaves.
+class NanBeyond : public opt::Problem {
+ public:
+  std::string name() const override { return "nan_beyond"; }
+  const std::vector<opt::Variable>& variables() const override { return vars_; }
+  std::vector<std::string> metric_names() const override { return {"f"}; }
+  std::string metric_unit(const std::string&) const override { return ""; }
+  nlohmann::json settings() const override { return {}; }
+  mutable int nan_evaluations = 0;
+
+ protected:
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
+                                    bool gradient) const override {
+    const Eigen::VectorXd d = x - Eigen::Vector2d(1, 1);
+    opt::MetricValue f{1 + d.squaredNorm(), gradient ? Eigen::VectorXd(2 * d) : Eigen::VectorXd()};
+    if (x[0] > 1.5) {
+      ++nan_evaluations;
+      f.value = std::numeric_limits<double>::quiet_NaN();
+      f.gradient.setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+    opt::Evaluation e;
+    e.metrics["f"] = f;
+    return e;
+  }
+
+ private:
+  std::vector<opt::Variable> vars_ = {{"x0", opt::Dimension::dimensionless, -2, 3, -1},
+                                      {"x1", opt::Dimension::dimensionless, -2, 3, -1}};
+};
+
+class NonFinite : public ::testing::TestWithParam<size_t> {};
+
+// Non-finite values are infeasible evaluations the algorithm steps back
+// from; none reaches the library, and the answer is the finite optimum.
+TEST_P(NonFinite, ValuesAreInfeasibleEvaluations) {
+  const Algo& a = algos()[GetParam()];
+  const NanBeyond p;
+  const auto r = opt::make_driver(a.options)->minimize(p, {"f"}, {}, p.initial_point());
+  ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
+  EXPECT_NEAR(r.objective, 1.0, a.tol) << "f* = 1 at (1, 1)";
+  if (a.name.rfind("GN_DIRECT", 0) == 0) {
+    EXPECT_GT(p.nan_evaluations, 0) << "DIRECT samples the whole box";
+    EXPECT_GT(r.infeasible_evaluations, 0);
+  }
+  RecordProperty("nan_evaluations", p.nan_evaluations);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryAlgorithm, NonFinite, ::testing::Range<size_t>(0, algos().size()),
+                         [](const auto& info) { return algos()[info.param].name; });
+
+// Epigraph rows come from Problem::local_maxima, which evaluate() does not
+// screen: a peak with an infinite gradient at the start (as the pressure
+// angle's acos at +-1) must not reach Ipopt's linear solver (MUMPS crashed on
+// one). max((x-1)^2, (x+1)^2/4) has its kink minimum 4/9 at x = 1/3.
+class InfinitePeak : public opt::Problem {
+ public:
+  explicit InfinitePeak(double start) : vars_{{"x", opt::Dimension::dimensionless, -3, 5, start}} {}
+  std::string name() const override { return "infinite_peak"; }
+  const std::vector<opt::Variable>& variables() const override { return vars_; }
+  std::vector<std::string> metric_names() const override { return {"peak"}; }
+  std::string metric_unit(const std::string&) const override { return ""; }
+  nlohmann::json settings() const override { return {}; }
+  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, const std::string&) const override {
+    const double a = x[0] - 1, b = x[0] + 1;
+    std::vector<opt::MetricValue> peaks = {{a * a, Eigen::VectorXd::Constant(1, 2 * a)},
+                                           {b * b / 4, Eigen::VectorXd::Constant(1, b / 2)}};
+    if (x[0] > 4) peaks[0].gradient[0] = std::numeric_limits<double>::infinity();
+    return peaks;
+  }
+
+ protected:
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
+                                    bool gradient) const override {
+    const double a = (x[0] - 1) * (x[0] - 1), b = (x[0] + 1) * (x[0] + 1) / 4;
+    opt::Evaluation e;
+    e.metrics["peak"] = {std::max(a, b), gradient ? Eigen::VectorXd::Constant(1, a > b ? 2 * (x[0] - 1) : (x[0] + 1) / 2)
+                                                  : Eigen::VectorXd()};
+    return e;
+  }
+
+ private:
+  std::vector<opt::Variable> vars_;
+};
+
+TEST(IpoptDriver, InfinitePeakGradientIsAFailedEvaluationNotACrash) {
+  opt::DriverOptions o;
+  o.library = "ipopt";
+  // From x = 4.5 every row has an infinite derivative at the start: Ipopt
+  // cannot begin, and says so (before: a NaN/inf Jacobian reached MUMPS).
+  const InfinitePeak stuck(4.5);
+  const auto r = opt::IpoptDriver(o).minimize(stuck, {"peak"}, {}, stuck.initial_point());
+  EXPECT_FALSE(r.success()) << r.message;
+  EXPECT_EQ(r.x.size(), 1);
+  // From x = 2 the epigraph converges to the kink, 4/9 at 1/3.
+  const InfinitePeak fine(2);
+  const auto s = opt::IpoptDriver(o).minimize(fine, {"peak"}, {}, fine.initial_point());
+  ASSERT_EQ(s.status, opt::DriverStatus::converged) << s.message;
+  constexpr double kTol = 1e-7;  // Ipopt's tol 1e-10 on the KKT error; the kink is exact in the epigraph
+  EXPECT_NEAR(s.x[0], 1.0 / 3.0, kTol);
+  EXPECT_NEAR(s.objective, 4.0 / 9.0, kTol);
+}
+
+// A bound of 1e12 m on a 1.2 m link (repro ipopt_huge_upper_bound.yaml):
+// Ipopt gets no bound there, and reaches the optimum NLopt SLSQP finds with a
+// sane bound (2.4 m), instead of jumping to l = 6e10 m where the pressure
+// angle saturates at 90 deg.
+TEST(IpoptDriver, AbsurdBoundIsPassedAsNone) {
+  auto conveyor = [](const std::string& max) {
+    return problems::make_problem(opt::ConfigNode::parse(
+        "problem: conveyor_swing\nmodel: {design: synthesis, frame_x: 1.0 m, frame_y: 2.2 m, "
+        "swing_angle: 32 deg, coupler_offset: 1.0 m, crank_speed: 12 rad/s, l_co1: 1.2 m}\n"
+        "variables: {l_co1: {min: 0.9 m, max: " + max + "}}\n", "<conveyor>"));
+  };
+  const auto huge = conveyor("1e12 m"), sane = conveyor("2.4 m");
+  opt::DriverOptions ipopt, slsqp;
+  ipopt.library = "ipopt";
+  slsqp.algorithm = "LD_SLSQP";
+  slsqp.xtol_rel = 1e-12;
+  const auto r = opt::make_driver(ipopt)->minimize(*huge, {"max_pressure_angle"}, {}, huge->initial_point());
+  const auto ref = opt::make_driver(slsqp)->minimize(*sane, {"max_pressure_angle"}, {}, sane->initial_point());
+  ASSERT_EQ(ref.status, opt::DriverStatus::converged) << ref.message;
+  ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
+  constexpr double kTol = 1e-6;  // relative: two drivers on a kink, each converged far tighter
+  EXPECT_NEAR(r.x[0], ref.x[0], kTol * ref.x[0]);
+  EXPECT_NEAR(r.objective, ref.objective, kTol * ref.objective);
+}
+
+// A global stage that stops on its evaluation limit is not a success, and
+// still hands its best design to the polish (docs/drivers.md).
+TEST(ChainDriver, PolishRunsAfterAGlobalStageStoppedOnItsLimit) {
+  const auto p = testing_problems::rosenbrock();
+  opt::DriverOptions direct = nlopt("GN_DIRECT_L", 50);
+  const auto first = opt::make_driver(direct)->minimize(p, {"f"}, {}, p.initial_point());
+  EXPECT_EQ(first.status, opt::DriverStatus::max_evaluations) << first.message;
+  EXPECT_FALSE(first.success());
+  EXPECT_NE(first.message.find("evaluation limit (max_evaluations 50)"), std::string::npos) << first.message;
+  direct.polish = std::make_shared<opt::DriverOptions>(nlopt("LD_SLSQP"));
+  const auto r = opt::make_driver(direct)->minimize(p, {"f"}, {}, p.initial_point());
+  ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
+  EXPECT_NEAR(r.objective, 0.25, 1e-7 * 0.25) << "closed form at the bound x = 0.5 (tolerance as SLSQP above)";
+  EXPECT_GT(r.evaluations, first.evaluations);
+  EXPECT_NE(r.message.find("max_evaluations"), std::string::npos) << r.message;
+}
+
+// A chain whose first stage is interrupted ends there: the polish would only
+// be stopped at its first evaluation.
+TEST(ChainDriver, InterruptedFirstStageEndsTheChain) {
+  const Tripwire p(kTripAt, Tripwire::Action::stop);
+  opt::DriverOptions o = nlopt("GN_DIRECT_L", 500);
+  o.polish = std::make_shared<opt::DriverOptions>(nlopt("LD_SLSQP"));
+  const auto r = opt::make_driver(o)->minimize(p, {"f"}, {}, p.initial_point());
+  opt::clear_stop();
+  EXPECT_EQ(r.status, opt::DriverStatus::interrupted) << r.message;
+  EXPECT_EQ(p.evaluations, kTripAt);
+}
 
 }  // namespace

@@ -50,7 +50,9 @@ TEST(NloptDriver, BoundOnlyAlgorithmRejectsMetricConstraints) {
   const Tutorial p = testing_problems::tutorial();
   const auto r = opt::NloptDriver(o).minimize(p, {"f"}, kCons, p.initial_point());
   EXPECT_EQ(r.status, opt::DriverStatus::invalid_arguments);
-  EXPECT_NE(r.message.find("bound constraints only"), std::string::npos);
+  EXPECT_EQ(r.message.rfind("LN_BOBYQA takes no inequality constraints (c1 <= 0)", 0), 0u) << r.message;
+  EXPECT_EQ(r.evaluations, 0);
+  EXPECT_EQ(r.x, p.initial_point()) << "an early return leaves the start point";
 }
 
 TEST(NloptDriver, EvaluationLimitIsAStatus) {
@@ -61,6 +63,250 @@ TEST(NloptDriver, EvaluationLimitIsAStatus) {
   const auto r = opt::NloptDriver(o).minimize(p, {"f"}, kCons, p.initial_point());
   EXPECT_EQ(r.status, opt::DriverStatus::max_evaluations);
   EXPECT_EQ(r.evaluations, 5);
+  EXPECT_FALSE(r.success()) << "a limit reached is not a converged optimum";
+  EXPECT_TRUE(r.stopped());
+  EXPECT_EQ(r.message.rfind("stopped on the evaluation limit (max_evaluations 5) before converging", 0), 0u)
+      << r.message;
+}
+
+TEST(IpoptDriver, IterationLimitIsAStopNotASuccess) {
+  opt::DriverOptions o;
+  o.library = "ipopt";
+  o.max_iterations = 2;
+  const Tutorial p = testing_problems::tutorial();
+  const auto r = opt::IpoptDriver(o).minimize(p, {"f"}, kCons, p.initial_point());
+  EXPECT_EQ(r.status, opt::DriverStatus::max_evaluations) << r.message;
+  EXPECT_FALSE(r.success());
+  EXPECT_EQ(r.message.rfind("stopped on the iteration limit (max_iterations 2) before converging", 0), 0u)
+      << r.message;
+}
+
+}  // namespace
+
+// Which NLopt algorithm takes which problem, against NLopt's own algorithm
+// documentation (doc/docs/NLopt_Algorithms.md, quoted), not the driver's
+// table: every offered algorithm x {bounds only, an inequality, an
+// equality, no gradients, one variable, an unbounded variable}.
+#include <set>
+#include <sstream>
+
+namespace {
+
+struct Documented {
+  const char* algorithm;
+  bool gradient;    // a D algorithm needs the gradient
+  bool inequality;  // nonlinear inequality constraints
+  bool equality;    // nonlinear equality constraints
+  bool global;      // needs finite bounds
+  int min_variables;
+  const char* quote;
+};
+
+const Documented kDocumented[] = {
+    {"LN_COBYLA", false, true, true, false, 1,
+     "COBYLA ... for derivative-free optimization with nonlinear inequality and equality constraints"},
+    {"LN_BOBYQA", false, false, false, false, 1,
+     "BOBYQA performs derivative-free bound-constrained optimization"},
+    {"LN_NEWUOA_BOUND", false, false, false, false, 2,
+     "NEWUOA requires the dimension n of the parameter space to be >= 2"},
+    {"LN_NELDERMEAD", false, false, false, false, 1,
+     "only COBYLA currently supports arbitrary nonlinear inequality and equality constraints; the "
+     "rest of them support bound-constrained or unconstrained problems only"},
+    {"LN_SBPLX", false, false, false, false, 1, "(as LN_NELDERMEAD)"},
+    {"LD_SLSQP", true, true, true, false, 1, "(supporting both inequality and equality constraints)"},
+    {"LD_MMA", true, true, false, false, 1,
+     "including nonlinear inequality constraints (but *not* equality constraints)"},
+    {"LD_CCSAQ", true, true, false, false, 1, "another CCSA algorithm from the same paper (as MMA)"},
+    {"LD_LBFGS", true, false, false, false, 1,
+     "only MMA and SLSQP support arbitrary nonlinear inequality constraints ... the rest support "
+     "bound-constrained or unconstrained problems only"},
+    {"GN_DIRECT_L", false, false, false, true, 1,
+     "Most of the above algorithms only handle bound constraints, and in fact require finite bound "
+     "constraints"},
+    {"GN_DIRECT", false, false, false, true, 1, "(as GN_DIRECT_L)"},
+    {"GN_ISRES", false, true, true, true, 1,
+     "supports arbitrary nonlinear inequality and equality constraints in addition to the bound "
+     "constraints"},
+    // The local search decides the gradient (local_algorithm LN_COBYLA here).
+    {"G_MLSL_LDS", false, false, false, true, 1,
+     "Only bound-constrained problems are supported by this algorithm"},
+};
+
+// Two (or n) variables in [-1, 2], f = |x|^2, c = x0 + x1, with or without gradients.
+class Quadratic : public opt::Problem {
+ public:
+  Quadratic(int n, bool gradients, double upper = 2) : gradients_(gradients) {
+    for (int i = 0; i < n; ++i)
+      vars_.push_back({"x" + std::to_string(i), opt::Dimension::dimensionless, -1, upper, 0.5});
+  }
+  std::string name() const override { return "quadratic"; }
+  const std::vector<opt::Variable>& variables() const override { return vars_; }
+  std::vector<std::string> metric_names() const override { return {"f", "c"}; }
+  std::string metric_unit(const std::string&) const override { return ""; }
+  bool provides_gradients() const override { return gradients_; }
+  nlohmann::json settings() const override { return {}; }
+  mutable int evaluations = 0;
+
+ protected:
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
+                                    bool gradient) const override {
+    ++evaluations;
+    opt::Evaluation e;
+    e.metrics["f"] = {x.squaredNorm(), gradient ? Eigen::VectorXd(2 * x) : Eigen::VectorXd()};
+    e.metrics["c"] = {x.sum(), gradient ? Eigen::VectorXd::Ones(x.size()).eval() : Eigen::VectorXd()};
+    return e;
+  }
+
+ private:
+  bool gradients_;
+  std::vector<opt::Variable> vars_;
+};
+
+struct Shape {
+  const char* name;
+  int variables;
+  bool gradients;
+  double upper;  // of every variable
+  std::vector<opt::Constraint> constraints;
+};
+
+const Shape kShapes[] = {
+    {"bounds_only", 2, true, 2, {}},
+    {"inequality", 2, true, 2, {{"c", true, 1}}},
+    {"equality", 2, true, 2, {{"c", true, 1, true}}},
+    {"no_gradients", 2, false, 2, {}},
+    {"one_variable", 1, true, 2, {}},
+    {"unbounded", 2, true, std::numeric_limits<double>::infinity(), {}},
+};
+
+bool documented_takes(const Documented& d, const Shape& s) {
+  bool ok = !(d.gradient && !s.gradients) && s.variables >= d.min_variables &&
+            !(d.global && !std::isfinite(s.upper));
+  for (const auto& k : s.constraints) ok = ok && (k.equal ? d.equality : d.inequality);
+  return ok;
+}
+
+opt::DriverOptions options_for(const std::string& algorithm) {
+  opt::DriverOptions o;
+  o.algorithm = algorithm;
+  o.local_algorithm = "LN_COBYLA";
+  return o;
+}
+
+// The names after "algorithms that can take this problem: ".
+std::set<std::string> capable_list(const std::string& message) {
+  const std::string head = "algorithms that can take this problem: ";
+  std::set<std::string> out;
+  const auto at = message.find(head);
+  if (at == std::string::npos) return out;
+  std::stringstream ss(message.substr(at + head.size()));
+  for (std::string item; std::getline(ss, item, ',');) out.insert(item.substr(item.find_first_not_of(' ')));
+  return out;
+}
+
+using CapabilityCase = std::tuple<size_t, size_t>;
+class Capabilities : public ::testing::TestWithParam<CapabilityCase> {};
+
+TEST_P(Capabilities, MatchNloptsDocumentation) {
+  const Documented& d = kDocumented[std::get<0>(GetParam())];
+  const Shape& s = kShapes[std::get<1>(GetParam())];
+  const Quadratic p(s.variables, s.gradients, s.upper);
+  const std::string why = opt::driver_incompatibility(options_for(d.algorithm), p, {"f"}, s.constraints);
+  EXPECT_EQ(why.empty(), documented_takes(d, s)) << d.algorithm << " on " << s.name << ": " << why
+                                                 << "\n  NLopt: " << d.quote;
+  const auto r = opt::NloptDriver(options_for(d.algorithm)).minimize(p, {"f"}, s.constraints, p.initial_point());
+  if (why.empty()) {
+    EXPECT_NE(r.status, opt::DriverStatus::invalid_arguments) << r.message;
+    return;
+  }
+  // Refused before any work, with one message: the algorithm, then the
+  // algorithms that can take the problem (by the documentation).
+  EXPECT_EQ(r.status, opt::DriverStatus::invalid_arguments);
+  EXPECT_EQ(r.message, why);
+  EXPECT_EQ(p.evaluations, 0);
+  EXPECT_EQ(r.x, p.initial_point());
+  EXPECT_EQ(why.rfind(d.algorithm + std::string(" "), 0), 0u) << why;
+  std::set<std::string> want;
+  for (const auto& other : kDocumented)
+    if (documented_takes(other, s)) want.insert(other.algorithm);
+  if (s.gradients) want.insert("library: ipopt");
+  EXPECT_EQ(capable_list(why), want) << why;
+}
+
+std::vector<CapabilityCase> capability_cases() {
+  std::vector<CapabilityCase> out;
+  for (size_t a = 0; a < std::size(kDocumented); ++a)
+    for (size_t s = 0; s < std::size(kShapes); ++s) out.emplace_back(a, s);
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryAlgorithm, Capabilities, ::testing::ValuesIn(capability_cases()),
+                         [](const auto& info) {
+                           return std::string(kDocumented[std::get<0>(info.param)].algorithm) + "__" +
+                                  kShapes[std::get<1>(info.param)].name;
+                         });
+
+TEST(Capabilities, EveryOfferedAlgorithmIsDocumentedHere) {
+  std::set<std::string> documented;
+  for (const auto& d : kDocumented) documented.insert(d.algorithm);
+  const auto offered = opt::nlopt_algorithms();
+  EXPECT_EQ(std::set<std::string>(offered.begin(), offered.end()), documented);
+}
+
+// The reasons name what the algorithm lacks.
+TEST(Capabilities, MessagesSayWhy) {
+  const Quadratic with(2, true), without(2, false), one(1, true);
+  auto why = [](const std::string& a, const opt::Problem& p, std::vector<opt::Constraint> k = {}) {
+    return opt::driver_incompatibility(options_for(a), p, {"f"}, k);
+  };
+  EXPECT_EQ(why("LN_BOBYQA", with, {{"c", true, 1}}).rfind("LN_BOBYQA takes no inequality constraints (c <= 1)", 0), 0u);
+  EXPECT_EQ(why("LD_MMA", with, {{"c", true, 1, true}}).rfind("LD_MMA takes no equality constraints (c = 1)", 0), 0u);
+  EXPECT_EQ(why("LD_SLSQP", without).rfind("LD_SLSQP needs exact gradients, and quadratic has none", 0), 0u);
+  EXPECT_EQ(why("LN_NEWUOA_BOUND", one).rfind("LN_NEWUOA_BOUND needs at least 2 variables, and the problem has 1", 0), 0u);
+  const Quadratic unbounded(2, true, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(why("GN_DIRECT_L", unbounded).rfind("GN_DIRECT_L is a global search and needs finite bounds, and x0 has none", 0), 0u);
+}
+
+// A chain is checked whole: the polish, and G_MLSL_LDS's local algorithm.
+TEST(Capabilities, ChainsAreCheckedWhole) {
+  const Quadratic with(2, true), without(2, false);
+  const std::vector<opt::Constraint> ineq = {{"c", true, 1}};
+  opt::DriverOptions o = options_for("GN_ISRES");
+  o.polish = std::make_shared<opt::DriverOptions>(options_for("LD_LBFGS"));
+  std::string why = opt::driver_incompatibility(o, with, {"f"}, ineq);
+  EXPECT_EQ(why.rfind("polish: LD_LBFGS takes no inequality constraints", 0), 0u) << why;
+  // The whole chain refuses before its first stage runs.
+  const auto r = opt::make_driver(o)->minimize(with, {"f"}, ineq, with.initial_point());
+  EXPECT_EQ(r.status, opt::DriverStatus::invalid_arguments);
+  EXPECT_EQ(with.evaluations, 0);
+
+  opt::DriverOptions mlsl = options_for("G_MLSL_LDS");
+  mlsl.local_algorithm = "LD_LBFGS";
+  why = opt::driver_incompatibility(mlsl, without, {"f"}, {});
+  EXPECT_EQ(why.rfind("G_MLSL_LDS's local_algorithm LD_LBFGS needs exact gradients", 0), 0u) << why;
+
+  opt::DriverOptions ipopt;
+  ipopt.library = "ipopt";
+  why = opt::driver_incompatibility(ipopt, without, {"f"}, {});
+  EXPECT_EQ(why.rfind("ipopt needs exact gradients", 0), 0u) << why;
+  EXPECT_EQ(capable_list(why), (std::set<std::string>{"LN_COBYLA", "LN_BOBYQA", "LN_NEWUOA_BOUND",
+                                                       "LN_NELDERMEAD", "LN_SBPLX", "GN_DIRECT_L",
+                                                       "GN_DIRECT", "GN_ISRES", "G_MLSL_LDS"}));
+}
+
+// No algorithm given: the problem decides (docs/drivers.md).
+TEST(Capabilities, DefaultAlgorithmFitsTheProblem) {
+  const Quadratic with(2, true), without(2, false);
+  EXPECT_EQ(opt::default_algorithm(with), "LD_SLSQP");
+  EXPECT_EQ(opt::default_algorithm(without), "LN_COBYLA");
+  const opt::DriverOptions defaults;
+  const std::vector<opt::Constraint> both = {{"c", true, 1}, {"c", false, -1}};
+  EXPECT_EQ(opt::driver_incompatibility(defaults, without, {"f"}, both), "");
+  const auto r = opt::make_driver(defaults)->minimize(without, {"f"}, both, without.initial_point());
+  EXPECT_EQ(r.algorithm, "LN_COBYLA");
+  EXPECT_EQ(r.status, opt::DriverStatus::converged) << r.message;
+  constexpr double kTol = 1e-6;  // COBYLA's step tolerance (xtol_rel 1e-12) is far below this
+  EXPECT_NEAR(r.objective, 0.0, kTol) << "min |x|^2 at x = 0, inside -1 <= x0 + x1 <= 1";
 }
 
 }  // namespace

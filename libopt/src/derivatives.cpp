@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace opt {
 
@@ -10,6 +11,12 @@ std::vector<DerivativeCheck> check_derivatives(const Problem& p, const Eigen::Ve
   std::vector<DerivativeCheck> out;
   if (!p.provides_gradients()) return out;
   const Evaluation e = p.evaluate(x, {}, true);
+  if (!e.ok()) {  // e.g. a gradient that is not finite: a failed check for each variable, never none
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& v : p.variables())
+      out.push_back({e.message.empty() ? e.status : e.message, v.name, nan, nan, nan, nan, false});
+    return out;
+  }
   auto record = [&](const std::string& metric, int i, double value, double ad, double fd) {
     const double err = std::abs(ad - fd) / std::max(1.0, std::abs(value));
     out.push_back({metric, p.variables()[i].name, value, ad, fd, err, err <= tol});

@@ -11,11 +11,17 @@
 // The row count is fixed at the start (the peaks at x0, plus two spare rows;
 // missing peaks repeat the largest, and with more peaks than rows the largest
 // are kept).
+//
+// Nothing non-finite reaches Ipopt: a value or derivative that is not finite
+// makes the callback return false, as for an infeasible design (a NaN or inf
+// in the Jacobian used to reach MUMPS, whose matching crashed on it). The
+// time limit is the wall clock (Ipopt's max_cpu_time counts CPU time), checked
+// around every evaluation like the stop request; once either fires, the
+// callbacks evaluate no more and intermediate_callback stops Ipopt.
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -30,6 +36,17 @@ using Ipopt::Number;
 
 constexpr double kInf = 1e20;  // Ipopt's default bound infinity is 1e19
 constexpr int kSpareRows = 2;
+// A variable bound farther than this many times max(1, |x0|) from the start
+// goes to Ipopt as no bound (kInf). With a slack of 1e12 the barrier's
+// complementarity sets the adaptive barrier parameter near 1e10, and the
+// first step jumps by 6e10 (repro ipopt_huge_upper_bound.yaml).
+constexpr double kFarBound = 1e6;
+
+bool far(double bound, double x0) { return std::abs(bound - x0) > kFarBound * std::max(1.0, std::abs(x0)); }
+
+bool all_finite(const Number* v, Index n) {
+  return std::all_of(v, v + n, [](Number a) { return std::isfinite(a); });
+}
 
 // One constraint row group: a metric (or its local maxima) against a bound.
 struct Row {
@@ -40,9 +57,10 @@ struct Row {
 class Nlp : public Ipopt::TNLP {
  public:
   Nlp(const Problem& p, const Objective& obj, std::vector<Row> rows, int objective_peaks,
-      double scale, const Eigen::VectorXd& x0, double t0, Result& result, bool history)
+      double scale, const Eigen::VectorXd& x0, double t0, Result& result, bool history,
+      detail::StopCheck& stop)
       : p_(p), obj_(obj), rows_(std::move(rows)), objective_peaks_(objective_peaks),
-        scale_(scale), x0_(x0), t0_(t0), result_(result), history_(history) {
+        scale_(scale), x0_(x0), t0_(t0), result_(result), history_(history), stop_(stop) {
     nx_ = static_cast<int>(x0.size());
     for (const auto& r : rows_) {
       wanted_.push_back(r.constraint.metric);
@@ -54,6 +72,8 @@ class Nlp : public Ipopt::TNLP {
 
   std::exception_ptr error;
   Eigen::VectorXd solution;
+  // The last evaluation, for the final report.
+  const detail::EvaluationAt& last() const { return last_; }
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_h,
                     IndexStyleEnum& style) override {
@@ -66,14 +86,19 @@ class Nlp : public Ipopt::TNLP {
   }
 
   bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl, Number* gu) override {
-    const Eigen::VectorXd lb = p_.lower_bounds(), ub = p_.upper_bounds();
-    for (int i = 0; i < nx_; ++i) xl[i] = lb[i], xu[i] = ub[i];
-    if (n > nx_) xl[nx_] = -kInf, xu[nx_] = kInf;
-    Index j = 0;
-    for (const auto& r : rows_)
-      for (int k = 0; k < std::max(1, r.peaks); ++k, ++j) gl[j] = r.constraint.equal ? 0.0 : -kInf, gu[j] = 0.0;
-    for (; j < m; ++j) gl[j] = -kInf, gu[j] = 0.0;
-    return true;
+    return guard([&] {
+      const Eigen::VectorXd lb = p_.lower_bounds(), ub = p_.upper_bounds();
+      for (int i = 0; i < nx_; ++i) {
+        xl[i] = far(lb[i], x0_[i]) ? -kInf : lb[i];
+        xu[i] = far(ub[i], x0_[i]) ? kInf : ub[i];
+      }
+      if (n > nx_) xl[nx_] = -kInf, xu[nx_] = kInf;
+      Index j = 0;
+      for (const auto& r : rows_)
+        for (int k = 0; k < std::max(1, r.peaks); ++k, ++j) gl[j] = r.constraint.equal ? 0.0 : -kInf, gu[j] = 0.0;
+      for (; j < m; ++j) gl[j] = -kInf, gu[j] = 0.0;
+      return true;
+    });
   }
 
   bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
@@ -82,16 +107,11 @@ class Nlp : public Ipopt::TNLP {
     return true;
   }
 
-  bool eval_f(Index n, const Number* x, bool, Number& f) override {
+  bool eval_f(Index, const Number* x, bool, Number& f) override {
     return guard([&] {
-      if (objective_peaks_) {
-        f = x[nx_];
-        return update(x, false);
-      }
       if (!update(x, false)) return false;
-      f = sign() * at_.metrics.at(obj_.metric).value / scale_;
-      (void)n;
-      return true;
+      f = objective_peaks_ ? x[nx_] : sign() * at().metrics.at(obj_.metric).value / scale_;
+      return std::isfinite(f);
     });
   }
 
@@ -103,17 +123,17 @@ class Nlp : public Ipopt::TNLP {
         return true;
       }
       if (!update(x, true)) return false;
-      const auto& gr = at_.metrics.at(obj_.metric).gradient;
+      const auto& gr = at().metrics.at(obj_.metric).gradient;
       for (int i = 0; i < nx_; ++i) g[i] = sign() * gr[i] / scale_;
-      return true;
+      return all_finite(g, n);
     });
   }
 
-  bool eval_g(Index, const Number* x, bool, Index, Number* g) override {
+  bool eval_g(Index, const Number* x, bool, Index m, Number* g) override {
     return guard([&] {
       if (!update(x, false)) return false;
       fill_rows(x, g, nullptr);
-      return true;
+      return all_finite(g, m);
     });
   }
 
@@ -128,58 +148,68 @@ class Nlp : public Ipopt::TNLP {
       if (!update(x, true)) return false;
       std::fill(values, values + n * m, 0.0);
       fill_rows(x, nullptr, values);
-      return true;
+      return all_finite(values, n * m);
     });
   }
 
   bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number, Number,
                              Number, Number, Number, Index, const Ipopt::IpoptData*,
                              Ipopt::IpoptCalculatedQuantities*) override {
-    return !error;  // stop once a callback has thrown
+    return !error && !stop_();  // stop once a callback has thrown, on the time limit or a stop request
   }
 
   void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
                          const Number*, Index, const Number*, const Number*, Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    solution = Eigen::Map<const Eigen::VectorXd>(x, std::min<Index>(n, nx_));
+    guard([&] {
+      solution = Eigen::Map<const Eigen::VectorXd>(x, std::min<Index>(n, nx_));
+      return true;
+    });
   }
 
  private:
   double sign() const { return obj_.maximize ? -1.0 : 1.0; }
 
+  // No exception crosses into Ipopt: the first is kept, the callback fails,
+  // intermediate_callback stops Ipopt, and minimize re-throws it.
   template <class F>
   bool guard(F&& f) {
     try {
       return f();
     } catch (...) {
-      error = std::current_exception();
+      if (!error) error = std::current_exception();
       return false;
     }
   }
 
-  // Evaluates the metrics (and the local maxima the rows need) at x, once per
-  // x and gradient need; false where the design is infeasible.
-  bool update(const Number* x, bool gradient) {
+  const Evaluation& at() const { return last_.e; }
+
+  // Evaluates the metrics (gradients included: cheap next to the cycle) and
+  // the local maxima the rows need at x, once per x; false where the design
+  // is infeasible, a peak is not finite, or the run is stopping (then
+  // nothing is evaluated).
+  bool update(const Number* x, bool) {
     Eigen::Map<const Eigen::VectorXd> xv(x, nx_);
-    if (!(last_.size() == nx_ && last_ == xv && (has_gradient_ || !gradient))) {
-      at_ = p_.evaluate(xv, wanted_, true);  // gradients are cheap next to the cycle
-      last_ = xv;
-      has_gradient_ = true;
-      peaks_.clear();
-      for (const auto& r : rows_)
-        if (r.peaks) peaks_[r.constraint.metric] = p_.local_maxima(xv, r.constraint.metric);
-      if (objective_peaks_) peaks_[obj_.metric] = p_.local_maxima(xv, obj_.metric);
-      ++result_.evaluations;
-      if (!at_.ok()) ++result_.infeasible_evaluations;
-      if (history_)
-        result_.history.push_back({result_.evaluations, at_.status, xv,
-                                   at_.ok() ? at_.metrics.at(obj_.metric).value
-                                            : std::numeric_limits<double>::quiet_NaN()});
-    }
-    if (!at_.ok()) return false;
+    if (last_.x.size() == nx_ && last_.x == xv) return usable_;
+    if (error || stop_()) return false;
+    last_ = {xv, p_.evaluate(xv, wanted_, true)};
+    peaks_.clear();
+    for (const auto& r : rows_)
+      if (r.peaks) peaks_[r.constraint.metric] = p_.local_maxima(xv, r.constraint.metric);
+    if (objective_peaks_) peaks_[obj_.metric] = p_.local_maxima(xv, obj_.metric);
+    usable_ = at().ok();
     for (const auto& [metric, list] : peaks_)
-      if (list.empty()) return false;
-    return true;
+      usable_ = usable_ && !list.empty() && std::all_of(list.begin(), list.end(), [](const MetricValue& v) {
+                  return std::isfinite(v.value) && v.gradient.allFinite();
+                });
+    ++result_.evaluations;
+    if (!usable_) ++result_.infeasible_evaluations;
+    if (history_)
+      result_.history.push_back({result_.evaluations, at().status, xv,
+                                 at().ok() ? at().metrics.at(obj_.metric).value
+                                           : std::numeric_limits<double>::quiet_NaN()});
+    stop_();  // after the evaluation under way
+    return usable_;
   }
 
   // The k rows of a maximum: its local maxima, the largest k if there are
@@ -211,7 +241,7 @@ class Nlp : public Ipopt::TNLP {
       const Constraint& k = r.constraint;
       const double s = k.upper ? 1.0 : -1.0;
       if (!r.peaks) {
-        const auto& mv = at_.metrics.at(k.metric);
+        const auto& mv = at().metrics.at(k.metric);
         put(k.g(mv.value), &mv.gradient, s, 0.0);
       } else {
         for (const MetricValue* mv : peak_rows(k.metric, r.peaks)) put(k.g(mv->value), &mv->gradient, s, 0.0);
@@ -234,11 +264,11 @@ class Nlp : public Ipopt::TNLP {
   double t0_;
   Result& result_;
   bool history_;
+  detail::StopCheck& stop_;
   int nx_ = 0, m_ = 0;
   std::vector<std::string> wanted_;
-  Eigen::VectorXd last_;
-  bool has_gradient_ = false;
-  Evaluation at_;
+  detail::EvaluationAt last_;
+  bool usable_ = false;
   std::map<std::string, std::vector<MetricValue>> peaks_;
 };
 
@@ -283,17 +313,14 @@ const char* status_text(Ipopt::ApplicationReturnStatus s) {
 Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
                              const std::vector<Constraint>& constraints,
                              const Eigen::VectorXd& x0) const {
-  Result result;
+  detail::StopCheck stop(options_.max_seconds);
+  const std::string why = driver_incompatibility(options_, problem, objective, constraints);
+  Result result = detail::no_work(why.empty() ? DriverStatus::failure : DriverStatus::invalid_arguments, why, x0);
   result.library = "ipopt";
   result.algorithm = options_.epigraph ? "interior-point, L-BFGS, epigraph" : "interior-point, L-BFGS";
-  const auto start = std::chrono::steady_clock::now();
-  if (!problem.provides_gradients()) {
-    result.status = DriverStatus::invalid_arguments;
-    result.message = problem.name() + " has no exact gradients; Ipopt needs them (use NLopt LN_COBYLA)";
-    return result;
-  }
+  if (!why.empty()) return result;
   Eigen::VectorXd x = x0;
-  const std::string restored = detail::restore_start(problem, objective, x, result);
+  const detail::Start start = detail::prepare_start(problem, objective, x, result, stop);
 
   // Rows: user constraints, then the problem's implicit ones; maxima
   // expanded into their peaks when bounded above.
@@ -309,37 +336,45 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
   for (const auto& k : constraints) add(k);
   for (const auto& k : problem.implicit_constraints()) add(k);
 
-  const double scale = detail::objective_scale(problem, objective, x);
   int objective_peaks = 0;
   double t0 = 0;
   if (options_.epigraph && !objective.maximize) {
     const auto list = problem.local_maxima(x, objective.metric);
     if (!list.empty()) {
       objective_peaks = static_cast<int>(list.size()) + kSpareRows;
-      for (const auto& v : list) t0 = std::max(t0, v.value / scale);
+      for (const auto& v : list)
+        if (std::isfinite(v.value)) t0 = std::max(t0, v.value / start.scale);
       t0 *= 1 + 1e-6;
     }
   }
 
-  Ipopt::SmartPtr<Nlp> nlp = new Nlp(problem, objective, rows, objective_peaks, scale, x, t0, result,
-                                     options_.record_history);
+  Ipopt::SmartPtr<Nlp> nlp = new Nlp(problem, objective, rows, objective_peaks, start.scale, x, t0,
+                                     result, options_.record_history, stop);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", options_.print_level);
   app->Options()->SetStringValue("sb", "yes");
   app->Options()->SetStringValue("hessian_approximation", "limited-memory");
   app->Options()->SetNumericValue("tol", options_.tol);
   app->Options()->SetIntegerValue("max_iter", options_.max_iterations);
-  app->Options()->SetNumericValue("max_cpu_time", options_.max_seconds);
   app->Options()->SetNumericValue("constr_viol_tol", std::max(options_.constraint_tol, 1e-12));
   Ipopt::ApplicationReturnStatus status = app->Initialize();
-  if (status == Ipopt::Solve_Succeeded) status = app->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
+  if (status == Ipopt::Solve_Succeeded && !stop()) status = app->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
   if (nlp->error) std::rethrow_exception(nlp->error);
 
-  result.status = map_status(status);
-  result.message = std::string("Ipopt: ") + status_text(status) + restored;
+  result.status = stop.reason ? *stop.reason : map_status(status);
+  result.message = std::string("Ipopt: ") + status_text(status) + start.note;
+  if (result.stopped()) result.message = detail::stop_message(result.status, options_) + " (" + result.message + ")";
   result.x = nlp->solution.size() == x.size() ? nlp->solution : x;
-  detail::finish(problem, objective, constraints, result);
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // A bound too far to pass on (kFarBound) is still the user's bound.
+  const Eigen::VectorXd inside = result.x.cwiseMax(problem.lower_bounds()).cwiseMin(problem.upper_bounds());
+  if (inside != result.x) {
+    result.x = inside;
+    if (result.status == DriverStatus::converged) result.status = DriverStatus::failure;
+    result.message += "; Ipopt ended beyond a variable bound given to it as none (more than " +
+                      std::to_string(static_cast<int>(kFarBound)) + " x the start's magnitude away)";
+  }
+  detail::finish(problem, objective, constraints, result, &nlp->last());
+  result.seconds = stop.seconds();
   return result;
 }
 

@@ -1,17 +1,20 @@
 // NLopt behind the Driver interface (C API: return codes map one to one onto
-// DriverStatus). Gradients come from the problem (autodiff), never from finite
-// differences. Exceptions thrown inside callbacks are caught at the C boundary,
-// the solver is stopped, and the exception is re-thrown after it returns.
+// DriverStatus), plus what every driver shares: the capability check, the
+// stop check, the start and the final report, and the chain. Gradients come
+// from the problem (autodiff), never from finite differences. Exceptions
+// thrown inside callbacks are caught at the C boundary, the solver is
+// stopped, and the exception is re-thrown after it returns.
 #include <nlopt.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <limits>
 #include <stdexcept>
 
 #include "opt/driver.hpp"
+#include "opt/interrupt.hpp"
 
 namespace opt {
 
@@ -20,6 +23,7 @@ std::string to_string(DriverStatus s) {
     case DriverStatus::converged: return "converged";
     case DriverStatus::max_evaluations: return "max_evaluations";
     case DriverStatus::max_time: return "max_time";
+    case DriverStatus::interrupted: return "interrupted";
     case DriverStatus::infeasible: return "infeasible";
     case DriverStatus::failure: return "failure";
     case DriverStatus::invalid_arguments: return "invalid_arguments";
@@ -27,85 +31,273 @@ std::string to_string(DriverStatus s) {
   return "unknown";
 }
 
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// What an NLopt algorithm takes, from NLopt's documentation
+// (doc/docs/NLopt_Algorithms.md): derivatives, nonlinear constraints, finite
+// bounds (every global algorithm), a least dimension.
+struct Algorithm {
+  const char* name;
+  bool gradient;    // needs exact gradients
+  bool inequality;  // nonlinear inequality constraints
+  bool equality;    // nonlinear equality constraints
+  bool global;      // global search: needs finite bounds on every variable
+  int min_variables;
+};
+
+constexpr Algorithm kAlgorithms[] = {
+    {"LN_COBYLA", false, true, true, false, 1},
+    {"LN_BOBYQA", false, false, false, false, 1},
+    {"LN_NEWUOA_BOUND", false, false, false, false, 2},  // "NEWUOA requires n >= 2"
+    {"LN_NELDERMEAD", false, false, false, false, 1},
+    {"LN_SBPLX", false, false, false, false, 1},
+    {"LD_SLSQP", true, true, true, false, 1},
+    {"LD_MMA", true, true, false, false, 1},
+    {"LD_CCSAQ", true, true, false, false, 1},
+    {"LD_LBFGS", true, false, false, false, 1},
+    {"GN_DIRECT_L", false, false, false, true, 1},
+    {"GN_DIRECT", false, false, false, true, 1},
+    {"GN_ISRES", false, true, true, true, 1},
+    // Multistart: bounds only; gradients as its local_algorithm needs them.
+    {"G_MLSL_LDS", false, false, false, true, 1},
+};
+
+const Algorithm* find_algorithm(const std::string& name) {
+  for (const auto& a : kAlgorithms)
+    if (name == a.name) return &a;
+  return nullptr;
+}
+
+template <class F>
+bool has(const std::string& algorithm, F property) {
+  const Algorithm* a = find_algorithm(algorithm);
+  return a && property(*a);
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
+  return out;
+}
+
+std::string describe(const Constraint& k) {
+  char bound[32];
+  std::snprintf(bound, sizeof bound, "%g", k.bound);
+  return k.metric + k.relation() + bound;
+}
+
+// Why one NLopt algorithm cannot take the problem, or "".
+std::string algorithm_incompatibility(const std::string& name, const Problem& p,
+                                      const std::vector<Constraint>& constraints) {
+  const Algorithm* a = find_algorithm(name);
+  if (!a) return "is not an NLopt algorithm mechopt offers (" + join(nlopt_algorithms()) + ")";
+  if (a->gradient && !p.provides_gradients())
+    return "needs exact gradients, and " + p.name() + " has none: it takes derivative-free algorithms only";
+  const int n = static_cast<int>(p.variables().size());
+  if (n < a->min_variables)
+    return "needs at least " + std::to_string(a->min_variables) + " variables, and the problem has " +
+           std::to_string(n);
+  if (a->global)
+    for (const auto& v : p.variables())
+      if (!std::isfinite(v.lower) || !std::isfinite(v.upper))
+        return "is a global search and needs finite bounds, and " + v.name + " has none";
+  for (const auto& k : constraints) {
+    if (k.equal && !a->equality) return "takes no equality constraints (" + describe(k) + ")";
+    if (!k.equal && !a->inequality) return "takes no inequality constraints (" + describe(k) + ")";
+  }
+  return "";
+}
+
+// Why one stage (library, algorithm, local algorithm) cannot take the
+// problem, with the stage named first; or "".
+std::string stage_incompatibility(const DriverOptions& o, const Problem& p,
+                                  const std::vector<Constraint>& constraints) {
+  if (o.library == "ipopt")
+    return p.provides_gradients()
+               ? ""
+               : "ipopt needs exact gradients, and " + p.name() + " has none: it takes derivative-free algorithms only";
+  const std::string name = o.algorithm.empty() ? default_algorithm(p) : o.algorithm;
+  if (std::string why = algorithm_incompatibility(name, p, constraints); !why.empty())
+    return name + " " + why;
+  if (name != "G_MLSL_LDS") return "";
+  if (algorithm_is_global(o.local_algorithm))
+    return "G_MLSL_LDS needs a local (L*) local_algorithm, not " + o.local_algorithm;
+  // The local searches see the objective and the bounds only.
+  if (std::string why = algorithm_incompatibility(o.local_algorithm, p, {}); !why.empty())
+    return "G_MLSL_LDS's local_algorithm " + o.local_algorithm + " " + why;
+  return "";
+}
+
+}  // namespace
+
 std::vector<std::string> nlopt_algorithms() {
-  return {"LN_COBYLA", "LN_BOBYQA",   "LN_NELDERMEAD", "LN_SBPLX",  "LD_SLSQP",
-          "LD_MMA",    "LD_CCSAQ",    "LD_LBFGS",      "GN_DIRECT_L", "GN_DIRECT",
-          "GN_ISRES",  "G_MLSL_LDS"};
+  std::vector<std::string> out;
+  for (const auto& a : kAlgorithms) out.push_back(a.name);
+  return out;
 }
 
-bool algorithm_uses_gradient(const std::string& a) { return a.size() > 1 && a[1] == 'D'; }
-
-bool algorithm_is_global(const std::string& a) { return !a.empty() && a[0] == 'G'; }
-
+bool algorithm_uses_gradient(const std::string& a) {
+  return has(a, [](const Algorithm& x) { return x.gradient; });
+}
+bool algorithm_is_global(const std::string& a) {
+  return has(a, [](const Algorithm& x) { return x.global; });
+}
 bool algorithm_supports_constraints(const std::string& a) {
-  return a == "LN_COBYLA" || a == "LD_SLSQP" || a == "LD_MMA" || a == "LD_CCSAQ" ||
-         a == "GN_ISRES";
+  return has(a, [](const Algorithm& x) { return x.inequality; });
+}
+bool algorithm_supports_equalities(const std::string& a) {
+  return has(a, [](const Algorithm& x) { return x.equality; });
 }
 
-bool algorithm_supports_equalities(const std::string& a) {
-  return a == "LN_COBYLA" || a == "LD_SLSQP" || a == "GN_ISRES";
+std::string default_algorithm(const Problem& problem) {
+  return problem.provides_gradients() ? "LD_SLSQP" : "LN_COBYLA";
 }
+
+std::string driver_incompatibility(const DriverOptions& options, const Problem& problem,
+                                   const Objective& objective,
+                                   const std::vector<Constraint>& constraints) {
+  (void)objective;  // every algorithm takes any metric as its objective
+  std::string why = stage_incompatibility(options, problem, constraints);
+  if (why.empty() && options.polish) {
+    why = stage_incompatibility(*options.polish, problem, constraints);
+    if (!why.empty()) why = "polish: " + why;
+  }
+  if (why.empty()) return "";
+  std::vector<std::string> can;
+  for (const auto& a : kAlgorithms)
+    if (algorithm_incompatibility(a.name, problem, constraints).empty()) can.push_back(a.name);
+  DriverOptions ipopt;
+  ipopt.library = "ipopt";
+  if (stage_incompatibility(ipopt, problem, constraints).empty()) can.push_back("library: ipopt");
+  return why + "; algorithms that can take this problem: " + (can.empty() ? "none" : join(can));
+}
+
+namespace detail {
+
+bool StopCheck::operator()() {
+  if (!reason && stop_requested()) reason = DriverStatus::interrupted;
+  if (!reason && seconds() >= max_seconds_) reason = DriverStatus::max_time;
+  return reason.has_value();
+}
+
+double StopCheck::seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+Result no_work(DriverStatus status, std::string message, const Eigen::VectorXd& x0) {
+  Result r;
+  r.status = status;
+  r.message = std::move(message);
+  r.x = x0;
+  r.objective = kNan;
+  return r;
+}
+
+std::string stop_message(DriverStatus s, const DriverOptions& o) {
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%g", o.max_seconds);
+  const std::string best = " before converging: the best design so far, not an optimum";
+  switch (s) {
+    case DriverStatus::max_evaluations:
+      return o.library == "ipopt"
+                 ? "stopped on the iteration limit (max_iterations " + std::to_string(o.max_iterations) + ")" + best
+                 : "stopped on the evaluation limit (max_evaluations " + std::to_string(o.max_evaluations) + ")" + best;
+    case DriverStatus::max_time:
+      return std::string("stopped on the time limit (max_seconds ") + seconds + " s, wall clock)" + best;
+    case DriverStatus::interrupted: return "interrupted by a stop request (SIGINT/SIGTERM)" + best;
+    default: return "";
+  }
+}
+
+}  // namespace detail
 
 namespace {
+
+// The value a callback returns for a design the model cannot evaluate, whose
+// metrics are not finite, or (for an algorithm without nonlinear
+// constraints) that violates an implicit constraint; its gradient is zero.
+// Finite, so that no algorithm's arithmetic meets inf or NaN; far above any
+// objective (passed divided by its value at the start) or constraint, so
+// every algorithm steps back from it.
+constexpr double kInfeasibleValue = 1e30;
 
 struct Context {
   const Problem* problem;
   const Objective* objective;
   double objective_scale;  // the objective is passed to NLopt divided by |f(x0)|
   std::vector<Constraint> constraints;  // user constraints, then implicit ones
+  std::vector<Constraint> barrier;      // implicit constraints an algorithm cannot take
   std::vector<std::string> wanted;
   bool record_history;
-  // Cache of the last evaluation: NLopt asks for the objective and each
-  // constraint at the same x one after the other.
-  Eigen::VectorXd last_x;
-  bool last_has_gradient = false;
-  Evaluation last;
+  detail::StopCheck* stop;
   Result* result;
-  nlopt_opt opt;
+  nlopt_opt opt = nullptr;
   std::exception_ptr error;
+  // The last evaluation: NLopt asks for the objective and each constraint at
+  // the same x one after the other.
+  detail::EvaluationAt last;
+  bool last_has_gradient = false;
+  bool last_usable = false;  // ok, and inside the barrier
 
-  const Evaluation& at(unsigned n, const double* x, bool gradient) {
+  // The evaluation at x, or nullptr once the run must stop (the library is
+  // then told to stop). The time and the stop request are checked before
+  // and after each evaluation: the one under way always finishes.
+  const detail::EvaluationAt* at(unsigned n, const double* x, bool gradient) {
     Eigen::Map<const Eigen::VectorXd> xv(x, n);
-    if (last_x.size() == n && last_x == xv && (last_has_gradient || !gradient)) return last;
-    last = problem->evaluate(xv, wanted, gradient);
-    last_x = xv;
+    if (last.x.size() == n && last.x == xv && (last_has_gradient || !gradient)) return &last;
+    if (error || (*stop)()) {
+      nlopt_force_stop(opt);
+      return nullptr;
+    }
+    last = {xv, problem->evaluate(xv, wanted, gradient)};
     last_has_gradient = gradient;
-    return last;
+    last_usable = last.e.ok() && std::none_of(barrier.begin(), barrier.end(), [&](const Constraint& k) {
+                    return k.g(last.e.at(k.metric)) > 0;
+                  });
+    if ((*stop)()) nlopt_force_stop(opt);
+    return &last;
   }
 };
 
-// Objective or constraint value with its gradient; +inf (and a zero gradient)
-// where the design is infeasible, so the algorithm steps back.
-double metric_value(Context& c, unsigned n, const double* x, double* grad,
+// Objective or constraint value with its gradient, as `sign * metric - shift`;
+// kInfeasibleValue (and a zero gradient) where the run is stopping (`at` is
+// null), the design is not usable or a metric is not finite.
+double metric_value(const Context& c, const detail::EvaluationAt* at, unsigned n, double* grad,
                     const std::string& metric, double sign, double shift) {
-  const Evaluation& e = c.at(n, x, grad != nullptr);
-  const auto it = e.metrics.find(metric);
-  if (it == e.metrics.end()) {
+  const MetricValue* m = nullptr;
+  if (at && c.last_usable) {
+    const auto it = at->e.metrics.find(metric);
+    if (it != at->e.metrics.end()) m = &it->second;
+  }
+  if (!m || !std::isfinite(m->value) || (grad && !(m->gradient.size() == n && m->gradient.allFinite()))) {
     if (grad) std::fill(grad, grad + n, 0.0);
-    return std::numeric_limits<double>::infinity();
+    return kInfeasibleValue;
   }
   if (grad)
-    for (unsigned i = 0; i < n; ++i) grad[i] = sign * it->second.gradient[i];
-  return sign * it->second.value - shift;
+    for (unsigned i = 0; i < n; ++i) grad[i] = sign * m->gradient[i];
+  return sign * m->value - shift;
 }
 
 double objective_cb(unsigned n, const double* x, double* grad, void* data) {
   auto& c = *static_cast<Context*>(data);
   try {
+    const detail::EvaluationAt* at = c.at(n, x, grad != nullptr);
     const double sign = c.objective->maximize ? -1.0 : 1.0;
-    const double f = metric_value(c, n, x, grad, c.objective->metric, sign / c.objective_scale, 0.0);
+    const double f = metric_value(c, at, n, grad, c.objective->metric, sign / c.objective_scale, 0.0);
+    if (!at) return f;  // stopping: nothing was evaluated
     Result& r = *c.result;
     ++r.evaluations;
-    if (!c.last.ok()) ++r.infeasible_evaluations;
+    if (!c.last_usable) ++r.infeasible_evaluations;
     if (c.record_history)
-      r.history.push_back({r.evaluations, c.last.status, Eigen::Map<const Eigen::VectorXd>(x, n),
-                           c.last.ok() ? sign * f * c.objective_scale
-                                       : std::numeric_limits<double>::quiet_NaN()});
+      r.history.push_back({r.evaluations, at->e.status, at->x,
+                           at->e.ok() ? at->e.at(c.objective->metric) : kNan});
     return f;
   } catch (...) {
     c.error = std::current_exception();
     nlopt_force_stop(c.opt);
-    return 0.0;
+    return kInfeasibleValue;
   }
 }
 
@@ -119,12 +311,12 @@ double constraint_cb(unsigned n, const double* x, double* grad, void* data) {
   Context& c = *d.context;
   try {
     const Constraint& k = c.constraints[d.index];
-    return metric_value(c, n, x, grad, k.metric, k.upper ? 1.0 : -1.0,
+    return metric_value(c, c.at(n, x, grad != nullptr), n, grad, k.metric, k.upper ? 1.0 : -1.0,
                         k.upper ? k.bound : -k.bound);
   } catch (...) {
     c.error = std::current_exception();
     nlopt_force_stop(c.opt);
-    return 0.0;
+    return kInfeasibleValue;
   }
 }
 
@@ -149,37 +341,46 @@ struct Restoration {
   const Problem* problem;
   std::vector<Constraint> constraints;
   std::vector<std::string> wanted;
+  detail::StopCheck* stop;
   int evaluations = 0;
   std::exception_ptr error;
-  nlopt_opt opt;
+  nlopt_opt opt = nullptr;
 };
 
 double violation_cb(unsigned n, const double* x, double* grad, void* data) {
   auto& r = *static_cast<Restoration*>(data);
   try {
+    if ((*r.stop)()) {
+      nlopt_force_stop(r.opt);
+      return kInfeasibleValue;
+    }
     ++r.evaluations;
     const Evaluation e = r.problem->evaluate(Eigen::Map<const Eigen::VectorXd>(x, n), r.wanted,
                                              grad != nullptr);
     double f = 0;
     if (grad) std::fill(grad, grad + n, 0.0);
     for (const auto& k : r.constraints) {
-      const auto& m = e.metrics.at(k.metric);
-      const double g = k.g(m.value) + 1e-3 * std::max(1.0, std::abs(k.bound));
+      const auto it = e.metrics.find(k.metric);
+      if (it == e.metrics.end()) {  // not finite there (see Problem::evaluate): step back
+        if (grad) std::fill(grad, grad + n, 0.0);
+        return kInfeasibleValue;
+      }
+      const double g = k.g(it->second.value) + 1e-3 * std::max(1.0, std::abs(k.bound));
       if (g <= 0) continue;
       f += g * g;
       if (grad)
-        for (unsigned i = 0; i < n; ++i) grad[i] += 2 * g * (k.upper ? 1.0 : -1.0) * m.gradient[i];
+        for (unsigned i = 0; i < n; ++i) grad[i] += 2 * g * (k.upper ? 1.0 : -1.0) * it->second.gradient[i];
     }
     return f;
   } catch (...) {
     r.error = std::current_exception();
     nlopt_force_stop(r.opt);
-    return 0.0;
+    return kInfeasibleValue;
   }
 }
 
-int restore_feasibility(const Problem& problem, Eigen::VectorXd& x) {
-  Restoration r{&problem, problem.implicit_constraints(), {}, 0, nullptr, nullptr};
+int restore_feasibility(const Problem& problem, Eigen::VectorXd& x, detail::StopCheck& stop) {
+  Restoration r{&problem, problem.implicit_constraints(), {}, &stop, 0, nullptr, nullptr};
   for (const auto& k : r.constraints) r.wanted.push_back(k.metric);
   if (r.constraints.empty()) return 0;
   const unsigned n = static_cast<unsigned>(x.size());
@@ -202,45 +403,76 @@ int restore_feasibility(const Problem& problem, Eigen::VectorXd& x) {
 
 namespace detail {
 
-std::string restore_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
-                          Result& result) {
-  const Evaluation e0 = problem.evaluate(x, {objective.metric}, false);
-  if (e0.ok() || !problem.provides_gradients()) return "";  // phase 1 needs the margins' gradients
-  const int used = restore_feasibility(problem, x);
-  result.evaluations += used;
-  const bool ok = problem.evaluate(x, {objective.metric}, false).ok();
-  return "; the start was infeasible (" + e0.status + "), phase 1 " +
-         (ok ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
-         " evaluations";
-}
-
-double objective_scale(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x) {
-  const Evaluation e = problem.evaluate(x, {objective.metric}, false);
-  if (!e.ok() || !e.metrics.count(objective.metric)) return 1.0;
-  const double f = std::abs(e.at(objective.metric));
-  return std::isfinite(f) && f > 0 ? f : 1.0;
+Start prepare_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
+                    Result& result, StopCheck& stop, bool inside_implicit) {
+  const std::vector<Constraint> implicit = problem.implicit_constraints();
+  std::vector<std::string> wanted{objective.metric};
+  for (const auto& k : implicit) wanted.push_back(k.metric);
+  // Usable: the model can evaluate x, and (when asked) x satisfies the implicit constraints.
+  auto usable = [&](const Evaluation& e) {
+    return e.ok() && (!inside_implicit || std::none_of(implicit.begin(), implicit.end(), [&](const auto& k) {
+                        return k.g(e.at(k.metric)) > 0;
+                      }));
+  };
+  Start s;
+  Evaluation e = problem.evaluate(x, wanted, false);
+  if (!usable(e) && problem.provides_gradients()) {  // phase 1 needs the margins' gradients
+    const std::string before = e.ok() ? "outside the problem's own constraints" : e.status;
+    const int used = restore_feasibility(problem, x, stop);
+    result.evaluations += used;
+    e = problem.evaluate(x, wanted, false);
+    s.note = "; the start was infeasible (" + before + "), phase 1 " +
+             (usable(e) ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
+             " evaluations";
+  }
+  stop();
+  const auto it = e.metrics.find(objective.metric);
+  const double f = e.ok() && it != e.metrics.end() ? std::abs(it->second.value) : 0.0;
+  s.scale = std::isfinite(f) && f > 0 ? f : 1.0;
+  return s;
 }
 
 void finish(const Problem& problem, const Objective& objective,
-            const std::vector<Constraint>& constraints, Result& result) {
+            const std::vector<Constraint>& constraints, Result& result, const EvaluationAt* last) {
+  const std::vector<Constraint> implicit = problem.implicit_constraints();
   std::vector<std::string> wanted{objective.metric};
   for (const auto& k : constraints) wanted.push_back(k.metric);
-  const Evaluation e = problem.evaluate(result.x, wanted, false);
+  for (const auto& k : implicit) wanted.push_back(k.metric);
+  const bool reuse = last && last->x.size() == result.x.size() && last->x == result.x &&
+                     (!last->e.ok() || std::all_of(wanted.begin(), wanted.end(), [&](const auto& m) {
+                       return last->e.metrics.count(m) > 0;
+                     }));
+  if (!reuse && result.status == DriverStatus::interrupted) {  // no new evaluation after a stop request
+    result.objective = kNan;
+    result.message += "; the final design was not evaluated again";
+    return;
+  }
+  const Evaluation e = reuse ? last->e : problem.evaluate(result.x, wanted, false);
+  const bool converged = result.status == DriverStatus::converged;
   if (!e.ok()) {
-    result.status = DriverStatus::infeasible;
+    if (converged) result.status = DriverStatus::infeasible;
     result.message += "; final design infeasible: " + e.status;
-    result.objective = std::numeric_limits<double>::quiet_NaN();
+    if (result.evaluations > 0 && result.infeasible_evaluations == result.evaluations)
+      result.message += "; all " + std::to_string(result.evaluations) + " evaluations were infeasible";
+    result.objective = kNan;
     return;
   }
   result.objective = e.at(objective.metric);
+  auto violated = [](const Constraint& k, double v) {
+    return k.violation(v) > 1e-6 * std::max(1.0, std::abs(k.bound));
+  };
   for (const auto& k : constraints) {
     result.constraint_values.push_back(e.at(k.metric));
-    if (k.violation(e.at(k.metric)) > 1e-6 * std::max(1.0, std::abs(k.bound)) &&
-        result.status == DriverStatus::converged) {
-      result.status = DriverStatus::infeasible;
+    if (violated(k, e.at(k.metric))) {
+      if (converged) result.status = DriverStatus::infeasible;
       result.message += "; constraint " + k.metric + " violated at the final design";
     }
   }
+  for (const auto& k : implicit)
+    if (violated(k, e.at(k.metric))) {
+      if (converged) result.status = DriverStatus::infeasible;
+      result.message += "; the problem's own constraint " + describe(k) + " violated at the final design";
+    }
 }
 
 }  // namespace detail
@@ -257,12 +489,13 @@ Result ChainDriver::minimize(const Problem& problem, const Objective& objective,
                              const std::vector<Constraint>& constraints,
                              const Eigen::VectorXd& x0) const {
   Result a = first_->minimize(problem, objective, constraints, x0);
-  if (a.status == DriverStatus::invalid_arguments) return a;  // never skip the first stage silently
+  // Never skip the first stage silently, and never start the second after a stop request.
+  if (a.status == DriverStatus::invalid_arguments || a.status == DriverStatus::interrupted) return a;
   const bool usable = a.x.size() == x0.size() && problem.evaluate(a.x, {}, false).ok();
   Result b = then_->minimize(problem, objective, constraints, usable ? a.x : x0);
-  b.message = a.library + " " + a.algorithm + " (" + std::to_string(a.evaluations) +
-              " evaluations): " + a.message + "; then " + b.library + " " + b.algorithm + ": " +
-              b.message;
+  b.message = a.library + " " + a.algorithm + " (" + std::to_string(a.evaluations) + " evaluations, " +
+              to_string(a.status) + "): " + a.message + "; then " + b.library + " " + b.algorithm +
+              ": " + b.message;
   b.library = a.library + "+" + b.library;
   b.algorithm = a.algorithm + "+" + b.algorithm;
   b.evaluations += a.evaluations;
@@ -277,54 +510,30 @@ Result ChainDriver::minimize(const Problem& problem, const Objective& objective,
 Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
                              const std::vector<Constraint>& constraints,
                              const Eigen::VectorXd& x0) const {
-  Result result;
+  detail::StopCheck stop(options_.max_seconds);
+  const std::string algorithm = options_.algorithm.empty() ? default_algorithm(problem) : options_.algorithm;
+  const std::string why = driver_incompatibility(options_, problem, objective, constraints);
+  Result result = detail::no_work(why.empty() ? DriverStatus::failure : DriverStatus::invalid_arguments, why, x0);
   result.library = "nlopt";
-  result.algorithm = options_.algorithm;
-  const auto start = std::chrono::steady_clock::now();
-  const unsigned n = static_cast<unsigned>(x0.size());
-  const nlopt_algorithm alg = nlopt_algorithm_from_string(options_.algorithm.c_str());
-  if (static_cast<int>(alg) < 0) {
-    result.status = DriverStatus::invalid_arguments;
-    result.message = "unknown NLopt algorithm '" + options_.algorithm + "'";
-    return result;
-  }
-  const bool constrained_alg = algorithm_supports_constraints(options_.algorithm);
-  if ((algorithm_uses_gradient(options_.algorithm) ||
-       (options_.algorithm == "G_MLSL_LDS" && algorithm_uses_gradient(options_.local_algorithm))) &&
-      !problem.provides_gradients()) {
-    result.status = DriverStatus::invalid_arguments;
-    result.message = problem.name() + " has no exact gradients; use a derivative-free algorithm (LN_COBYLA, LN_BOBYQA, GN_DIRECT_L, GN_ISRES)";
-    return result;
-  }
-  const bool has_equality = std::any_of(constraints.begin(), constraints.end(),
-                                        [](const Constraint& k) { return k.equal; });
-  if (has_equality && !algorithm_supports_equalities(options_.algorithm)) {
-    result.status = DriverStatus::invalid_arguments;
-    result.message = options_.algorithm +
-                     " takes no equality constraints; use LD_SLSQP, LN_COBYLA, GN_ISRES or Ipopt";
-    return result;
-  }
-  if (!constraints.empty() && !constrained_alg) {
-    result.status = DriverStatus::invalid_arguments;
-    result.message = options_.algorithm +
-                     " handles bound constraints only; use LN_COBYLA, LD_SLSQP, LD_MMA or "
-                     "LD_CCSAQ for metric constraints";
-    return result;
-  }
+  result.algorithm = algorithm;
+  if (!why.empty()) return result;
 
+  // Implicit constraints keep the model evaluable: constraints for the
+  // algorithms that take them, a barrier (kInfeasibleValue) for the others,
+  // which then start inside it.
+  const bool constrained_alg = algorithm_supports_constraints(algorithm);
   Eigen::VectorXd x = x0;
-  const std::string restored = detail::restore_start(problem, objective, x, result);
-  const double scale = detail::objective_scale(problem, objective, x);
-  Context c{&problem, &objective, scale, constraints, {}, options_.record_history, {}, false, {},
-            &result, nullptr, nullptr};
-  // Implicit constraints keep the model evaluable; algorithms that take only
-  // bounds see an infinite objective there instead.
-  if (constrained_alg)
-    for (const auto& k : problem.implicit_constraints()) c.constraints.push_back(k);
+  const detail::Start start = detail::prepare_start(problem, objective, x, result, stop, !constrained_alg);
+  Context c{&problem, &objective, start.scale, constraints, {}, {}, options_.record_history,
+            &stop, &result, nullptr, nullptr, {}, false, false};
+  for (const auto& k : problem.implicit_constraints())
+    (constrained_alg ? c.constraints : c.barrier).push_back(k);
   c.wanted.push_back(objective.metric);
   for (const auto& k : c.constraints) c.wanted.push_back(k.metric);
+  for (const auto& k : c.barrier) c.wanted.push_back(k.metric);
 
-  nlopt_opt opt = nlopt_create(alg, n);
+  const unsigned n = static_cast<unsigned>(x0.size());
+  nlopt_opt opt = nlopt_create(nlopt_algorithm_from_string(algorithm.c_str()), n);
   c.opt = opt;
   const Eigen::VectorXd lb = problem.lower_bounds(), ub = problem.upper_bounds();
   nlopt_set_lower_bounds(opt, lb.data());
@@ -341,8 +550,10 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   nlopt_set_xtol_rel(opt, options_.xtol_rel);
   if (options_.ftol_rel > 0) nlopt_set_ftol_rel(opt, options_.ftol_rel);
   nlopt_set_maxeval(opt, options_.max_evaluations);
-  nlopt_set_maxtime(opt, options_.max_seconds);
-  if (options_.algorithm == "G_MLSL_LDS") {  // multistart: local searches from a low-discrepancy sequence
+  // NLopt's own clock as well, for the work between evaluations; the
+  // callbacks check the wall clock around every evaluation.
+  nlopt_set_maxtime(opt, std::max(options_.max_seconds - stop.seconds(), 1e-9));
+  if (algorithm == "G_MLSL_LDS") {  // multistart: local searches from a low-discrepancy sequence
     nlopt_opt local = nlopt_create(nlopt_algorithm_from_string(options_.local_algorithm.c_str()), n);
     nlopt_set_xtol_rel(local, options_.xtol_rel);
     nlopt_set_local_optimizer(opt, local);
@@ -351,15 +562,16 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
 
   nlopt_srand(options_.seed);
   double f = 0;
-  const nlopt_result code = nlopt_optimize(opt, x.data(), &f);
+  const nlopt_result code = stop.reason ? NLOPT_FORCED_STOP : nlopt_optimize(opt, x.data(), &f);
   nlopt_destroy(opt);
   if (c.error) std::rethrow_exception(c.error);
 
-  result.status = map_status(code);
-  result.message = std::string("NLopt: ") + nlopt_result_to_string(code) + restored;
+  result.status = stop.reason ? *stop.reason : map_status(code);
+  result.message = std::string("NLopt: ") + nlopt_result_to_string(code) + start.note;
+  if (result.stopped()) result.message = detail::stop_message(result.status, options_) + " (" + result.message + ")";
   result.x = x;
-  detail::finish(problem, objective, constraints, result);
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  detail::finish(problem, objective, constraints, result, &c.last);
+  result.seconds = stop.seconds();
   return result;
 }
 

@@ -3,7 +3,9 @@
 // enum status, never an exception for an optimiser outcome.
 #pragma once
 #include <Eigen/Core>
+#include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,23 +13,29 @@
 
 namespace opt {
 
+// Only `converged` is a success. The three stops (max_evaluations, max_time,
+// interrupted) leave the best design found so far in Result::x, not an
+// optimum; the message says which limit stopped the run.
 enum class DriverStatus {
   converged,          // a tolerance was met
-  max_evaluations,    // stopped on the evaluation limit
-  max_time,           // stopped on the time limit
+  max_evaluations,    // stopped on the evaluation (Ipopt: iteration) limit
+  max_time,           // stopped on the wall-clock limit max_seconds
+  interrupted,        // stopped on a stop request (SIGINT/SIGTERM, opt::stop_requested())
   infeasible,         // finished, but the final design violates a constraint
   failure,            // the library gave up (roundoff, bad derivatives, ...)
-  invalid_arguments,  // the library rejected the set-up (e.g. algorithm vs constraints)
+  invalid_arguments,  // the driver cannot take the problem (see driver_incompatibility)
 };
+// The status as one word, for result files and tables ("max_time", ...).
 std::string to_string(DriverStatus s);
 
 struct DriverOptions {
   std::string library = "nlopt";
-  std::string algorithm = "LD_SLSQP";
+  // NLopt algorithm; empty: the problem's default (default_algorithm).
+  std::string algorithm;
   double xtol_rel = 1e-12;
   double ftol_rel = 0;
   int max_evaluations = 2000;
-  double max_seconds = 60;
+  double max_seconds = 60;  // wall clock, checked after every evaluation (every library)
   double constraint_tol = 1e-9;
   bool record_history = true;
   // Ipopt
@@ -53,7 +61,7 @@ struct HistoryRow {
 struct Result {
   DriverStatus status = DriverStatus::failure;
   std::string message;
-  Eigen::VectorXd x;
+  Eigen::VectorXd x;  // always sized like x0: the start point when the driver did no work
   double objective = 0;
   std::vector<double> constraint_values;  // metric values of the constraints at x
   int evaluations = 0;
@@ -61,9 +69,13 @@ struct Result {
   double seconds = 0;
   std::string library, algorithm;
   std::vector<HistoryRow> history;
-  bool success() const {
-    return status == DriverStatus::converged || status == DriverStatus::max_evaluations ||
-           status == DriverStatus::max_time;
+  // A converged optimum: a tolerance was met at a feasible design.
+  bool success() const { return status == DriverStatus::converged; }
+  // Stopped by a limit or a stop request before converging: x is the best
+  // design found so far (feasible or not: check the constraint values).
+  bool stopped() const {
+    return status == DriverStatus::max_evaluations || status == DriverStatus::max_time ||
+           status == DriverStatus::interrupted;
   }
 };
 
@@ -75,12 +87,26 @@ class Driver {
                           const Eigen::VectorXd& x0) const = 0;
 };
 
-// The algorithms a library offers, for help text and config checks.
+// The algorithms a library offers, for help text and config checks, and
+// what each takes (NLopt's algorithm documentation, doc/docs/NLopt_Algorithms.md).
 std::vector<std::string> nlopt_algorithms();
 bool algorithm_uses_gradient(const std::string& algorithm);
 bool algorithm_is_global(const std::string& algorithm);
-bool algorithm_supports_constraints(const std::string& algorithm);
+bool algorithm_supports_constraints(const std::string& algorithm);  // nonlinear inequalities
 bool algorithm_supports_equalities(const std::string& algorithm);
+
+// The NLopt algorithm used when options.algorithm is empty: LD_SLSQP for a
+// problem with exact gradients (constraints of both kinds, curvature model),
+// LN_COBYLA without (derivative-free, constraints of both kinds).
+std::string default_algorithm(const Problem& problem);
+
+// Can the driver of `options` (and its polish and local algorithm) take this
+// problem? "" if so; otherwise one message naming the algorithm, why it
+// cannot, and the algorithms that can. Checked before any evaluation: by
+// every driver's minimize (status invalid_arguments) and by the config reader.
+std::string driver_incompatibility(const DriverOptions& options, const Problem& problem,
+                                   const Objective& objective,
+                                   const std::vector<Constraint>& constraints);
 
 class NloptDriver : public Driver {
  public:
@@ -106,6 +132,9 @@ class IpoptDriver : public Driver {
 
 // Runs `first`, then `then` from first's answer: a global search handing
 // over to a local one. Evaluations and time add up; the status is then's.
+// A first stage that stopped on its evaluation or time limit still hands its
+// best design over (global searches usually end that way); one that was
+// refused or interrupted ends the chain with its own status.
 class ChainDriver : public Driver {
  public:
   ChainDriver(std::unique_ptr<Driver> first, std::unique_ptr<Driver> then)
@@ -123,19 +152,60 @@ class ChainDriver : public Driver {
 std::unique_ptr<Driver> make_driver(const DriverOptions& options);
 
 namespace detail {
-// Shared by the drivers. restore_start: if the model cannot be evaluated at
-// x, moves x into the region of the implicit constraints (phase 1, SLSQP on
-// their squared violation); returns a note for the message. finish: the
-// final evaluation at result.x, the objective and constraint values, and the
-// status `infeasible` when the final design violates a constraint.
-std::string restore_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
-                          Result& result);
-void finish(const Problem& problem, const Objective& objective,
-            const std::vector<Constraint>& constraints, Result& result);
+// Shared by the drivers.
+
+// The wall-clock limit and the stop request, polled by the drivers' callbacks
+// around every evaluation: once `reason` is set the driver evaluates no more
+// and stops its library (the evaluation under way finishes).
+class StopCheck {
+ public:
+  explicit StopCheck(double max_seconds)
+      : start_(std::chrono::steady_clock::now()), max_seconds_(max_seconds) {}
+  // True when the run must stop now; sets reason (max_time or interrupted).
+  bool operator()();
+  double seconds() const;
+  std::optional<DriverStatus> reason;
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+  double max_seconds_;
+};
+
+// An evaluation with its design, so that the final report can reuse it.
+struct EvaluationAt {
+  Eigen::VectorXd x;
+  Evaluation e;
+};
+
+// The start of a run, from one evaluation at x. If the model cannot be
+// evaluated there (or, with inside_implicit, x violates an implicit
+// constraint), x moves into the region of the implicit constraints (phase 1:
+// SLSQP on their squared violation) and `note` says so. `scale` is
 // |f(x)| of the objective (1 if not finite or zero): the drivers pass the
 // objective divided by it, since SLSQP in particular fails on badly scaled
 // objectives (a peak moment of 1.5e5 N m stops it at its first step).
-double objective_scale(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x);
+struct Start {
+  std::string note;
+  double scale = 1;
+};
+Start prepare_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
+                    Result& result, StopCheck& stop, bool inside_implicit = false);
+
+// The final report at result.x: the objective and constraint values, status
+// `infeasible` when a converged run ends at a design that violates a
+// constraint (the problem's implicit ones included) or that the model cannot
+// evaluate. Reuses `last` when it was evaluated at result.x; an interrupted
+// run evaluates nothing more (its objective is then NaN).
+void finish(const Problem& problem, const Objective& objective,
+            const std::vector<Constraint>& constraints, Result& result,
+            const EvaluationAt* last = nullptr);
+
+// A result that did no work: the start point, a NaN objective, a status.
+Result no_work(DriverStatus status, std::string message, const Eigen::VectorXd& x0);
+
+// The message of a run that stopped before converging: which limit, and that
+// x is the best design so far rather than an optimum.
+std::string stop_message(DriverStatus s, const DriverOptions& options);
 }  // namespace detail
 
 }  // namespace opt

@@ -196,6 +196,14 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     root.fail("missing required key 'objective' (e.g. objective: {minimize: METRIC})");
   if ((s.type == "optimize" || s.type == "pareto") && p.variables().empty())
     root.fail("missing required key 'variables': an optimisation needs at least one");
+  if (s.type == "optimize" || s.type == "pareto" || (s.type == "sweep" && s.optimize)) {
+    // The driver takes the problem, or the run stops here (exit 2), before any evaluation.
+    std::vector<Constraint> cons = s.constraints;
+    if (s.type == "pareto") cons.push_back({s.objectives[1], true, 0});  // the front's f2 <= epsilon
+    const std::string why = driver_incompatibility(s.driver, p, s.objective, cons);
+    const bool written = root.has("study") && root.at("study").has("driver");
+    if (!why.empty()) (written ? root.at("study").at("driver") : root).fail(why);
+  }
   if (s.columns.empty()) {
     s.columns.push_back(s.objective.metric);
     for (const auto& c : s.constraints) s.columns.push_back(c.metric);
