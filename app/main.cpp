@@ -139,7 +139,7 @@ int check(const opt::Problem& p) {
   }
   const auto e = p.evaluate(x, {}, false);
   if (!e.ok()) {
-    std::cerr << "mechopt: the model values give an infeasible design (" << e.status << ")\n";
+    std::cerr << "mechopt: the model values give an infeasible design (" << mech::to_string(e.status) << ")\n";
     return 1;
   }
   const auto checks = opt::check_derivatives(p, x);

@@ -178,7 +178,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     out.put("rotation_margin", mech::rotation_margin(k));
     out.put("grashof_margin", grashof_margin(k));
     if (const mech::Status st = d.status(); st != mech::Status::ok) {
-      out.result.status = std::string(mech::to_string(st));
+      out.result.status = st;
       return;
     }
     const auto dc = mech::dead_centres(k);

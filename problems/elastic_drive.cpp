@@ -163,7 +163,7 @@ class ElasticDriveProblem : public TabledProblem {
     };
     const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
     if (s.status != mech::Status::ok) {
-      e.status = mech::to_string(s.status);
+      e.status = s.status;
       return e;
     }
     const double side = m_.motor_side ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
@@ -187,7 +187,7 @@ class ElasticDriveProblem : public TabledProblem {
     if (want("peak_startup_coupling_torque") || want("time_to_steady")) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
       if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
-        e.status = mech::to_string(st.status);
+        e.status = st.status;
         return e;
       }
       put("peak_startup_coupling_torque", st.peak_coupling * side);

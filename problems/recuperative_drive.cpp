@@ -166,7 +166,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
     using std::abs;
     out.put("crank_rod_ratio", (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
     if (const mech::Status st = mech::check(d); st != mech::Status::ok) {
-      out.result.status = std::string(mech::to_string(st));
+      out.result.status = st;
       return;
     }
     mech::CycleNeeds needs;

@@ -70,7 +70,7 @@ class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
     mech::SliderCrank<S> k{S(m_.mechanism.r), S(m_.mechanism.l), S(m_.mechanism.e), 1, m_.mechanism.kinematics};
     for (size_t i = 0; i < x.size(); ++i) slot(k, slots_[i]) = x[i];
     if (!mech::assembles_over_cycle(k)) {
-      out.result.status = "cannot_assemble";
+      out.result.status = mech::Status::cannot_assemble;
       return;
     }
     // Each extremum at its refined angle (double), then valued with S there:

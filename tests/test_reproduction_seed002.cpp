@@ -90,7 +90,7 @@ TEST(Seed002Table1, Variant0HasNoCrankRockerSynthesis) {
   // (the paper lists it as valid and excludes it only for its pressure angle).
   const auto p = family();
   const auto e = at(*p, 0.6);
-  EXPECT_EQ(e.status, "synthesis_failed");
+  EXPECT_EQ(e.status, mech::Status::synthesis_failed);
   EXPECT_LT(e.at("synthesis_margin"), 0.0);
   EXPECT_FALSE(e.metrics.count("peak_crank_torque"));
 }
@@ -160,7 +160,7 @@ TEST(Seed002Failures, InfeasibleStartIsRestoredThenOptimised) {
 problem: conveyor_swing
 variables: {l_co1: {min: 0.3 m, max: 3 m, initial: 0.6 m}}
 )", "<seed002>"));
-  ASSERT_EQ(p->evaluate(p->initial_point(), {}, false).status, "synthesis_failed");
+  ASSERT_EQ(p->evaluate(p->initial_point(), {}, false).status, mech::Status::synthesis_failed);
   opt::DriverOptions o;
   o.xtol_rel = 1e-10;
   const std::vector<opt::Constraint> cons = {{"max_pressure_angle", true, 60 * kDeg}};
@@ -173,18 +173,18 @@ variables: {l_co1: {min: 0.3 m, max: 3 m, initial: 0.6 m}}
 TEST(Seed002Failures, SweepRecordsEveryStatus) {
   // Each failure is a row with its status, and the metrics that stay defined.
   const auto p = family();
-  EXPECT_EQ(at(*p, 0.5).status, "synthesis_failed");
-  EXPECT_EQ(at(*p, 1.2).status, "ok");
+  EXPECT_EQ(at(*p, 0.5).status, mech::Status::synthesis_failed);
+  EXPECT_EQ(at(*p, 1.2).status, mech::Status::ok);
   const auto free = [](const std::string& lengths) {
     return problems::make_conveyor_swing(opt::ConfigNode::parse(
         "problem: conveyor_swing\nmodel: {design: free_links, " + lengths + "}\n", "<seed002>"));
   };
   const Eigen::VectorXd none(0);
-  EXPECT_EQ(free("crank_length: 3 m")->evaluate(none, {}, false).status, "not_grashof");
-  EXPECT_EQ(free("coupler_length: 9 m")->evaluate(none, {}, false).status, "cannot_assemble");
+  EXPECT_EQ(free("crank_length: 3 m")->evaluate(none, {}, false).status, mech::Status::not_grashof);
+  EXPECT_EQ(free("coupler_length: 9 m")->evaluate(none, {}, false).status, mech::Status::cannot_assemble);
   const auto e = free("crank_length: 1.5 m, coupler_length: 0.5 m, rocker_length: 1.6 m")
                      ->evaluate(none, {}, false);
-  EXPECT_EQ(e.status, "toggle_in_cycle");
+  EXPECT_EQ(e.status, mech::Status::toggle_in_cycle);
   EXPECT_LT(e.at("rotation_margin"), 0.0);
   EXPECT_FALSE(e.metrics.count("peak_crank_torque"));
 }

@@ -48,7 +48,7 @@ TEST(SliderCrankProblem, GradientsAndTheDeadPoint) {
     EXPECT_TRUE(c.ok) << c.metric << " d/d" << c.variable << ": " << c.autodiff << " vs " << c.central;
   // r + |e| >= l: the rod cannot reach the slider axis at every crank angle.
   const auto q = slider_crank("crank_radius: 0.3 m, rod_length: 0.5 m, offset: 0.2 m");
-  EXPECT_EQ(q->evaluate(q->initial_point(false), {}, false).status, "cannot_assemble");
+  EXPECT_EQ(q->evaluate(q->initial_point(false), {}, false).status, mech::Status::cannot_assemble);
 }
 
 }  // namespace

@@ -69,14 +69,14 @@ TEST(Evaluate, NonFiniteMetricIsAStatusNotAValue) {
           return opt::MetricValue{x[0] < 0.25 ? nan : 1.0, Eigen::VectorXd::Constant(1, x[0] > 0.75 ? HUGE_VAL : 0)};
         }}});
   const auto fine = p.evaluate(Eigen::VectorXd::Constant(1, 0.5), {}, true);
-  EXPECT_EQ(fine.status, "ok");
+  EXPECT_EQ(fine.status, mech::Status::ok);
   EXPECT_EQ(fine.metrics.size(), 2u);
   const auto value = p.evaluate(Eigen::VectorXd::Constant(1, 0.1), {}, false);
-  EXPECT_EQ(value.status, "non_finite");
+  EXPECT_EQ(value.status, mech::Status::non_finite);
   EXPECT_TRUE(value.metrics.empty());
   EXPECT_EQ(value.message, "hole is not finite");
   const auto gradient = p.evaluate(Eigen::VectorXd::Constant(1, 0.9), {}, true);
-  EXPECT_EQ(gradient.status, "non_finite");
+  EXPECT_EQ(gradient.status, mech::Status::non_finite);
   EXPECT_EQ(gradient.message, "hole has a non-finite gradient");
 }
 

@@ -14,7 +14,7 @@ std::vector<DerivativeCheck> check_derivatives(const Problem& p, const Eigen::Ve
   if (!e.ok()) {  // e.g. a gradient that is not finite: a failed check for each variable, never none
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (const auto& v : p.variables())
-      out.push_back({e.message.empty() ? e.status : e.message, v.name, nan, nan, nan, nan, false});
+      out.push_back({e.message.empty() ? std::string(mech::to_string(e.status)) : e.message, v.name, nan, nan, nan, nan, false});
     return out;
   }
   auto record = [&](const std::string& metric, int i, double value, double ad, double fd) {

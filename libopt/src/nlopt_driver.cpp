@@ -417,7 +417,7 @@ Start prepare_start(const Problem& problem, const Objective& objective, Eigen::V
   Start s;
   Evaluation e = problem.evaluate(x, wanted, false);
   if (!usable(e) && problem.provides_gradients()) {  // phase 1 needs the margins' gradients
-    const std::string before = e.ok() ? "outside the problem's own constraints" : e.status;
+    const std::string before = e.ok() ? "outside the problem's own constraints" : std::string(mech::to_string(e.status));
     const int used = restore_feasibility(problem, x, stop);
     result.evaluations += used;
     e = problem.evaluate(x, wanted, false);
@@ -451,7 +451,7 @@ void finish(const Problem& problem, const Objective& objective,
   const bool converged = result.status == DriverStatus::converged;
   if (!e.ok()) {
     if (converged) result.status = DriverStatus::infeasible;
-    result.message += "; final design infeasible: " + e.status;
+    result.message += "; final design infeasible: " + std::string(mech::to_string(e.status));
     if (result.evaluations > 0 && result.infeasible_evaluations == result.evaluations)
       result.message += "; all " + std::to_string(result.evaluations) + " evaluations were infeasible";
     result.objective = kNan;

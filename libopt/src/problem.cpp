@@ -13,7 +13,7 @@ Evaluation Problem::evaluate(const Eigen::VectorXd& x, const std::vector<std::st
       // Metrics stay defined where the design is not (implicit constraints)
       // and may be kept; a non-finite one never is.
       if (!e.ok()) return {e.status, e.message, {}};
-      return {"non_finite", name + (std::isfinite(m.value) ? " has a non-finite gradient" : " is not finite"), {}};
+      return {Status::non_finite, name + (std::isfinite(m.value) ? " has a non-finite gradient" : " is not finite"), {}};
     }
   return e;
 }

@@ -53,7 +53,7 @@ struct DriverOptions {
 
 struct HistoryRow {
   int evaluation;
-  std::string status;
+  Status status;
   Eigen::VectorXd x;
   double objective;  // NaN when the design was infeasible
 };

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mech/status.hpp"
 #include "opt/units.hpp"
 
 namespace opt {
@@ -26,14 +27,17 @@ struct MetricValue {
   Eigen::VectorXd gradient;  // d value / d x, empty when not asked for
 };
 
-// Metrics at one design. status is "ok" or the reason the design is infeasible
-// (e.g. "cannot_assemble"); values are empty unless ok, except metrics that
+// The one design status, from libmech (names only where results are written).
+using Status = mech::Status;
+
+// Metrics at one design. status is ok or the reason the design is infeasible
+// (e.g. cannot_assemble); values are empty unless ok, except metrics that
 // stay defined everywhere (such as the implicit constraints below).
 struct Evaluation {
-  std::string status = "ok";
+  Status status = Status::ok;
   std::string message;  // why, when the status alone does not say
   std::map<std::string, MetricValue> metrics;
-  bool ok() const { return status == "ok"; }
+  bool ok() const { return status == Status::ok; }
   double at(const std::string& name) const { return metrics.at(name).value; }
 };
 

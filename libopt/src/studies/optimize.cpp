@@ -18,7 +18,7 @@ void write_history(const Problem& p, const Result& r, const std::string& file) {
   CsvRecorder csv(file, layout);
   for (const auto& h : r.history) {
     const double objective[] = {h.objective};
-    csv.record({h.evaluation, h.x, h.status, objective});
+    csv.record({h.evaluation, h.x, mech::to_string(h.status), objective});
   }
   csv.close(true);
 }

@@ -13,7 +13,7 @@ nlohmann::json metrics_json(const Problem& p, const Eigen::VectorXd& x) {
   const Evaluation e = p.evaluate(x, {}, false);
   nlohmann::json m = nlohmann::json::object();
   for (const auto& [name, v] : e.metrics) m[name] = v.value;
-  nlohmann::json j = {{"status", e.status}, {"metrics", m}};
+  nlohmann::json j = {{"status", mech::to_string(e.status)}, {"metrics", m}};
   if (!e.message.empty()) j["message"] = e.message;
   return j;
 }

@@ -68,7 +68,7 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
     const Evaluation e = p.evaluate(x, {}, false);
     infeasible += !e.ok();
     for (size_t m = 0; m < names.size(); ++m) values[m] = e.metrics.count(names[m]) ? e.at(names[m]) : nan;
-    csv.record({point, x, e.status, values});
+    csv.record({point, x, mech::to_string(e.status), values});
     std::vector<std::string> row;
     for (const auto& a : s.grid) row.push_back(fmt(x[a.index]));
     for (size_t c = 0; c < s.columns.size(); ++c) {
@@ -76,7 +76,7 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
       printed[c].push_back(v);
       row.push_back(fmt(v));
     }
-    row.push_back(e.status);
+    row.push_back(std::string(mech::to_string(e.status)));
     print_row(out, row, head);
     o.x.push_back(x);
     o.e.push_back(e);
