@@ -18,13 +18,18 @@ deps:
 SUNDIALS_PREFIX = $(abspath $(BUILD))/sundials
 configure: deps
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release \
+	@mkdir -p $(BUILD)
+	@echo "configure: cmake (log: $(BUILD)/configure.log)"
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release \
 	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
-	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials)
+	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials) \
+	  > $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; exit 1)
 
 build: configure
-	cmake --build $(BUILD) -j $(JOBS)
+	@echo "build: $(JOBS) jobs (log: $(BUILD)/build.log)"
+	@cmake --build $(BUILD) -j $(JOBS) > $(BUILD)/build.log 2>&1 || \
+	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
 
 run: build
 	$(BUILD)/bin/mechopt run $(CONFIG) --output $(OUT)

@@ -1,5 +1,6 @@
 // mechopt command line: parse, dispatch, print. Exit codes: 0 done, 1 runtime
 // failure, 2 bad input (config or arguments).
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "opt/derivatives.hpp"
+#include "opt/interrupt.hpp"
 #include "opt/study.hpp"
 #include "problems/registry.hpp"
 
@@ -22,14 +24,17 @@ usage:
   mechopt check-derivatives CONFIG [--set KEY=VALUE]
                                           every metric's gradient (autodiff) against central
                                           differences at the model values, per variable
-  mechopt list                            problems, variables, metrics and algorithms
+  mechopt list [--markdown]               problems (every model key with its default, domain
+                                          and source; variables; metrics) and algorithms
   mechopt --help | --version
 
-exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input
+exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input,
+  130/143 stopped by SIGINT/SIGTERM (what was done is written, marked interrupted)
 )";
 
 struct Args {
   std::string command, config, output;
+  bool markdown = false;  // list --markdown
   std::vector<std::pair<std::string, std::string>> sets;
 };
 
@@ -54,6 +59,8 @@ Args parse_args(int argc, char** argv) {
         if (eq == std::string::npos || eq == 0) usage_error("--set expects KEY=VALUE, got '" + val + "'");
         a.sets.emplace_back(val.substr(0, eq), val.substr(eq + 1));
       }
+    } else if (v[i] == "--markdown" && a.command == "list") {
+      a.markdown = true;
     } else if (a.config.empty() && v[i][0] != '-') {
       a.config = v[i];
     } else {
@@ -69,19 +76,52 @@ Args parse_args(int argc, char** argv) {
   return a;
 }
 
-void list() {
-  std::cout << "problems:\n";
+// Problems with their parameter tables and metrics, and the drivers; with
+// `markdown`, the config reference kept in docs/config.md.
+void list(bool markdown) {
+  if (markdown) {
+    std::cout << "## Units\n\n| dimension | units (SI first) |\n|---|---|\n";
+    for (int d = 1; d <= static_cast<int>(opt::Dimension::inverse_length); ++d) {
+      const auto dim = static_cast<opt::Dimension>(d);
+      std::cout << "| " << opt::to_string(dim).substr(opt::to_string(dim).find(' ') + 1) << " |";
+      for (const auto& u : opt::units_of(dim)) std::cout << " `" << u << "`";
+      std::cout << " |\n";
+    }
+    std::cout << "\n## Model keys\n\nEvery key under `model:`, from each problem's parameter table; a key "
+                 "marked *variable* may be freed under `variables:` (its bounds, initial value and grid "
+                 "points must lie in its domain). A dotted key sits in a section: `fidelity.rod` is "
+                 "`model: {fidelity: {rod: full}}`.\n\n";
+  }
+  std::cout << (markdown ? "" : "problems:\n");
   for (const auto& e : problems::registry()) {
     const auto p = e.make(opt::ConfigNode::parse("problem: " + e.name, "<list>"));
-    std::cout << "  " << e.name << " — " << e.summary << "\n    variables:";
-    for (const auto& v : e.variables) {
-      const std::string u = opt::si_unit(v.dimension);
-      std::cout << " " << v.name << (u.empty() ? "" : " [" + u + "]");
+    if (markdown) {
+      std::cout << "### " << e.name << "\n\n" << e.summary << ".\n\n"
+                << "| key | default | domain | variable | meaning | source |\n|---|---|---|---|---|---|\n";
+      auto cell = [](std::string t) {  // a '|' inside a cell would end it
+        for (size_t i = t.find('|'); i != std::string::npos; i = t.find('|', i + 2)) t.insert(i, "\\");
+        return t;
+      };
+      for (const auto& r : e.parameters)
+        std::cout << "| `" << r.name << "` | " << opt::value_text(r) << " | " << opt::domain_text(r) << " | "
+                  << (r.variable ? "yes" : "") << " | " << cell(r.doc) << " | " << r.equation << " |\n";
+      std::cout << "\nMetrics (SI):";
+      for (const auto& m : p->metric_names()) {
+        const std::string u = p->metric_unit(m);
+        std::cout << " `" << m << "`" << (u.empty() ? "" : " [" + u + "]");
+      }
+      std::cout << "\n\n";
+      continue;
     }
-    std::cout << "\n    metrics:";
+    std::cout << "  " << e.name << " — " << e.summary << "\n    model: key = default  (domain)  meaning; source   (* may be a variable)\n";
+    for (const auto& r : e.parameters)
+      std::cout << "      " << (r.variable ? "* " : "  ") << r.name << " = " << opt::value_text(r) << "  ("
+                << opt::domain_text(r) << ")  " << r.doc << (r.equation.empty() ? "" : "; " + r.equation) << "\n";
+    std::cout << "    metrics:";
     for (const auto& m : p->metric_names()) std::cout << " " << m;
     std::cout << "\n";
   }
+  if (markdown) return;
   std::cout << "drivers:\n  nlopt:";
   for (const auto& a : opt::nlopt_algorithms()) std::cout << " " << a;
   std::cout << "\n  ipopt: interior point, L-BFGS Hessian, epigraph rows for cycle maxima\n";
@@ -132,7 +172,16 @@ int run(const Args& a) {
   if (a.command == "check-derivatives") return check(*problem);
   opt::RunSpec spec = opt::parse_run(root, *problem);
   if (!a.output.empty()) spec.output_directory = a.output;
+  // SIGINT/SIGTERM: the evaluation under way finishes, what is done is
+  // written and marked interrupted, and the exit code is 128 + the signal.
+  opt::install_stop_handlers();
   opt::run_study(*problem, spec, std::cout);
+  if (opt::stop_requested()) {
+    const int sig = opt::stop_signal() ? opt::stop_signal() : SIGINT;
+    std::cerr << "mechopt: interrupted by " << (sig == SIGTERM ? "SIGTERM" : "SIGINT")
+              << "; what was done is in " << spec.output_directory << "/result.json\n";
+    return 128 + sig;
+  }
   return 0;
 }
 
@@ -150,7 +199,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (a.command == "list") {
-      list();
+      list(a.markdown);
       return 0;
     }
     if (a.command == "run" || a.command == "eval" || a.command == "check-derivatives") return run(a);

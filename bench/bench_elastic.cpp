@@ -39,7 +39,7 @@ void steady(benchmark::State& state, mech::ElasticDrive d, mech::OdeOptions o, d
   }
   state.counters["value"] = s.coupling_peak;
   state.counters["steps"] = static_cast<double>(s.steps);
-  state.counters["ok"] = s.status == mech::DynamicsStatus::ok;
+  state.counters["ok"] = s.status == mech::Status::ok;
   state.counters["multiplier"] = s.largest_multiplier;
 }
 

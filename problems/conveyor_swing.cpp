@@ -1,9 +1,11 @@
 #include "problems/conveyor_swing.hpp"
+#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
 
 #include "mech/conveyor_swing.hpp"
+#include "opt/parameters.hpp"
 #include "problems/model_problem.hpp"
 
 namespace problems {
@@ -15,13 +17,6 @@ using opt::Dimension;
 // extreme positions straddle the frame line: the moment grows without bound
 // as either vanishes.
 constexpr double kMinMargin = 1e-3;
-
-const std::vector<opt::VariableSpec> kVariables = {
-    {"l_co1", Dimension::length},           // synthesis: distance of C from O1 along the axis
-    {"crank_length", Dimension::length},    // free_links: l1
-    {"coupler_length", Dimension::length},  // free_links: l2
-    {"rocker_length", Dimension::length},   // free_links: l3
-};
 
 const std::vector<MetricSpec> kMetrics = {
     {"peak_moment", "N m"},         // max |M| over the cycle, eq. (6)
@@ -39,42 +34,125 @@ const std::vector<MetricSpec> kMetrics = {
     {"synthesis_margin", "m"},      // > 0: B', B'' on one side of O1O (synthesis mode)
 };
 
+// The config's values (SI); `mech` is derived from them by derive().
 struct Model {
-  bool synthesis = true;
+  int design = 0;                    // 0 synthesis, 1 free_links
   double gx = 1.0, gy = 2.2;         // a, b
-  double half_swing = 16 * std::numbers::pi / 180;
+  double swing_angle = 32 * std::numbers::pi / 180;  // 2 theta
   double axis_angle = 0;             // mid-swing axis O1C direction
   double coupler_offset = 1.0;       // l_CB
   double l_co1 = 1.2;
-  mech::SwingMechanism<double> mech;
+  double crank = 0, coupler = 0, rocker = 0;  // 0 (auto): from the synthesis at l_co1
+  int branch = 0;                    // 0 (auto): from the synthesis; 1: +1; 2: -1
+  double crank_speed = 12, rod_mass_per_length = 200, platform_mass = 3200;
+  double cg_along = 1.2, cg_across = 1.0;
+  double platform_inertia = 0;       // 0 (auto): eq. (11), m3 d^2
+  double friction = 0.01, bearing_diameter = 0.3, platform_weight = 32000;
   int cycle_points = 48;
-  // Free-links mode starts from (and takes its branch from) this synthesis.
+  mech::SwingMechanism<double> mech;
+  bool synthesis() const { return design == 0; }
+  double half_swing() const { return swing_angle / 2; }
 };
+
+using opt::choice;
+using opt::kAnyValue;
+using opt::kNonNegative;
+using opt::kPositive;
+using opt::quantity;
+using opt::variable;
+
+// The variables first, in the order of the switch in design().
+const opt::ParameterTable<Model> kTable = {
+    {variable("l_co1", Dimension::length, kPositive, "l_CO1, distance of C from O1 along the axis (design: synthesis)",
+              "seed 002 eq. (3)"),
+     MECHOPT_STORED_AT(m.l_co1)},
+    {variable("crank_length", Dimension::length, kPositive, "l1 (design: free_links); auto: the synthesis at l_co1",
+              "seed 002 eq. (2)").or_auto(),
+     MECHOPT_STORED_AT(m.crank)},
+    {variable("coupler_length", Dimension::length, kPositive, "l2 (design: free_links); auto: the synthesis at l_co1",
+              "seed 002 eq. (2)").or_auto(),
+     MECHOPT_STORED_AT(m.coupler)},
+    {variable("rocker_length", Dimension::length, kPositive, "l3 (design: free_links); auto: hypot(l_co1, coupler_offset)",
+              "seed 002 eq. (3)").or_auto(),
+     MECHOPT_STORED_AT(m.rocker)},
+    {choice("design", {"synthesis", "free_links"}, "the paper's family (l1, l2, l3 from l_co1) or free link lengths",
+            "seed 002 eqs (2)-(3)"),
+     MECHOPT_STORED_AT(m.design)},
+    {quantity("frame_x", Dimension::length, kAnyValue, "a: the crank pivot O from O1 (l4 = hypot(a, b); not both 0)",
+              "seed 002 eq. (1)"),
+     MECHOPT_STORED_AT(m.gx)},
+    {quantity("frame_y", Dimension::length, kAnyValue, "b: the crank pivot O from O1", "seed 002 eq. (1)"),
+     MECHOPT_STORED_AT(m.gy)},
+    {quantity("swing_angle", Dimension::angle, {0, std::numbers::pi, true, true}, "2 theta, the rocker's swing (synthesis)",
+              "seed 002 eq. (2)"),
+     MECHOPT_STORED_AT(m.swing_angle)},
+    {quantity("axis_angle", Dimension::angle, kAnyValue, "direction of the mid-swing axis O1C (parallel to a)", ""),
+     MECHOPT_STORED_AT(m.axis_angle)},
+    {quantity("coupler_offset", Dimension::length, kAnyValue, "l_CB: B off the axis toward O; l3 = hypot(l_CO1, l_CB)",
+              "seed 002 eq. (3)"),
+     MECHOPT_STORED_AT(m.coupler_offset)},
+    {choice("branch", {"auto", "1", "-1"}, "assembly branch: B left or right of the line O1-A; auto: the synthesis'", ""),
+     MECHOPT_STORED_AT(m.branch)},
+    {quantity("crank_speed", Dimension::angular_speed, kPositive, "w1, constant", "seed 002 (w1 = 12 rad/s)"),
+     MECHOPT_STORED_AT(m.crank_speed)},
+    {quantity("rod_mass_per_length", Dimension::linear_density, kNonNegative, "m_n of crank and coupler", "seed 002 eq. (10)"),
+     MECHOPT_STORED_AT(m.rod_mass_per_length)},
+    {quantity("platform_mass", Dimension::mass, kNonNegative, "m3", "seed 002 eq. (11)"),
+     MECHOPT_STORED_AT(m.platform_mass)},
+    {quantity("platform_cg_along", Dimension::length, kAnyValue, "d: the platform's centre of mass from O1, along the axis",
+              "seed 002 eq. (11)"),
+     MECHOPT_STORED_AT(m.cg_along)},
+    {quantity("platform_cg_across", Dimension::length, kAnyValue, "c: the platform's centre of mass, across the axis",
+              "seed 002 eq. (11)"),
+     MECHOPT_STORED_AT(m.cg_across)},
+    {quantity("platform_inertia", Dimension::inertia, kPositive, "J_s3 about the centre of mass; auto: m3 d^2",
+              "seed 002 eq. (11)").or_auto(),
+     MECHOPT_STORED_AT(m.platform_inertia)},
+    {quantity("friction_coefficient", Dimension::dimensionless, kNonNegative, "f of M_c = f G D / 2", "seed 002 eq. (7)"),
+     MECHOPT_STORED_AT(m.friction)},
+    {quantity("bearing_diameter", Dimension::length, kNonNegative, "D of M_c = f G D / 2", "seed 002 eq. (7)"),
+     MECHOPT_STORED_AT(m.bearing_diameter)},
+    {quantity("platform_weight", Dimension::force, kNonNegative, "G of M_c = f G D / 2", "seed 002 eq. (7)"),
+     MECHOPT_STORED_AT(m.platform_weight)},
+    {opt::whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for maxima and kinks", ""),
+     MECHOPT_STORED_AT(m.cycle_points)},
+};
+
+// The mechanism from the config's values: the synthesis at l_co1 gives the
+// link lengths and branch left at auto (eqs 2-3); inertia (11) and the
+// friction moment (7).
+void derive(Model& m) {
+  const auto syn = mech::synthesize_crank_rocker<double>(m.gx, m.gy, m.l_co1, m.coupler_offset,
+                                                         m.axis_angle, m.half_swing());
+  mech::FourBar<double> k = syn.linkage;
+  if (m.crank > 0) k.crank = m.crank;
+  if (m.coupler > 0) k.coupler = m.coupler;
+  if (m.rocker > 0) k.rocker = m.rocker;
+  if (m.branch != 0) k.branch = m.branch == 1 ? 1 : -1;
+  m.crank = k.crank, m.coupler = k.coupler, m.rocker = k.rocker;
+  const double inertia = m.platform_inertia > 0 ? m.platform_inertia : m.platform_mass * m.cg_along * m.cg_along;
+  m.mech = {k, m.crank_speed, m.rod_mass_per_length, m.platform_mass, inertia,
+            std::hypot(m.cg_along, m.cg_across), m.friction * m.platform_weight * m.bearing_diameter / 2};
+}
 
 class ConveyorSwing : public ModelProblem<ConveyorSwing> {
  public:
   ConveyorSwing(Model model, std::vector<opt::Variable> vars)
-      : ModelProblem("conveyor_swing", kMetrics, std::move(vars)), model_(std::move(model)) {}
+      : ModelProblem("conveyor_swing", kMetrics, std::move(vars)), model_(std::move(model)),
+        slots_(opt::variable_rows(kTable, variables())) {}
 
   std::vector<opt::Constraint> implicit_constraints() const override {
     std::vector<opt::Constraint> c = {{"rotation_margin", false, kMinMargin}};
-    if (model_.synthesis) c.push_back({"synthesis_margin", false, kMinMargin});
+    if (model_.synthesis()) c.push_back({"synthesis_margin", false, kMinMargin});
     return c;
   }
 
   nlohmann::json settings() const override {
     const auto& m = model_.mech;
-    return {{"model",
-             {{"design", model_.synthesis ? "synthesis" : "free_links"},
-              {"frame_x", model_.gx}, {"frame_y", model_.gy},
-              {"swing_angle", 2 * model_.half_swing}, {"axis_angle", model_.axis_angle},
-              {"coupler_offset", model_.coupler_offset}, {"l_co1", model_.l_co1},
-              {"crank_length", m.linkage.crank}, {"coupler_length", m.linkage.coupler},
-              {"rocker_length", m.linkage.rocker}, {"branch", m.linkage.branch},
-              {"crank_speed", m.crank_speed}, {"rod_mass_per_length", m.rod_mass_per_length},
-              {"platform_mass", m.platform_mass}, {"platform_inertia", m.platform_inertia},
-              {"platform_cg_radius", m.platform_cg_radius},
-              {"friction_moment", m.friction_moment}}},
+    nlohmann::json model = opt::parameters_json(opt::parameters(kTable, model_));
+    model["derived"] = {{"branch", m.linkage.branch}, {"platform_inertia", m.platform_inertia},
+                        {"platform_cg_radius", m.platform_cg_radius}, {"friction_moment", m.friction_moment}};
+    return {{"model", model},
             {"assumptions",
              {"swing plane horizontal: gravity does no work (the thrust bearing of eq. 7 carries G)",
               "crank turns at constant speed: its own inertia costs no moment",
@@ -92,7 +170,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     using std::abs;
     const Design<S> d = design(x);
     const auto& k = d.mech.linkage;
-    if (model_.synthesis) out.put("synthesis_margin", d.synthesis_margin);
+    if (model_.synthesis()) out.put("synthesis_margin", d.synthesis_margin);
     out.put("crank_length", k.crank);
     out.put("coupler_length", k.coupler);
     out.put("rocker_length", k.rocker);
@@ -168,16 +246,17 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     Design<S> d{model_.mech.template cast<S>()};
     S l_co1(model_.l_co1);
     for (size_t i = 0; i < x.size(); ++i) {
-      const std::string& n = variables()[i].name;
-      if (n == "l_co1") l_co1 = x[i];
-      else if (n == "crank_length") d.mech.linkage.crank = x[i];
-      else if (n == "coupler_length") d.mech.linkage.coupler = x[i];
-      else d.mech.linkage.rocker = x[i];
+      switch (slots_[i]) {  // rows of kTable
+        case 0: l_co1 = x[i]; break;
+        case 1: d.mech.linkage.crank = x[i]; break;
+        case 2: d.mech.linkage.coupler = x[i]; break;
+        default: d.mech.linkage.rocker = x[i];
+      }
     }
-    if (model_.synthesis) {
+    if (model_.synthesis()) {
       const auto syn = mech::synthesize_crank_rocker<S>(S(model_.gx), S(model_.gy), l_co1,
                                                         S(model_.coupler_offset), model_.axis_angle,
-                                                        S(model_.half_swing));
+                                                        S(model_.half_swing()));
       d.mech.linkage = syn.linkage;
       d.synthesis_ok = syn.ok;
       d.synthesis_margin = syn.side_margin;
@@ -193,80 +272,31 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   Model model_;
+  std::vector<int> slots_;  // table row of each variable
 };
 
 }  // namespace
 
-const std::vector<opt::VariableSpec>& conveyor_swing_variables() { return kVariables; }
-
 std::unique_ptr<opt::Problem> make_conveyor_swing(const opt::ConfigNode& root) {
   Model m;
-  double rod = 200, platform = 3200, cg_along = 1.2, cg_across = 1.0, speed = 12;
-  double friction = 0.01, diameter = 0.3, weight = 32000;
-  double inertia = -1;  // eq. (11) by default
-  double crank = 0, coupler = 0, rocker = 0;
-  int branch = 0;  // 0: from the synthesis at l_co1
-  if (root.has("model")) {
-    const opt::ConfigNode n = root.at("model");
-    n.allow_only({"design", "frame_x", "frame_y", "swing_angle", "axis_angle", "coupler_offset",
-                  "l_co1", "crank_length", "coupler_length", "rocker_length", "branch",
-                  "crank_speed", "rod_mass_per_length", "platform_mass", "platform_cg_along",
-                  "platform_cg_across", "platform_inertia", "friction_coefficient",
-                  "bearing_diameter", "platform_weight", "cycle_points"});
-    if (n.has("design")) m.synthesis = n.at("design").choice({"synthesis", "free_links"}) == "synthesis";
-    m.gx = n.quantity_or("frame_x", Dimension::length, m.gx);
-    m.gy = n.quantity_or("frame_y", Dimension::length, m.gy);
-    m.half_swing = 0.5 * n.quantity_or("swing_angle", Dimension::angle, 2 * m.half_swing,
-                                       {0, std::numbers::pi, true, true});
-    m.axis_angle = n.quantity_or("axis_angle", Dimension::angle, m.axis_angle);
-    m.coupler_offset = n.quantity_or("coupler_offset", Dimension::length, m.coupler_offset);
-    m.l_co1 = n.quantity_or("l_co1", Dimension::length, m.l_co1, opt::kPositive);
-    crank = n.quantity_or("crank_length", Dimension::length, 0, opt::kPositive);
-    coupler = n.quantity_or("coupler_length", Dimension::length, 0, opt::kPositive);
-    rocker = n.quantity_or("rocker_length", Dimension::length, 0, opt::kPositive);
-    if (n.has("branch")) branch = n.at("branch").choice({"1", "-1"}) == "1" ? 1 : -1;
-    speed = n.quantity_or("crank_speed", Dimension::angular_speed, speed, opt::kPositive);
-    rod = n.quantity_or("rod_mass_per_length", Dimension::linear_density, rod, opt::kNonNegative);
-    platform = n.quantity_or("platform_mass", Dimension::mass, platform, opt::kNonNegative);
-    cg_along = n.quantity_or("platform_cg_along", Dimension::length, cg_along);
-    cg_across = n.quantity_or("platform_cg_across", Dimension::length, cg_across);
-    if (n.has("platform_inertia")) {
-      const opt::ConfigNode k = n.at("platform_inertia");
-      inertia = k.number();
-      if (!(inertia >= 0)) k.fail("expected a moment of inertia >= 0 in kg m^2, got '" + k.text() + "'");
-    }
-    friction = n.quantity_or("friction_coefficient", Dimension::dimensionless, friction, opt::kNonNegative);
-    diameter = n.quantity_or("bearing_diameter", Dimension::length, diameter, opt::kNonNegative);
-    weight = n.quantity_or("platform_weight", Dimension::force, weight, opt::kNonNegative);
-    if (n.has("cycle_points")) m.cycle_points = n.at("cycle_points").integer(8, 100000);
-    if (!(std::hypot(m.gx, m.gy) > 0)) n.fail("frame_x and frame_y place the crank pivot on the rocker pivot");
-  }
-  // The paper's synthesis at l_co1 gives the default lengths and the branch.
-  const auto syn = mech::synthesize_crank_rocker<double>(m.gx, m.gy, m.l_co1, m.coupler_offset,
-                                                         m.axis_angle, m.half_swing);
-  mech::FourBar<double> k = syn.linkage;
-  if (crank > 0) k.crank = crank;
-  if (coupler > 0) k.coupler = coupler;
-  if (rocker > 0) k.rocker = rocker;
-  if (branch != 0) k.branch = branch;
-  m.mech = {k, speed, rod, platform, inertia >= 0 ? inertia : platform * cg_along * cg_along,
-            std::hypot(cg_along, cg_across), friction * weight * diameter / 2};  // eqs (7), (11)
-
-  const std::map<std::string, double> values = {{"l_co1", m.l_co1},
-                                                {"crank_length", k.crank},
-                                                {"coupler_length", k.coupler},
-                                                {"rocker_length", k.rocker}};
-  auto vars = opt::parse_variables(root, kVariables, values);
+  opt::read_parameters(root, kTable, m);
+  if (!(std::hypot(m.gx, m.gy) > 0))
+    root.at("model").fail("frame_x and frame_y place the crank pivot on the rocker pivot");
+  derive(m);
+  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
   for (const auto& v : vars) {
     const bool synthesis_var = v.name == "l_co1";
-    if (synthesis_var != m.synthesis)
+    if (synthesis_var != m.synthesis())
       root.at("variables").at(v.name).fail(
           std::string("variable '") + v.name + "' belongs to design: " +
           (synthesis_var ? "synthesis" : "free_links") + ", but the model has design: " +
-          (m.synthesis ? "synthesis" : "free_links"));
-    if (!(v.lower > 0)) root.at("variables").at(v.name).at("min").fail("expected a positive length");
+          (m.synthesis() ? "synthesis" : "free_links"));
   }
   return std::make_unique<ConveyorSwing>(std::move(m), std::move(vars));
 }
+
+const Registration kRegistration{
+    {"conveyor_swing", "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)",
+     opt::parameters(kTable, Model{}), make_conveyor_swing}};
 
 }  // namespace problems

@@ -12,8 +12,6 @@
 
 namespace problems {
 
-const std::vector<opt::VariableSpec>& conveyor_swing_variables();
-
 std::unique_ptr<opt::Problem> make_conveyor_swing(const opt::ConfigNode& root);
 
 }  // namespace problems

@@ -1,22 +1,17 @@
 #include "problems/elastic_drive.hpp"
+#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
 
 #include "mech/drive_dynamics.hpp"
+#include "opt/parameters.hpp"
 #include "problems/model_problem.hpp"
 
 namespace problems {
 namespace {
 
 using opt::Dimension;
-
-const std::vector<opt::VariableSpec> kVariables = {
-    {"stiffness", Dimension::dimensionless},  // c [N m / rad]
-    {"damping", Dimension::dimensionless},    // k [N m s / rad]
-    {"rod_length", Dimension::length},
-    {"phase_shift", Dimension::angle},
-};
 
 // "coupling" metrics on the side chosen by coupling_side.
 const std::vector<MetricSpec> kMetrics = {
@@ -47,16 +42,116 @@ struct Model {
   double warmup = 0;         // start-up seconds whose end is the first guess (0: rigid estimate)
   double startup_time = 5.0; // start-up transient length [s]
   bool startup_curves = false;
+  double nominal_slip = 0.025, overload_ratio = 2.0;  // eq. (27a), when critical_slip is not given
+};
+
+using opt::choice;
+using opt::kAnyValue;
+using opt::kNonNegative;
+using opt::kPositive;
+using opt::quantity;
+using opt::variable;
+const opt::Domain kFraction{0, 1, true, false};
+
+// The variables first, in the order of the switch in drive().
+const opt::ParameterTable<Model> kTable = {
+    {variable("stiffness", Dimension::rotational_stiffness, kPositive, "c, coupling stiffness at the crank axis",
+              "seed 001 eq. (29)"),
+     MECHOPT_STORED_AT(m.drive.stiffness)},
+    {variable("damping", Dimension::rotational_damping, kNonNegative, "k, coupling damping at the crank axis",
+              "seed 001 eq. (40)"),
+     MECHOPT_STORED_AT(m.drive.damping)},
+    {variable("rod_length", Dimension::length, kPositive, "l (l <= r: cannot_assemble)", "seed 001 eq. (36)"),
+     MECHOPT_STORED_AT(m.drive.rod_length)},
+    {variable("phase_shift", Dimension::angle, kAnyValue, "crank 2 leads crank 1 by this angle", "seed 001 eq. (37)"),
+     MECHOPT_STORED_AT(m.drive.phase_shift)},
+    {quantity("motor.synchronous_speed", Dimension::angular_speed, kPositive, "w0, motor shaft (4A160S6U3)",
+              "seed 001 eq. (27)"),
+     MECHOPT_STORED_AT(m.drive.motor.synchronous_speed)},
+    {quantity("motor.critical_torque", Dimension::torque, kPositive, "M_kr, motor shaft", "seed 001 eq. (27)"),
+     MECHOPT_STORED_AT(m.drive.motor.critical_torque)},
+    {quantity("motor.critical_slip", Dimension::dimensionless, kFraction,
+              "s_kr (default: from nominal_slip and overload_ratio; give one or the other)", "seed 001 eq. (27a)"),
+     MECHOPT_STORED_AT(m.drive.motor.critical_slip)},
+    {quantity("motor.nominal_slip", Dimension::dimensionless, {0, 1, true, true}, "s_n, for s_kr", "seed 001 eq. (27a)"),
+     MECHOPT_STORED_AT(m.nominal_slip)},
+    {quantity("motor.overload_ratio", Dimension::dimensionless, {1, HUGE_VAL, true, false}, "lambda, for s_kr",
+              "seed 001 eq. (27a)"),
+     MECHOPT_STORED_AT(m.overload_ratio)},
+    {quantity("motor.rotor_inertia", Dimension::inertia, kNonNegative, "J_p, motor shaft", "seed 001 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.motor.rotor_inertia)},
+    {quantity("coupling_inertia", Dimension::inertia, kNonNegative, "J_m, motor shaft", "seed 001 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.coupling_inertia)},
+    {quantity("gear_ratio", Dimension::dimensionless, kPositive, "u", "seed 001 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.gear_ratio)},
+    {quantity("gearbox_factor", Dimension::dimensionless, {1, HUGE_VAL, false, false},
+              "delta: gearbox inertia reduced to the motor shaft (unstated in the paper)", "seed 001 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.gearbox_factor)},
+    {quantity("drive_efficiency", Dimension::dimensionless, kFraction, "eta_n (unstated in the paper)", "seed 001 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.drive_efficiency)},
+    {quantity("crank_radius", Dimension::length, kPositive, "r", "seed 001 eq. (36)"),
+     MECHOPT_STORED_AT(m.drive.crank_radius)},
+    {choice("layout", {"opposed", "same_side"}, "second slider mirrored, or on the same side as the first",
+            "seed 001 eq. (37)"),
+     MECHOPT_STORED_AT(m.drive.same_side)},
+    {choice("kinematics", {"exact", "binomial"}, "exact slider-crank, or the binomial series", "seed 001 eqs (36)-(39)"),
+     MECHOPT_STORED_AT(m.drive.kinematics)},
+    {quantity("cart_mass", Dimension::mass, kNonNegative, "m'_B, each cart", "seed 001 eq. (3)"),
+     MECHOPT_STORED_AT(m.drive.cart_mass)},
+    {quantity("rod_mass", Dimension::mass, kNonNegative, "m_sh, each rod: half at the pin, half at the cart",
+              "seed 001 eqs (2)-(3)"),
+     MECHOPT_STORED_AT(m.drive.rod_mass)},
+    {quantity("crank_inertia", Dimension::inertia, kNonNegative, "J'_k, each crank about its axis (unstated: 0)",
+              "seed 001 eq. (2)"),
+     MECHOPT_STORED_AT(m.drive.crank_inertia)},
+    {quantity("roller_horizontal", Dimension::force, kNonNegative,
+              "F_01 + F_02 per cart (seed 000's F_B; the printed 2 x 7962 N stall the motor)", "seed 001 eq. (12)"),
+     MECHOPT_STORED_AT(m.drive.roller_horizontal)},
+    {quantity("roller_vertical", Dimension::force, kNonNegative, "R_01 + R_02 per cart", "seed 001 eq. (13)"),
+     MECHOPT_STORED_AT(m.drive.roller_vertical)},
+    {quantity("cart_weight", Dimension::force, kNonNegative, "G per cart", "seed 001 eq. (13)"),
+     MECHOPT_STORED_AT(m.drive.cart_weight)},
+    {quantity("guide_friction", Dimension::dimensionless, kNonNegative, "f_np of the cart guides", "seed 001 eq. (12)"),
+     MECHOPT_STORED_AT(m.drive.guide_friction)},
+    {choice("resistance", {"signed", "opposes_motion"},
+            "as printed (signed), or opposing the crank's motion (regularised over 1e-3 rad/s)",
+            "seed 001 eqs (18)-(20)"),
+     MECHOPT_STORED_AT(m.drive.resistance_opposes_motion)},
+    {choice("fidelity", {"rigid", "elastic"}, "one rigid mass, or two masses joined by the coupling", "seed 001 eq. (29)"),
+     MECHOPT_STORED_AT(m.drive.fidelity)},
+    {choice("coupling_side", {"crank", "motor"},
+            "coupling torques reported at the crank, or on the motor shaft (divided by u eta)", ""),
+     MECHOPT_STORED_AT(m.motor_side)},
+    {quantity("start_speed", Dimension::angular_speed, kNonNegative, "crank speed at the start of a start-up (0: rest)", ""),
+     MECHOPT_STORED_AT(m.start_speed)},
+    {quantity("warmup", Dimension::time, kNonNegative,
+              "start-up seconds whose last revolution is the steady state's first guess (0: the rigid estimate)", ""),
+     MECHOPT_STORED_AT(m.warmup)},
+    {quantity("startup_time", Dimension::time, kPositive, "length of the start-up transient", ""),
+     MECHOPT_STORED_AT(m.startup_time)},
+    {choice("curves", {"steady", "startup"}, "what cycle.svg and cycle.csv show", ""),
+     MECHOPT_STORED_AT(m.startup_curves)},
+    {choice("ode.method", {"bdf", "adams", "erk"},
+            "CVODE BDF (stiff), CVODE Adams (functional iteration) or ARKODE Dormand-Prince 5(4)", ""),
+     MECHOPT_STORED_AT(m.ode.method)},
+    {quantity("ode.rtol", Dimension::dimensionless, {0, 1, true, true}, "relative tolerance", ""),
+     MECHOPT_STORED_AT(m.ode.rtol)},
+    {quantity("ode.atol", Dimension::dimensionless, kPositive,
+              "absolute tolerance (steady state: relative to each state's scale)", ""),
+     MECHOPT_STORED_AT(m.ode.atol)},
+    {opt::whole("ode.max_steps", {10, 100000000, false, false}, "step budget of one whole integration", ""),
+     MECHOPT_STORED_AT(m.ode.max_steps)},
 };
 
 class ElasticDriveProblem : public TabledProblem {
  public:
   ElasticDriveProblem(Model m, std::vector<opt::Variable> vars)
-      : TabledProblem("elastic_drive", kMetrics, std::move(vars)), m_(std::move(m)) {}
+      : TabledProblem("elastic_drive", kMetrics, std::move(vars)), m_(std::move(m)),
+        slots_(opt::variable_rows(kTable, variables())) {}
 
   bool provides_gradients() const override { return false; }
 
-  opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                            bool) const override {
     const mech::ElasticDrive d = drive(x);
     auto want = [&](const char* n) {
@@ -67,7 +162,7 @@ class ElasticDriveProblem : public TabledProblem {
       if (want(n)) e.metrics[n] = {v, {}};
     };
     const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
-    if (s.status != mech::DynamicsStatus::ok) {
+    if (s.status != mech::Status::ok) {
       e.status = mech::to_string(s.status);
       return e;
     }
@@ -91,6 +186,10 @@ class ElasticDriveProblem : public TabledProblem {
     put("largest_multiplier", s.largest_multiplier);
     if (want("startup_peak_coupling_torque") || want("time_to_steady")) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
+      if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
+        e.status = mech::to_string(st.status);
+        return e;
+      }
       put("startup_peak_coupling_torque", st.peak_coupling * side);
       put("time_to_steady", st.time_to_steady);
     }
@@ -104,11 +203,11 @@ class ElasticDriveProblem : public TabledProblem {
     mech::Trajectory tr;
     if (m_.startup_curves) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 2e-3, nullptr, m_.start_speed);
-      if (st.status != mech::DynamicsStatus::ok) return {};
+      if (st.status != mech::Status::ok) return {};
       tr = st.trajectory;
     } else {
       const auto s = mech::steady_by_shooting(d, m_.ode, 720, m_.warmup, m_.start_speed);
-      if (s.status != mech::DynamicsStatus::ok) return {};
+      if (s.status != mech::Status::ok) return {};
       tr = s.cycle;
     }
     for (size_t i = 0; i < tr.t.size(); ++i)
@@ -117,33 +216,11 @@ class ElasticDriveProblem : public TabledProblem {
   }
 
   nlohmann::json settings() const override {
-    const auto& d = m_.drive;
-    return {{"model",
-             {{"motor", {{"synchronous_speed", d.motor.synchronous_speed},
-                         {"critical_torque", d.motor.critical_torque},
-                         {"critical_slip", d.motor.critical_slip},
-                         {"rotor_inertia", d.motor.rotor_inertia}}},
-              {"coupling_inertia", d.coupling_inertia}, {"gear_ratio", d.gear_ratio},
-              {"gearbox_factor", d.gearbox_factor}, {"drive_efficiency", d.drive_efficiency},
-              {"stiffness", d.stiffness}, {"damping", d.damping},
-              {"crank_radius", d.crank_radius}, {"rod_length", d.rod_length},
-              {"phase_shift", d.phase_shift}, {"layout", d.same_side ? "same_side" : "opposed"},
-              {"cart_mass", d.cart_mass}, {"rod_mass", d.rod_mass}, {"crank_inertia", d.crank_inertia},
-              {"roller_horizontal", d.roller_horizontal}, {"roller_vertical", d.roller_vertical},
-              {"cart_weight", d.cart_weight}, {"guide_friction", d.guide_friction},
-              {"resistance", d.resistance_opposes_motion ? "opposes_motion" : "signed"},
-              {"coupling_side", m_.motor_side ? "motor" : "crank"},
-              {"start_speed", m_.start_speed}, {"warmup", m_.warmup},
-              {"motor_side_inertia", d.motor_side_inertia()}}},
-            {"fidelity",
-             {{"drive", d.fidelity == mech::DriveFidelity::rigid ? "rigid" : "elastic"},
-              {"kinematics", d.kinematics == mech::Kinematics::exact ? "exact" : "binomial"}}},
+    nlohmann::json model = opt::parameters_json(opt::parameters(kTable, m_));
+    model["derived"] = {{"motor_side_inertia", m_.drive.motor_side_inertia()}};
+    return {{"model", model},
             {"numerics",
-             {{"method", m_.ode.method == mech::OdeMethod::bdf     ? "bdf"
-                         : m_.ode.method == mech::OdeMethod::adams ? "adams"
-                                                                   : "erk"},
-              {"rtol", m_.ode.rtol}, {"atol", m_.ode.atol}, {"max_steps", m_.ode.max_steps},
-              {"steady_state", "shooting over one revolution in the crank angle: one revolution from "
+             {              {"steady_state", "shooting over one revolution in the crank angle: one revolution from "
                                "the first guess (rigid estimate, or the start-up after warmup "
                                "seconds), then KINSOL Newton with the monodromy matrix if it "
                                "does not repeat; extrema by root finding"}}},
@@ -153,100 +230,52 @@ class ElasticDriveProblem : public TabledProblem {
  private:
   mech::ElasticDrive drive(const Eigen::VectorXd& x) const {
     mech::ElasticDrive d = m_.drive;
-    for (size_t i = 0; i < variables().size(); ++i) {
-      const std::string& n = variables()[i].name;
-      if (n == "stiffness") d.stiffness = x[i];
-      else if (n == "damping") d.damping = x[i];
-      else if (n == "rod_length") d.rod_length = x[i];
-      else d.phase_shift = x[i];
+    for (size_t i = 0; i < slots_.size(); ++i) {
+      switch (slots_[i]) {  // rows of kTable
+        case 0: d.stiffness = x[i]; break;
+        case 1: d.damping = x[i]; break;
+        case 2: d.rod_length = x[i]; break;
+        default: d.phase_shift = x[i];
+      }
     }
     return d;
   }
 
   Model m_;
+  std::vector<int> slots_;  // table row of each variable
 };
 
 }  // namespace
 
-const std::vector<opt::VariableSpec>& elastic_drive_variables() { return kVariables; }
+// Seed 001's drive with the assumptions its text leaves open (docs/reproduction.md):
+// the printed roller loads (2 x 7962 N per cart) stall the 11 kW motor, so the
+// carts take seed 000's F_B = 3562 N with the vertical forces balanced, the
+// resistance opposes the motion, and a start-up begins at the motor's
+// synchronous speed (Kloss's starting torque cannot start the load).
+Model default_model() {
+  Model m;
+  m.drive.roller_horizontal = 3562;
+  m.drive.roller_vertical = 10124.9;
+  m.drive.resistance_opposes_motion = true;
+  m.start_speed = 10.686;
+  m.drive.motor.critical_slip = mech::InductionMotor::critical_slip_from(m.nominal_slip, m.overload_ratio);
+  return m;
+}
 
 std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
-  Model m;
-  auto& d = m.drive;
-  if (root.has("model")) {
-    const opt::ConfigNode n = root.at("model");
-    n.allow_only({"motor", "coupling_inertia", "gear_ratio", "gearbox_factor", "drive_efficiency",
-                  "stiffness", "damping", "crank_radius", "rod_length", "phase_shift", "layout",
-                  "kinematics", "cart_mass", "rod_mass", "crank_inertia", "roller_horizontal",
-                  "roller_vertical", "cart_weight", "guide_friction", "resistance", "fidelity",
-                  "coupling_side", "start_speed", "warmup", "startup_time", "curves", "ode"});
-    if (n.has("motor")) {
-      const opt::ConfigNode mo = n.at("motor");
-      mo.allow_only({"synchronous_speed", "critical_torque", "critical_slip", "nominal_slip",
-                     "overload_ratio", "rotor_inertia"});
-      d.motor.synchronous_speed = mo.quantity_or("synchronous_speed", Dimension::angular_speed,
-                                                 d.motor.synchronous_speed, opt::kPositive);
-      d.motor.critical_torque = mo.quantity_or("critical_torque", Dimension::dimensionless,
-                                               d.motor.critical_torque, opt::kPositive);
-      d.motor.rotor_inertia = mo.quantity_or("rotor_inertia", Dimension::dimensionless,
-                                             d.motor.rotor_inertia, opt::kNonNegative);
-      if (mo.has("critical_slip") && (mo.has("nominal_slip") || mo.has("overload_ratio")))
-        mo.fail("give critical_slip, or nominal_slip with overload_ratio (eq. 27a), not both");
-      d.motor.critical_slip = mo.quantity_or("critical_slip", Dimension::dimensionless,
-                                             d.motor.critical_slip, {0, 1, true, false});
-      if (mo.has("nominal_slip") || mo.has("overload_ratio")) {
-        const double sn = mo.at("nominal_slip").number(), lam = mo.at("overload_ratio").number();
-        if (!(sn > 0 && sn < 1)) mo.at("nominal_slip").fail("expected a slip in (0, 1)");
-        if (!(lam > 1)) mo.at("overload_ratio").fail("expected an overload ratio > 1");
-        d.motor.critical_slip = mech::InductionMotor::critical_slip_from(sn, lam);
-      }
-    }
-    d.coupling_inertia = n.quantity_or("coupling_inertia", Dimension::dimensionless, d.coupling_inertia, opt::kNonNegative);
-    d.gear_ratio = n.quantity_or("gear_ratio", Dimension::dimensionless, d.gear_ratio, opt::kPositive);
-    d.gearbox_factor = n.quantity_or("gearbox_factor", Dimension::dimensionless, d.gearbox_factor, {1, HUGE_VAL, false, false});
-    d.drive_efficiency = n.quantity_or("drive_efficiency", Dimension::dimensionless, d.drive_efficiency, {0, 1, true, false});
-    d.stiffness = n.quantity_or("stiffness", Dimension::dimensionless, d.stiffness, opt::kPositive);
-    d.damping = n.quantity_or("damping", Dimension::dimensionless, d.damping, opt::kNonNegative);
-    d.crank_radius = n.quantity_or("crank_radius", Dimension::length, d.crank_radius, opt::kPositive);
-    d.rod_length = n.quantity_or("rod_length", Dimension::length, d.rod_length, opt::kPositive);
-    d.phase_shift = n.quantity_or("phase_shift", Dimension::angle, d.phase_shift);
-    if (n.has("layout")) d.same_side = n.at("layout").choice({"same_side", "opposed"}) == "same_side";
-    if (n.has("kinematics"))
-      d.kinematics = n.at("kinematics").choice({"binomial", "exact"}) == "exact" ? mech::Kinematics::exact
-                                                                               : mech::Kinematics::binomial;
-    d.cart_mass = n.quantity_or("cart_mass", Dimension::mass, d.cart_mass, opt::kNonNegative);
-    d.rod_mass = n.quantity_or("rod_mass", Dimension::mass, d.rod_mass, opt::kNonNegative);
-    d.crank_inertia = n.quantity_or("crank_inertia", Dimension::dimensionless, d.crank_inertia, opt::kNonNegative);
-    d.roller_horizontal = n.quantity_or("roller_horizontal", Dimension::force, d.roller_horizontal, opt::kNonNegative);
-    d.roller_vertical = n.quantity_or("roller_vertical", Dimension::force, d.roller_vertical, opt::kNonNegative);
-    d.cart_weight = n.quantity_or("cart_weight", Dimension::force, d.cart_weight, opt::kNonNegative);
-    d.guide_friction = n.quantity_or("guide_friction", Dimension::dimensionless, d.guide_friction, opt::kNonNegative);
-    if (n.has("resistance"))
-      d.resistance_opposes_motion = n.at("resistance").choice({"signed", "opposes_motion"}) == "opposes_motion";
-    if (n.has("fidelity"))
-      d.fidelity = n.at("fidelity").choice({"elastic", "rigid"}) == "rigid" ? mech::DriveFidelity::rigid
-                                                                          : mech::DriveFidelity::elastic;
-    if (n.has("coupling_side")) m.motor_side = n.at("coupling_side").choice({"crank", "motor"}) == "motor";
-    m.start_speed = n.quantity_or("start_speed", Dimension::angular_speed, m.start_speed, opt::kNonNegative);
-    m.warmup = n.quantity_or("warmup", Dimension::time, m.warmup, opt::kNonNegative);
-    m.startup_time = n.quantity_or("startup_time", Dimension::time, m.startup_time, opt::kPositive);
-    if (n.has("curves")) m.startup_curves = n.at("curves").choice({"steady", "startup"}) == "startup";
-    if (n.has("ode")) {
-      const opt::ConfigNode o = n.at("ode");
-      o.allow_only({"method", "rtol", "atol", "max_steps"});
-      if (o.has("method")) {
-        const std::string me = o.at("method").choice({"bdf", "adams", "erk"});
-        m.ode.method = me == "bdf" ? mech::OdeMethod::bdf : me == "adams" ? mech::OdeMethod::adams : mech::OdeMethod::erk;
-      }
-      m.ode.rtol = o.quantity_or("rtol", Dimension::dimensionless, m.ode.rtol, {0, 1, true, true});
-      m.ode.atol = o.quantity_or("atol", Dimension::dimensionless, m.ode.atol, opt::kPositive);
-      if (o.has("max_steps")) m.ode.max_steps = o.at("max_steps").integer(10, 100000000);
-    }
-  }
-  const std::map<std::string, double> values = {{"stiffness", d.stiffness}, {"damping", d.damping},
-                                                {"rod_length", d.rod_length}, {"phase_shift", d.phase_shift}};
-  auto vars = opt::parse_variables(root, kVariables, values);
+  Model m = default_model();
+  const auto given = opt::read_parameters(root, kTable, m);
+  auto has = [&](const char* k) { return std::find(given.begin(), given.end(), k) != given.end(); };
+  if (has("motor.critical_slip") && (has("motor.nominal_slip") || has("motor.overload_ratio")))
+    root.at("model").at("motor").fail("give critical_slip, or nominal_slip with overload_ratio (eq. 27a), not both");
+  if (!has("motor.critical_slip"))
+    m.drive.motor.critical_slip = mech::InductionMotor::critical_slip_from(m.nominal_slip, m.overload_ratio);
+  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
   return std::make_unique<ElasticDriveProblem>(std::move(m), std::move(vars));
 }
+
+const Registration kRegistration{
+    {"elastic_drive", "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)",
+     opt::parameters(kTable, default_model()), make_elastic_drive}};
 
 }  // namespace problems

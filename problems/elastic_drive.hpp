@@ -12,8 +12,6 @@
 
 namespace problems {
 
-const std::vector<opt::VariableSpec>& elastic_drive_variables();
-
 std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root);
 
 }  // namespace problems

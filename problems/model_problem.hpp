@@ -76,7 +76,7 @@ class ModelProblem : public TabledProblem {
  public:
   using TabledProblem::TabledProblem;
 
-  opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                            bool gradient) const override {
     return with_scalar(x, gradient, [&](const auto& xs) {
       MetricSink<typename std::decay_t<decltype(xs)>::value_type> sink(wanted);
@@ -87,7 +87,8 @@ class ModelProblem : public TabledProblem {
 
  protected:
   // Calls f(xs) with the variables as double, or as an autodiff type with one
-  // derivative per variable (each seeded) when a gradient is wanted.
+  // derivative per variable (each seeded) when a gradient is wanted: fixed
+  // size up to 4 variables, sized at run time beyond.
   template <class F>
   auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
     if (!gradient) return f(seeded<double>(x));
@@ -95,7 +96,8 @@ class ModelProblem : public TabledProblem {
       case 1: return f(seeded<mech::DualN<1>>(x));
       case 2: return f(seeded<mech::DualN<2>>(x));
       case 3: return f(seeded<mech::DualN<3>>(x));
-      default: return f(seeded<mech::DualN<mech::kMaxDerivatives>>(x));
+      case 4: return f(seeded<mech::DualN<4>>(x));
+      default: return f(seeded<mech::DualX>(x));
     }
   }
 
@@ -124,7 +126,7 @@ class ModelProblem : public TabledProblem {
   static std::vector<S> seeded(const Eigen::VectorXd& x) {
     std::vector<S> xs(x.size());
     for (int i = 0; i < x.size(); ++i) {
-      if constexpr (mech::is_dual<S>) xs[i] = S(x[i], S::DerType::RowsAtCompileTime, i);
+      if constexpr (mech::is_dual<S>) xs[i] = S(x[i], static_cast<int>(x.size()), i);
       else xs[i] = x[i];
     }
     return xs;

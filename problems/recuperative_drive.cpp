@@ -1,8 +1,10 @@
 #include "problems/recuperative_drive.hpp"
+#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
 
+#include "opt/parameters.hpp"
 #include "opt/study.hpp"
 #include "problems/model_problem.hpp"
 
@@ -15,12 +17,72 @@ using opt::Dimension;
 // the rod can no longer reach the slider and velocities become unbounded.
 constexpr double kMaxCrankRodRatio = 0.99;
 
-const std::vector<opt::VariableSpec> kVariables = {
-    {"rod_length", Dimension::length},
-    {"phase_shift", Dimension::angle},
-    {"crank_radius", Dimension::length},
-    {"offset", Dimension::length},
+using Model = RecuperativeDriveModel;
+using opt::choice;
+using opt::kAnyValue;
+using opt::kNonNegative;
+using opt::kPositive;
+using opt::quantity;
+using opt::variable;
+
+// Seed 000 data at 100 rpm (the speed Table 1 was computed at; docs/reproduction.md).
+Model default_model() {
+  return {{0.2, 0.8, std::numbers::pi / 2, 0.0, 100 * std::numbers::pi / 30, 1000, 80, 0.9, 3562}, 0};
+}
+
+// The variables first, in the order of `slot` below.
+const opt::ParameterTable<Model> kTable = {
+    {variable("rod_length", Dimension::length, kPositive,
+              "connecting-rod length l (l <= r + |e|: cannot_assemble)", "seed 000 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.rod_length)},
+    {variable("phase_shift", Dimension::angle, kAnyValue, "crank 2 leads crank 1 by this angle", "seed 000 eq. (9)"),
+     MECHOPT_STORED_AT(m.drive.phase_shift)},
+    {variable("crank_radius", Dimension::length, kPositive, "crank radius r", "seed 000 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.crank_radius)},
+    {variable("offset", Dimension::length, kAnyValue, "offset e of both slider axes (seed 000: 0)", ""),
+     MECHOPT_STORED_AT(m.drive.offset)},
+    {quantity("crank_speed", Dimension::angular_speed, kPositive,
+              "crank speed w (Table 1 needs 100 rpm, not the printed 10.5 rad/s)", "seed 000 eq. (1)"),
+     MECHOPT_STORED_AT(m.drive.crank_speed)},
+    {quantity("cart_mass", Dimension::mass, kPositive, "m, each cart (> 0: T_min = 4 m r^2 w^2 / pi^2 divides k2, k3)",
+              "seed 000 eqs (9), (14)"),
+     MECHOPT_STORED_AT(m.drive.cart_mass)},
+    {quantity("rod_mass_per_length", Dimension::linear_density, kNonNegative, "q", "seed 000 eq. (10)"),
+     MECHOPT_STORED_AT(m.drive.rod_mass_per_length)},
+    {quantity("efficiency", Dimension::dimensionless, {0, 1, true, false}, "eta of the crank-to-cart transmission",
+              "seed 000 eq. (16)"),
+     MECHOPT_STORED_AT(m.drive.efficiency)},
+    {quantity("cart_resistance", Dimension::force, kNonNegative, "F_B, the force to move one cart", "seed 000 eq. (16)"),
+     MECHOPT_STORED_AT(m.drive.cart_resistance)},
+    {choice("layout", {"opposed", "same_side"},
+            "second slider mirrored (seed 000 eq. 2) or on the same side (seed 001 eq. 38)", "seed 000 eq. (2)"),
+     MECHOPT_STORED_AT(m.drive.layout)},
+    {choice("resistance", {"signed", "opposes_motion"},
+            "F_B with the sign of the cart velocity (as printed), or always opposing the cart's motion",
+            "seed 000 eq. (16)"),
+     MECHOPT_STORED_AT(m.drive.resistance)},
+    {choice("fidelity.kinematics", {"exact", "binomial"},
+            "exact slider-crank, or the binomial series of seed 001 eqs (36)-(39)", "seed 000 eqs (1)-(8)"),
+     MECHOPT_STORED_AT(m.drive.kinematics)},
+    {choice("fidelity.rod", {"point_masses", "full"},
+            "rod as its mass at its centre, or with its rotational inertia q l^3/12 added", "seed 000 eq. (10)"),
+     MECHOPT_STORED_AT(m.drive.rod)},
+    {opt::whole("cycle_points", {4, 100000, false, false},
+                "grid points per revolution; auto: 45/acosh(l/(r+|e|)), at least 16 (~1e-13 relative)", "")
+         .or_auto(),
+     MECHOPT_STORED_AT(m.cycle_points)},
 };
+
+// Where variable i (row i of the table) sits in the drive, for any scalar.
+template <class S>
+S& slot(mech::TwinDrive<S>& d, int i) {
+  switch (i) {
+    case 0: return d.rod_length;
+    case 1: return d.phase_shift;
+    case 2: return d.crank_radius;
+    default: return d.offset;
+  }
+}
 
 const std::vector<MetricSpec> kMetrics = {
     {"peak_kinetic_energy", "J"},        // T_max, eqs (11), (15)
@@ -38,26 +100,15 @@ const std::vector<MetricSpec> kMetrics = {
 class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
  public:
   RecuperativeDrive(RecuperativeDriveModel model, std::vector<opt::Variable> vars)
-      : ModelProblem("recuperative_drive", kMetrics, std::move(vars)), model_(std::move(model)) {}
+      : ModelProblem("recuperative_drive", kMetrics, std::move(vars)), model_(std::move(model)),
+        slots_(opt::variable_rows(kTable, variables())) {}
 
   std::vector<opt::Constraint> implicit_constraints() const override {
     return {{"crank_rod_ratio", true, kMaxCrankRodRatio}};
   }
 
   nlohmann::json settings() const override {
-    const auto& d = model_.drive;
-    return {{"model",
-             {{"crank_radius", d.crank_radius}, {"rod_length", d.rod_length},
-              {"phase_shift", d.phase_shift}, {"offset", d.offset},
-              {"crank_speed", d.crank_speed}, {"cart_mass", d.cart_mass},
-              {"rod_mass_per_length", d.rod_mass_per_length}, {"efficiency", d.efficiency},
-              {"cart_resistance", d.cart_resistance},
-              {"layout", d.layout == mech::Layout::opposed ? "opposed" : "same_side"},
-              {"resistance", d.resistance == mech::Resistance::signed_velocity ? "signed"
-                                                                                : "opposes_motion"}}},
-            {"fidelity",
-             {{"kinematics", d.kinematics == mech::Kinematics::exact ? "exact" : "binomial"},
-              {"rod", d.rod == mech::RodModel::full ? "full" : "point_masses"}}},
+    return {{"model", opt::parameters_json(opt::parameters(kTable, model_))},
             {"numerics",
              {{"cycle_points", model_.cycle_points ? nlohmann::json(model_.cycle_points)
                                                    : nlohmann::json("auto: 45/acosh(l/(r+|e|)), >= 16")},
@@ -105,13 +156,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   template <class S>
   mech::TwinDrive<S> drive(const std::vector<S>& x) const {
     mech::TwinDrive<S> d = model_.drive.template cast<S>();
-    for (size_t i = 0; i < x.size(); ++i) {
-      const std::string& n = variables()[i].name;
-      if (n == "rod_length") d.rod_length = x[i];
-      else if (n == "phase_shift") d.phase_shift = x[i];
-      else if (n == "crank_radius") d.crank_radius = x[i];
-      else d.offset = x[i];
-    }
+    for (size_t i = 0; i < x.size(); ++i) slot(d, slots_[i]) = x[i];
     return d;
   }
 
@@ -160,68 +205,25 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
 
  private:
   RecuperativeDriveModel model_;
+  std::vector<int> slots_;  // table row of each variable
 };
 
 }  // namespace
 
 RecuperativeDriveModel parse_recuperative_drive_model(const opt::ConfigNode& root) {
-  RecuperativeDriveModel m;
-  auto& d = m.drive;
-  // Seed 000 data at 100 rpm (the speed Table 1 was computed at; see docs/reproduction.md).
-  d = {0.2, 0.8, std::numbers::pi / 2, 0.0, 100 * std::numbers::pi / 30, 1000, 80, 0.9, 3562};
-  if (!root.has("model")) return m;
-  const opt::ConfigNode n = root.at("model");
-  n.allow_only({"crank_radius", "crank_speed", "cart_mass", "rod_mass_per_length", "efficiency",
-                "cart_resistance", "phase_shift", "rod_length", "offset", "layout", "fidelity",
-                "resistance", "cycle_points"});
-  d.crank_radius = n.quantity_or("crank_radius", Dimension::length, d.crank_radius, opt::kPositive);
-  d.rod_length = n.quantity_or("rod_length", Dimension::length, d.rod_length, opt::kPositive);
-  d.offset = n.quantity_or("offset", Dimension::length, d.offset);
-  d.phase_shift = n.quantity_or("phase_shift", Dimension::angle, d.phase_shift);
-  d.crank_speed = n.quantity_or("crank_speed", Dimension::angular_speed, d.crank_speed, opt::kPositive);
-  d.cart_mass = n.quantity_or("cart_mass", Dimension::mass, d.cart_mass, opt::kNonNegative);
-  d.rod_mass_per_length = n.quantity_or("rod_mass_per_length", Dimension::linear_density,
-                                        d.rod_mass_per_length, opt::kNonNegative);
-  d.efficiency = n.quantity_or("efficiency", Dimension::dimensionless, d.efficiency, {0, 1, true, false});
-  d.cart_resistance = n.quantity_or("cart_resistance", Dimension::force, d.cart_resistance,
-                                    opt::kNonNegative);
-  if (n.has("layout"))
-    d.layout = n.at("layout").choice({"opposed", "same_side"}) == "opposed" ? mech::Layout::opposed
-                                                                            : mech::Layout::same_side;
-  if (n.has("resistance"))
-    d.resistance = n.at("resistance").choice({"signed", "opposes_motion"}) == "signed"
-                       ? mech::Resistance::signed_velocity
-                       : mech::Resistance::opposes_motion;
-  if (n.has("fidelity")) {
-    const opt::ConfigNode f = n.at("fidelity");
-    f.allow_only({"kinematics", "rod"});
-    if (f.has("kinematics"))
-      d.kinematics = f.at("kinematics").choice({"exact", "binomial"}) == "exact"
-                         ? mech::Kinematics::exact
-                         : mech::Kinematics::binomial;
-    if (f.has("rod"))
-      d.rod = f.at("rod").choice({"point_masses", "full"}) == "full" ? mech::RodModel::full
-                                                                      : mech::RodModel::point_masses;
-  }
-  if (n.has("cycle_points") && n.at("cycle_points").text() != "auto")
-    m.cycle_points = n.at("cycle_points").integer(4, 100000);
+  Model m = default_model();
+  opt::read_parameters(root, kTable, m);
   return m;
 }
 
-const std::vector<opt::VariableSpec>& recuperative_drive_variables() { return kVariables; }
-
 std::unique_ptr<opt::Problem> make_recuperative_drive(const opt::ConfigNode& root) {
-  RecuperativeDriveModel m = parse_recuperative_drive_model(root);
-  const auto& d = m.drive;
-  const std::map<std::string, double> values = {{"rod_length", d.rod_length},
-                                                {"phase_shift", d.phase_shift},
-                                                {"crank_radius", d.crank_radius},
-                                                {"offset", d.offset}};
-  auto vars = opt::parse_variables(root, kVariables, values);
-  for (const auto& v : vars)
-    if ((v.name == "rod_length" || v.name == "crank_radius") && !(v.lower > 0))
-      root.at("variables").at(v.name).at("min").fail("expected a positive length");
+  Model m = parse_recuperative_drive_model(root);
+  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
   return std::make_unique<RecuperativeDrive>(std::move(m), std::move(vars));
 }
+
+const Registration kRegistration{
+    {"recuperative_drive", "twin slider-crank recuperative drive of a roller forming installation (seed 000)",
+     opt::parameters(kTable, default_model()), make_recuperative_drive}};
 
 }  // namespace problems

@@ -20,8 +20,6 @@ struct RecuperativeDriveModel {
 // at 100 rpm); throws opt::ConfigError on bad input.
 RecuperativeDriveModel parse_recuperative_drive_model(const opt::ConfigNode& root);
 
-const std::vector<opt::VariableSpec>& recuperative_drive_variables();
-
 std::unique_ptr<opt::Problem> make_recuperative_drive(const opt::ConfigNode& root);
 
 }  // namespace problems

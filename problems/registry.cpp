@@ -1,32 +1,27 @@
 #include "problems/registry.hpp"
 
-#include "problems/conveyor_swing.hpp"
-#include "problems/elastic_drive.hpp"
-#include "problems/recuperative_drive.hpp"
+#include <algorithm>
 
 namespace problems {
+namespace {
+std::vector<Entry>& entries() {
+  static std::vector<Entry> all;
+  return all;
+}
+}  // namespace
 
-const std::vector<Entry>& registry() {
-  static const std::vector<Entry> entries = {
-      {"recuperative_drive",
-       "twin slider-crank recuperative drive of a roller forming installation (seed 000)",
-       recuperative_drive_variables(),
-       [](const opt::ConfigNode& root) { return make_recuperative_drive(root); }},
-      {"conveyor_swing",
-       "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)",
-       conveyor_swing_variables(),
-       [](const opt::ConfigNode& root) { return make_conveyor_swing(root); }},
-      {"elastic_drive",
-       "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)",
-       elastic_drive_variables(),
-       [](const opt::ConfigNode& root) { return make_elastic_drive(root); }},
-  };
-  return entries;
+Registration::Registration(Entry e) {
+  auto& all = entries();
+  const auto at = std::lower_bound(all.begin(), all.end(), e.name,
+                                   [](const Entry& a, const std::string& n) { return a.name < n; });
+  all.insert(at, std::move(e));
 }
 
+const std::vector<Entry>& registry() { return entries(); }
+
 const std::vector<std::string>& config_keys() {
-  static const std::vector<std::string> keys = {"problem", "model",  "variables", "objective",
-                                                "constraints", "study", "output", "reference"};
+  static const std::vector<std::string> keys = {"base",        "problem", "model",  "variables", "objective",
+                                                "constraints", "study",   "output", "reference"};
   return keys;
 }
 

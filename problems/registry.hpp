@@ -15,10 +15,17 @@ using Factory = std::function<std::unique_ptr<opt::Problem>(const opt::ConfigNod
 
 struct Entry {
   std::string name, summary;
-  std::vector<opt::VariableSpec> variables;  // what a config may free
+  std::vector<opt::Parameter> parameters;  // its table, with the default values
   Factory make;
 };
 
+// Each problem registers itself from its own file, at start-up:
+//   const problems::Registration kRegistration{{"name", "summary", parameters, make}};
+struct Registration {
+  explicit Registration(Entry e);
+};
+
+// Every registered problem, sorted by name.
 const std::vector<Entry>& registry();
 
 // Builds the problem named by the config's `problem` key from its `model` and

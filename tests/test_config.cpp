@@ -118,4 +118,72 @@ TEST(Units, ConvertToSi) {
   EXPECT_FALSE(opt::parse_quantity("inf m", Dimension::length).error.empty());
 }
 
+// Every dimension the problems use, each unit against its SI definition
+// (tf: tonne-force, 1000 kg x standard gravity 9.80665 m/s^2).
+TEST(Units, EveryDimensionTheProblemsUse) {
+  using opt::Dimension;
+  struct Case { const char* text; Dimension d; double si; };
+  const Case cases[] = {
+      {"110 kN m/rad", Dimension::rotational_stiffness, 110e3},
+      {"110 kN*m / rad", Dimension::rotational_stiffness, 110e3},
+      {"2000 N m s/rad", Dimension::rotational_damping, 2000},
+      {"2 kN m", Dimension::torque, 2000},   {"5 tf", Dimension::force, 5 * 9806.65},
+      {"1.5 MN", Dimension::force, 1.5e6},   {"3 kN/m", Dimension::linear_stiffness, 3000},
+      {"0.32 kg m^2", Dimension::inertia, 0.32}, {"0.32 kg*m^2", Dimension::inertia, 0.32},
+      {"11 kW", Dimension::power, 11000},    {"2 MPa", Dimension::pressure, 2e6},
+      {"0.5 1/mm", Dimension::inverse_length, 500}, {"4 kJ", Dimension::energy, 4000},
+  };
+  for (const auto& c : cases) {
+    const auto q = opt::parse_quantity(c.text, c.d);
+    EXPECT_TRUE(q.error.empty()) << c.text << ": " << q.error;
+    EXPECT_DOUBLE_EQ(q.value, c.si) << c.text;
+  }
+  EXPECT_NE(opt::parse_quantity("110 kN m", Dimension::rotational_stiffness).error.find("is a torque"),
+            std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+// Model values with units of every kind read through the parameter tables.
+TEST(CommandLine, ParameterTableReadsUnitsAndSections) {
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/elastic_drive/optimum.yaml";
+  Outcome o = run("eval " + cfg + " --set \"stiffness=110 kN m/rad\" --set \"coupling_inertia=0.32 kg m^2\"");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto j = nlohmann::json::parse(o.output);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["stiffness"].get<double>(), 110000);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["coupling_inertia"].get<double>(), 0.32);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["motor"]["critical_torque"].get<double>(), 215.4);
+  o = run("eval " + cfg + " --set \"stiffness=110 kN m\"");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("key 'model.stiffness': expected a rotational stiffness"), std::string::npos) << o.output;
+}
+
+}  // namespace
+
+namespace {
+
+// `base: FILE` inherits a config's keys, map by map; the config's own values
+// win, and an error in the base names the base file and its line.
+TEST(CommandLine, BaseFileIsInheritedAndOverridden) {
+  const std::string dir = testing::TempDir() + "/base_config";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/base.yaml") << "problem: recuperative_drive\nmodel: {crank_radius: 0.25 m, rod_length: 0.9 m}\n";
+  std::ofstream(dir + "/run.yaml") << "base: base.yaml\nmodel: {rod_length: 0.7 m}\n";
+  Outcome o = run("eval " + dir + "/run.yaml");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto j = nlohmann::json::parse(o.output);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["crank_radius"].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["rod_length"].get<double>(), 0.7);
+  std::ofstream(dir + "/base.yaml") << "problem: recuperative_drive\nmodel:\n  crank_radius: 0.25 kg\n";
+  o = run("eval " + dir + "/run.yaml");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find(dir + "/base.yaml:3:17: key 'model.crank_radius'"), std::string::npos) << o.output;
+  std::ofstream(dir + "/run.yaml") << "base: run.yaml\n";
+  o = run("eval " + dir + "/run.yaml");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.output.find("more than 8 base files"), std::string::npos) << o.output;
+}
+
 }  // namespace

@@ -4,7 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "mech/drive_dynamics.hpp"
 #include "opt/config.hpp"
@@ -13,7 +19,7 @@
 
 namespace {
 
-using mech::DynamicsStatus;
+using mech::Status;
 
 // The scene of configs/elastic_drive/*.yaml: seed 001's drive with seed
 // 000's cart force and a start at synchronous speed.
@@ -26,6 +32,24 @@ mech::ElasticDrive scene(double k = 2000) {
   return d;
 }
 constexpr double kStart = 10.686;  // synchronous crank speed 104.72 / 9.8
+
+TEST(Status, NamesInTheEnumsOrderReadBack) {
+  // The names result files carry (docs/config.md), written out here rather
+  // than taken from the code under test.
+  const char* names[] = {"ok", "cannot_assemble", "invalid_parameter", "not_grashof",
+                         "toggle_in_cycle", "synthesis_failed", "stalled", "too_many_steps",
+                         "integration_failed", "not_converged", "non_finite", "evaluation_error"};
+  for (int i = 0; i < 12; ++i) {
+    const auto s = static_cast<Status>(i);
+    EXPECT_EQ(mech::to_string(s), names[i]);
+    EXPECT_EQ(mech::status_from_string(names[i]), s) << names[i];
+  }
+  EXPECT_EQ(mech::to_string(Status::not_converged), "not_converged");  // was no_periodic_orbit
+  EXPECT_FALSE(mech::status_from_string("no_periodic_orbit"));
+  EXPECT_FALSE(mech::status_from_string("solver_failure"));
+  EXPECT_FALSE(mech::status_from_string(""));
+  EXPECT_FALSE(mech::status_from_string("OK"));
+}
 
 TEST(InductionMotor, KlossFormulaAndCriticalSlip) {
   const mech::InductionMotor m;
@@ -53,7 +77,7 @@ TEST(SteadyCycle, EnergyBalanceAndPeriodicity) {
   // damper's (the kinetic and elastic energies return). All three are
   // quadratures of the same integration: 1e-6 relative at rtol 1e-8.
   const auto s = mech::steady_by_shooting(scene(), {}, 720, 0, kStart);
-  ASSERT_EQ(s.status, DynamicsStatus::ok) << s.message;
+  ASSERT_EQ(s.status, Status::ok) << s.message;
   EXPECT_NEAR(s.mean_motor_power, s.mean_resistance_power + s.mean_damping_power, 1e-6 * s.mean_motor_power);
   EXPECT_LT(s.residual, 100 * 1e-8);
   ASSERT_EQ(s.cycle.coupling.size(), 721u);
@@ -66,7 +90,7 @@ TEST(SteadyCycle, PeakAgreesWithAnIndependentReference) {
   // against the maximum of 200 001 dense samples: 2184.2681705 N m.
   for (auto m : {mech::OdeMethod::bdf, mech::OdeMethod::erk}) {
     const auto s = mech::steady_by_shooting(scene(), tolerance(1e-10, m), 0, 0, kStart);
-    ASSERT_EQ(s.status, DynamicsStatus::ok) << s.message;
+    ASSERT_EQ(s.status, Status::ok) << s.message;
     EXPECT_NEAR(s.coupling_peak, 2184.2681705, 2e-8 * 2184.27);
   }
 }
@@ -78,7 +102,7 @@ TEST(SteadyCycle, ExtremaFromRootsBoundDenseSamples) {
   // within the sampling error (M'' h^2 / 8, h = 3.1e-4 rad: ~1e-6 relative).
   // Loose steps (ERK, rtol 1e-6: ~0.07 rad) make the root search work.
   const auto s = mech::steady_by_shooting(scene(), tolerance(1e-6, mech::OdeMethod::erk), 20000, 0, kStart);
-  ASSERT_EQ(s.status, DynamicsStatus::ok) << s.message;
+  ASSERT_EQ(s.status, Status::ok) << s.message;
   ASSERT_EQ(s.cycle.coupling.size(), 20001u);
   const auto [lo, hi] = std::minmax_element(s.cycle.coupling.begin(), s.cycle.coupling.end());
   EXPECT_LE(*hi, s.coupling_max + 1e-9 * s.coupling_peak);
@@ -92,8 +116,8 @@ TEST(SteadyCycle, ExtremaFromRootsBoundDenseSamples) {
 TEST(SteadyCycle, ShootingAndCycleByCycleFindTheSameOrbit) {
   const auto a = mech::steady_by_shooting(scene(), {}, 0, 0, kStart);
   const auto b = mech::steady_by_cycles(scene(), {}, 400, 1e-7);
-  ASSERT_EQ(a.status, DynamicsStatus::ok) << a.message;
-  ASSERT_EQ(b.status, DynamicsStatus::ok) << b.message;
+  ASSERT_EQ(a.status, Status::ok) << a.message;
+  ASSERT_EQ(b.status, Status::ok) << b.message;
   EXPECT_NEAR(a.w20, b.w20, 1e-6 * a.w20);
   EXPECT_NEAR(a.coupling_peak, b.coupling_peak, 1e-6 * a.coupling_peak);
   EXPECT_NEAR(a.coupling_rms, b.coupling_rms, 1e-6 * a.coupling_rms);
@@ -104,8 +128,8 @@ TEST(SteadyCycle, StartupGuessReachesTheSameOrbit) {
   // synchronous speed settles on.
   const auto a = mech::steady_by_shooting(scene(), {}, 0, 0, kStart);
   const auto b = mech::steady_by_shooting(scene(), {}, 0, 3.0, kStart);
-  ASSERT_EQ(a.status, DynamicsStatus::ok) << a.message;
-  ASSERT_EQ(b.status, DynamicsStatus::ok) << b.message;
+  ASSERT_EQ(a.status, Status::ok) << a.message;
+  ASSERT_EQ(b.status, Status::ok) << b.message;
   EXPECT_NEAR(a.coupling_peak, b.coupling_peak, 1e-6 * a.coupling_peak);
   EXPECT_NEAR(a.w20, b.w20, 1e-6 * a.w20);
 }
@@ -120,13 +144,13 @@ TEST(SteadyCycle, MultiplierPredictsHowFastRevolutionsSettle) {
   auto d = scene(50);
   d.stiffness = 3000;
   const auto s = mech::steady_by_shooting(d, tolerance(1e-10), 0, 0, kStart);
-  ASSERT_EQ(s.status, DynamicsStatus::ok) << s.message;
+  ASSERT_EQ(s.status, Status::ok) << s.message;
   EXPECT_GT(s.iterations, 0);
   ASSERT_GT(s.largest_multiplier, 0.1);
   ASSERT_LT(s.largest_multiplier, 0.9);
   const auto coarse = mech::steady_by_cycles(d, tolerance(1e-10), 400, 1e-4);
   const auto fine = mech::steady_by_cycles(d, tolerance(1e-10), 400, 1e-8);
-  ASSERT_EQ(fine.status, DynamicsStatus::ok) << fine.message;
+  ASSERT_EQ(fine.status, Status::ok) << fine.message;
   EXPECT_NEAR(fine.iterations - coarse.iterations, std::log(1e-4) / std::log(s.largest_multiplier), 2.0);
   EXPECT_NEAR(fine.largest_multiplier, s.largest_multiplier, 1e-6);
   EXPECT_NEAR(fine.coupling_peak, s.coupling_peak, 1e-6 * s.coupling_peak);
@@ -141,14 +165,14 @@ TEST(SteadyCycle, StiffCouplingApproachesTheRigidDrive) {
   r.fidelity = mech::DriveFidelity::rigid;
   const auto se = mech::steady_by_shooting(e, {}, 0, 0, kStart);
   const auto sr = mech::steady_by_shooting(r, {}, 0, 0, kStart);
-  ASSERT_EQ(se.status, DynamicsStatus::ok) << se.message;
-  ASSERT_EQ(sr.status, DynamicsStatus::ok) << sr.message;
+  ASSERT_EQ(se.status, Status::ok) << se.message;
+  ASSERT_EQ(sr.status, Status::ok) << sr.message;
   EXPECT_NEAR(se.mean_speed, sr.mean_speed, 1e-3 * sr.mean_speed);
   // The rigid drive's map is one-dimensional (the speed): its multiplier,
   // exact from the sensitivities when the first guess is already periodic
   // (a 2 s start-up), lies inside the unit circle: no fallback.
   const auto warm = mech::steady_by_shooting(r, {}, 0, 2.0, kStart);
-  ASSERT_EQ(warm.status, DynamicsStatus::ok) << warm.message;
+  ASSERT_EQ(warm.status, Status::ok) << warm.message;
   EXPECT_GT(warm.largest_multiplier, 0.0);
   EXPECT_LT(warm.largest_multiplier, 1.0);
   EXPECT_TRUE(warm.message.empty()) << warm.message;
@@ -163,7 +187,7 @@ TEST(SteadyCycle, CouplingLoadFallsWithDampingAndFlattens) {
   const double ks[3] = {500, 6000, 10000};
   for (int i = 0; i < 3; ++i) {
     const auto s = mech::steady_by_shooting(scene(ks[i]), {}, 0, 0, kStart);
-    ASSERT_EQ(s.status, DynamicsStatus::ok) << s.message;
+    ASSERT_EQ(s.status, Status::ok) << s.message;
     peak[i] = s.coupling_peak;
     rms[i] = s.coupling_rms;
   }
@@ -178,17 +202,17 @@ TEST(Failures, ThePrintedLoadStallsTheMotor) {
   mech::ElasticDrive d;
   d.resistance_opposes_motion = true;
   const auto s = mech::steady_by_shooting(d, {}, 0, 0, kStart);
-  EXPECT_EQ(s.status, DynamicsStatus::stalled) << s.message;
+  EXPECT_EQ(s.status, Status::stalled) << s.message;
   EXPECT_NE(s.message.find("exceeds the motor's largest moment"), std::string::npos) << s.message;
   // The start-up itself stalls too (the guess from it fails the same way).
-  EXPECT_EQ(mech::steady_by_shooting(d, {}, 0, 3.0, kStart).status, DynamicsStatus::stalled);
+  EXPECT_EQ(mech::steady_by_shooting(d, {}, 0, 3.0, kStart).status, Status::stalled);
 }
 
 TEST(Failures, StepLimitIsAStatus) {
   mech::OdeOptions o;
   o.max_steps = 20;
   const auto st = mech::simulate_startup(scene(), o, 1.0, 1e-3, nullptr, kStart);
-  EXPECT_EQ(st.status, DynamicsStatus::too_many_steps);
+  EXPECT_EQ(st.status, Status::too_many_steps);
 }
 
 TEST(Failures, ExplicitMethodFailsOnAStiffCouplingWhereBdfDoesNot) {
@@ -203,8 +227,8 @@ TEST(Failures, ExplicitMethodFailsOnAStiffCouplingWhereBdfDoesNot) {
   erk.method = mech::OdeMethod::erk;
   const auto a = mech::simulate_startup(d, bdf, 1.0, 1e-2, nullptr, kStart);
   const auto b = mech::simulate_startup(d, erk, 1.0, 1e-2, nullptr, kStart);
-  EXPECT_EQ(a.status, DynamicsStatus::ok) << a.message;
-  EXPECT_EQ(b.status, DynamicsStatus::too_many_steps) << b.message;
+  EXPECT_EQ(a.status, Status::ok) << a.message;
+  EXPECT_EQ(b.status, Status::too_many_steps) << b.message;
 }
 
 TEST(Failures, FunctionalIterationExhaustsItsBudgetOnAStiffDampedCoupling) {
@@ -219,15 +243,232 @@ TEST(Failures, FunctionalIterationExhaustsItsBudgetOnAStiffDampedCoupling) {
   adams.max_steps = bdf.max_steps = 20000;
   const auto a = mech::steady_by_shooting(d, adams, 0, 0, kStart);
   const auto b = mech::steady_by_shooting(d, bdf, 0, 0, kStart);
-  EXPECT_EQ(a.status, DynamicsStatus::too_many_steps) << a.message;
-  EXPECT_EQ(b.status, DynamicsStatus::ok) << b.message;
+  EXPECT_EQ(a.status, Status::too_many_steps) << a.message;
+  EXPECT_EQ(b.status, Status::ok) << b.message;
 }
 
 TEST(Failures, NoPeriodicOrbitWithinTheRevolutionsAllowedIsAStatus) {
   // Two revolutions from the rigid estimate cannot settle to 1e-12.
   const auto s = mech::steady_by_cycles(scene(), {}, 2, 1e-12);
-  EXPECT_EQ(s.status, DynamicsStatus::no_periodic_orbit) << s.message;
+  EXPECT_EQ(s.status, Status::not_converged) << s.message;
   EXPECT_NE(s.message.find("2 revolutions"), std::string::npos) << s.message;
+}
+
+// Odd inputs are typed statuses before any integration (check()).
+
+TEST(Inputs, RodNoLongerThanItsCrankCannotAssemble) {
+  // At psi = 90 deg the pin is r above the slider axis: a rod of l <= r
+  // cannot reach it (it used to integrate and report 'stalled').
+  for (double l : {0.15, 0.2}) {
+    auto d = scene();
+    d.rod_length = l;  // crank_radius 0.2
+    EXPECT_EQ(mech::check(d), Status::cannot_assemble) << l;
+    const auto s = mech::steady_by_shooting(d, {}, 0, 0, kStart);
+    EXPECT_EQ(s.status, Status::cannot_assemble) << s.message;
+    EXPECT_NE(s.message.find("rod_length"), std::string::npos) << s.message;
+    EXPECT_EQ(mech::steady_by_shooting(d, {}, 0, 3.0, kStart).status, Status::cannot_assemble);
+    EXPECT_EQ(mech::steady_by_cycles(d, {}).status, Status::cannot_assemble);
+    EXPECT_EQ(mech::simulate_startup(d, {}, 1.0, 1e-3).status, Status::cannot_assemble);
+  }
+  auto d = scene();
+  d.rod_length = 0.2000001;  // just longer: assembles
+  EXPECT_EQ(mech::check(d), Status::ok);
+}
+
+TEST(Inputs, NonPhysicalParametersAreInvalid) {
+  // What bounds and grid values may bring: each is invalid_parameter, named
+  // in the message, before the integrator sees it.
+  using D = mech::ElasticDrive;
+  const double nan = std::nan(""), inf = HUGE_VAL;
+  const struct {
+    const char* name;
+    double D::*field;
+    double value;
+  } bad[] = {{"stiffness", &D::stiffness, -1000},          {"stiffness", &D::stiffness, 0},
+             {"stiffness", &D::stiffness, nan},            {"stiffness", &D::stiffness, inf},
+             {"damping", &D::damping, -1},                 {"damping", &D::damping, nan},
+             {"cart_mass", &D::cart_mass, -1},             {"cart_mass", &D::cart_mass, nan},
+             {"rod_mass", &D::rod_mass, -64},              {"drive_efficiency", &D::drive_efficiency, 0},
+             {"drive_efficiency", &D::drive_efficiency, 1.5}, {"drive_efficiency", &D::drive_efficiency, -0.9},
+             {"rod_length", &D::rod_length, inf},          {"rod_length", &D::rod_length, -0.8},
+             {"phase_shift", &D::phase_shift, nan},        {"gear_ratio", &D::gear_ratio, 0},
+             {"gearbox_factor", &D::gearbox_factor, 0.5}};
+  for (const auto& [name, field, v] : bad) {
+    auto d = scene();
+    d.*field = v;
+    std::string why;
+    EXPECT_EQ(mech::check(d, &why), Status::invalid_parameter) << name << " = " << v;
+    EXPECT_NE(why.find(name), std::string::npos) << why;
+    const auto s = mech::steady_by_shooting(d, {}, 0, 0, kStart);
+    EXPECT_EQ(s.status, Status::invalid_parameter) << name << " = " << v << ": " << s.message;
+    EXPECT_EQ(mech::simulate_startup(d, {}, 1.0, 1e-3).status, Status::invalid_parameter) << name;
+  }
+  auto slip = scene();
+  slip.motor.critical_slip = 1;  // Kloss's curve needs 0 < s_kr < 1
+  EXPECT_EQ(mech::check(slip), Status::invalid_parameter);
+  // The domains' closed ends are physical: no damping, an ideal gearbox,
+  // massless carts (the rods still carry inertia).
+  auto d = scene();
+  d.damping = 0;
+  d.drive_efficiency = 1;
+  d.cart_mass = 0;
+  EXPECT_EQ(mech::check(d), Status::ok);
+  // Neither side of the coupling may lose all its inertia (eqs 1, 9).
+  d.rod_mass = 0;
+  EXPECT_EQ(mech::check(d), Status::invalid_parameter);
+  d = scene();
+  d.motor.rotor_inertia = d.coupling_inertia = 0;
+  EXPECT_EQ(mech::check(d), Status::invalid_parameter);
+}
+
+TEST(Inputs, InvalidRunSettingsAreInvalid) {
+  mech::OdeOptions o;
+  o.rtol = 0;
+  EXPECT_EQ(mech::steady_by_shooting(scene(), o, 0, 0, kStart).status, Status::invalid_parameter);
+  o = {};
+  o.atol = std::nan("");
+  EXPECT_EQ(mech::simulate_startup(scene(), o, 1.0, 1e-3).status, Status::invalid_parameter);
+  o = {};
+  o.max_steps = 0;
+  EXPECT_EQ(mech::steady_by_cycles(scene(), o).status, Status::invalid_parameter);
+  const auto st = mech::simulate_startup(scene(), {}, 1.0, 0.0);  // ceil(1 / 0) samples
+  EXPECT_EQ(st.status, Status::invalid_parameter);
+  EXPECT_NE(st.message.find("output step"), std::string::npos) << st.message;
+  EXPECT_EQ(mech::simulate_startup(scene(), {}, std::nan(""), 1e-3).status, Status::invalid_parameter);
+  EXPECT_EQ(mech::steady_by_shooting(scene(), {}, 0, -1.0, kStart).status, Status::invalid_parameter);
+  EXPECT_EQ(mech::steady_by_cycles(scene(), {}, 0).status, Status::invalid_parameter);
+}
+
+TEST(ElasticDriveProblem, GridValueOutsideTheDomainIsInvalidParameter) {
+  // The config rejects such bounds (tests/repro/bounds_bypass_domain_negative_stiffness.yaml);
+  // a design handed to the problem directly with c = -1000 is still a status.
+  const auto p = problems::make_problem(opt::ConfigNode::parse(
+      "problem: elastic_drive\nvariables: {stiffness: {min: 1000, max: 1e6}}\n", "<t>"));
+  EXPECT_EQ(p->evaluate(Eigen::VectorXd::Constant(1, -1000.0), {}, false).status, "invalid_parameter");
+}
+
+// No C++ exception crosses a SUNDIALS callback: a throwing callback (here a
+// test hook, mech::callback_hook) ends its solver with the library's
+// unrecoverable flag, and the entry point returns evaluation_error.
+
+struct Injected {
+  static inline std::string target;  // the callback that throws ("" : none)
+  static inline long after = 0;      // calls of it that pass first
+  static inline std::set<std::string> seen;
+  static void hook(const char* callback) {
+    seen.insert(callback);
+    if (target == callback && after-- <= 0) throw std::runtime_error("injected failure in " + target);
+  }
+  Injected(std::string t, long n) {
+    target = std::move(t), after = n, seen.clear();
+    mech::callback_hook = hook;
+  }
+  ~Injected() { mech::callback_hook = nullptr; }
+};
+
+// The soft, lightly damped coupling whose shooting needs KINSOL (see
+// MultiplierPredictsHowFastRevolutionsSettle).
+mech::ElasticDrive newton_scene() {
+  auto d = scene(50);
+  d.stiffness = 3000;
+  return d;
+}
+
+TEST(CallbackFailures, EveryCallbackIsGuarded) {
+  {
+    const Injected none("", 0);
+    ASSERT_EQ(mech::steady_by_shooting(newton_scene(), tolerance(1e-10), 0, 0, kStart).status, Status::ok);
+    EXPECT_EQ(Injected::seen, (std::set<std::string>{"rhs", "jacobian", "residual", "newton_jacobian"}));
+  }
+  for (const char* target : {"rhs", "jacobian", "residual", "newton_jacobian"})
+    for (long after : {0L, 2L}) {  // the first call, or a later one (5 residuals, 4 Newton Jacobians in all)
+      const Injected fault(target, after);
+      const auto s = mech::steady_by_shooting(newton_scene(), tolerance(1e-10), 0, 0, kStart);
+      EXPECT_EQ(s.status, Status::evaluation_error) << target << " " << after << ": " << s.message;
+      EXPECT_EQ(s.message, std::string("injected failure in ") + target);
+    }
+  // The explicit and Adams integrators' right-hand sides; the start-up's.
+  for (auto m : {mech::OdeMethod::erk, mech::OdeMethod::adams}) {
+    const Injected fault("rhs", 100);
+    EXPECT_EQ(mech::steady_by_shooting(scene(), tolerance(1e-8, m), 0, 0, kStart).status,
+              Status::evaluation_error);
+  }
+  {
+    const Injected fault("rhs", 100);
+    const auto st = mech::simulate_startup(scene(), {}, 1.0, 1e-3, nullptr, kStart);
+    EXPECT_EQ(st.status, Status::evaluation_error) << st.message;
+  }
+  // Nothing is left behind: the same run without the fault is as before.
+  const auto a = mech::steady_by_shooting(newton_scene(), tolerance(1e-10), 0, 0, kStart);
+  ASSERT_EQ(a.status, Status::ok) << a.message;
+  EXPECT_GT(a.iterations, 0);
+}
+
+TEST(CallbackFailures, AnythingThrownIsRecorded) {
+  mech::callback_hook = [](const char*) { throw 42; };
+  const auto s = mech::steady_by_cycles(scene(), {});
+  mech::callback_hook = nullptr;
+  EXPECT_EQ(s.status, Status::evaluation_error);
+  EXPECT_EQ(s.message, "unknown exception");
+}
+
+// Memory and work stay bounded whatever the time span.
+
+TEST(Startup, HugeTimeSpanEndsOnTheStepBudgetFastAndSmall) {
+  // 1e9 s at 1 ms used to allocate 1e12 samples (std::bad_alloc) or, past
+  // an int's range, to return at once with a wrong 'ok'. The default budget
+  // of 1e5 steps (~150 s of motion) ends it: 0.1-0.2 s measured in Release
+  // on a shared 2-core machine, 1 s is the bound (10 s under AddressSanitizer,
+  // which slows this code ~5x); the samples kept (7 doubles each) stay within
+  // the cap of 100 000, i.e. under 6 MB.
+#if defined(__SANITIZE_ADDRESS__)
+  const double bound = 10.0;
+#else
+  const double bound = 1.0;
+#endif
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto st = mech::simulate_startup(scene(), {}, 1e9, 1e-3, nullptr, kStart);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(st.status, Status::too_many_steps) << st.message;
+  EXPECT_EQ(st.steps, 100000);
+  EXPECT_LT(seconds, bound);
+  EXPECT_LE(st.trajectory.t.size(), 100000u);
+  EXPECT_LE(st.trajectory.t.capacity(), 200000u);
+  EXPECT_GT(st.trajectory.t.back(), 10.0);  // it did run
+  EXPECT_GT(st.peak_coupling, 0.0);
+  // The warm-up of the steady state likewise, with the start-up's status.
+  const auto s = mech::steady_by_shooting(scene(), {}, 0, 1e9, kStart);
+  EXPECT_EQ(s.status, Status::too_many_steps) << s.message;
+  EXPECT_NE(s.message.find("warm-up"), std::string::npos) << s.message;
+}
+
+TEST(Startup, KeptSamplesAreDecimatedEvenlyAndTheMetricsUseThemAll) {
+  // 15 s at 0.1 ms is 150 001 samples, past the cap of 100 000: every other
+  // one is kept (75 001, 0.2 ms apart, ending at 15 s). The peak and the time
+  // to steady come from all samples: a 9 s run at the same step keeps all of
+  // its 90 001 and gives the same values, exactly (the same integration up to
+  // 9 s; its start-up peak and settling, ~1 s, lie well inside). The scene:
+  // the signed resistance (eqs 18-20 as printed) from 5 rad/s, which takes
+  // a second to settle (from synchronous speed every revolution is already
+  // within 1%).
+  auto d = scene();
+  d.resistance_opposes_motion = false;
+  const auto steady = mech::steady_by_shooting(d, {}, 0, 0, kStart);
+  ASSERT_EQ(steady.status, Status::ok) << steady.message;
+  const auto full = mech::simulate_startup(d, {}, 9.0, 1e-4, &steady, 5.0);
+  const auto cut = mech::simulate_startup(d, {}, 15.0, 1e-4, &steady, 5.0);
+  ASSERT_EQ(full.status, Status::ok) << full.message;
+  ASSERT_EQ(cut.status, Status::ok) << cut.message;
+  ASSERT_EQ(full.trajectory.t.size(), 90001u);
+  ASSERT_EQ(cut.trajectory.t.size(), 75001u);
+  for (size_t i = 0; i < cut.trajectory.t.size(); i += 997)
+    EXPECT_NEAR(cut.trajectory.t[i], 2e-4 * i, 1e-9) << i;
+  EXPECT_EQ(cut.trajectory.t.back(), 15.0);
+  EXPECT_EQ(cut.trajectory.coupling[4500], full.trajectory.coupling[9000]);  // t = 0.9 s, the same sample
+  EXPECT_EQ(cut.peak_coupling, full.peak_coupling);
+  ASSERT_GT(full.time_to_steady, 0.5);
+  ASSERT_LT(full.time_to_steady, 2.0);
+  EXPECT_EQ(cut.time_to_steady, full.time_to_steady);
 }
 
 TEST(ElasticDriveProblem, GradientDriversRefuse) {

@@ -25,7 +25,7 @@ class Analytic : public opt::Problem {
     return out;
   }
   std::string metric_unit(const std::string&) const override { return ""; }
-  opt::Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>&,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
                            bool gradient) const override {
     if (throws) throw std::runtime_error("model exploded");
     opt::Evaluation e;

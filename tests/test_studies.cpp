@@ -53,3 +53,31 @@ study: {type: pareto, objectives: [peak_moment]}
 }
 
 }  // namespace
+
+// Nothing non-finite is reported as ok: a metric (or a gradient) that comes
+// out NaN or infinite makes the design non_finite, with no metrics.
+#include "test_problems.hpp"
+
+namespace {
+
+TEST(Evaluate, NonFiniteMetricIsAStatusNotAValue) {
+  const auto nan = std::numeric_limits<double>::quiet_NaN();
+  testing_problems::Analytic p(
+      "nan", {{"x", opt::Dimension::dimensionless, 0, 1, 0.5}},
+      {{"finite", [](const Eigen::VectorXd& x) { return opt::MetricValue{x[0], Eigen::VectorXd::Ones(1)}; }},
+       {"hole", [&](const Eigen::VectorXd& x) {
+          return opt::MetricValue{x[0] < 0.25 ? nan : 1.0, Eigen::VectorXd::Constant(1, x[0] > 0.75 ? HUGE_VAL : 0)};
+        }}});
+  const auto fine = p.evaluate(Eigen::VectorXd::Constant(1, 0.5), {}, true);
+  EXPECT_EQ(fine.status, "ok");
+  EXPECT_EQ(fine.metrics.size(), 2u);
+  const auto value = p.evaluate(Eigen::VectorXd::Constant(1, 0.1), {}, false);
+  EXPECT_EQ(value.status, "non_finite");
+  EXPECT_TRUE(value.metrics.empty());
+  EXPECT_EQ(value.message, "hole is not finite");
+  const auto gradient = p.evaluate(Eigen::VectorXd::Constant(1, 0.9), {}, true);
+  EXPECT_EQ(gradient.status, "non_finite");
+  EXPECT_EQ(gradient.message, "hole has a non-finite gradient");
+}
+
+}  // namespace

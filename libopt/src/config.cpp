@@ -1,6 +1,7 @@
 #include "opt/config.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -29,14 +30,37 @@ std::string join(const std::vector<std::string>& v) {
   return out;
 }
 
-std::string fmt_number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
 std::string child_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
+}
+
+std::string line_col(const YAML::Mark& m) {
+  return std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+}
+
+// yaml-cpp keeps a key written twice and reads the first: a config that sets
+// a value twice is an error naming both lines.
+void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const std::string& path) {
+  if (n.IsSequence())
+    for (size_t i = 0; i < n.size(); ++i)
+      reject_duplicate_keys(n[i], file, path + "[" + std::to_string(i) + "]");
+  if (!n.IsMap()) return;
+  std::vector<std::pair<std::string, YAML::Mark>> seen;
+  for (const auto& kv : n) {
+    if (!kv.first.IsScalar()) {
+      throw ConfigError(file + ":" + line_col(kv.first.Mark()) + ": " +
+                        (path.empty() ? "" : "key '" + path + "': ") + "expected a plain key name");
+    }
+    const std::string key = kv.first.Scalar();
+    for (const auto& [k, mark] : seen)
+      if (k == key)
+        throw ConfigError(file + ":" + line_col(kv.first.Mark()) + ": key '" + child_path(path, key) +
+                          "': written twice (first at line " + std::to_string(mark.line + 1) +
+                          ", again at line " + std::to_string(kv.first.Mark().line + 1) +
+                          "); give it once");
+    seen.emplace_back(key, kv.first.Mark());
+    reject_duplicate_keys(kv.second, file, child_path(path, key));
+  }
 }
 
 }  // namespace
@@ -46,7 +70,21 @@ ConfigNode ConfigNode::load(const std::string& file) {
   if (!in) throw ConfigError(file + ": cannot read the config file (does it exist?)");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse(ss.str(), file);
+  ConfigNode root = parse(ss.str(), file);
+  ConfigNode* layer = &root;
+  for (int depth = 0; layer->node_["base"].IsDefined(); ++depth) {
+    const ConfigNode b(layer->node_["base"], layer->file_, "base", layer->mark_);
+    if (depth == 8) b.fail("more than 8 base files in a chain (does one name itself?)");
+    const std::string dir = std::filesystem::path(layer->file_).parent_path().string();
+    const std::string name = (dir.empty() ? "" : dir + "/") + b.text();
+    if (!std::ifstream(name)) b.fail("cannot read the base file '" + name + "'");
+    std::ifstream bin(name);
+    std::stringstream bs;
+    bs << bin.rdbuf();
+    layer->base_ = std::make_shared<ConfigNode>(parse(bs.str(), name));
+    layer = const_cast<ConfigNode*>(layer->base_.get());
+  }
+  return root;
 }
 
 ConfigNode ConfigNode::parse(const std::string& text, const std::string& name) {
@@ -54,6 +92,7 @@ ConfigNode ConfigNode::parse(const std::string& text, const std::string& name) {
     YAML::Node root = YAML::Load(text);
     if (!root.IsMap())
       throw ConfigError(name + ":1:1: expected a YAML mapping of keys at the top level");
+    reject_duplicate_keys(root, name, "");
     return ConfigNode(root, name, "");
   } catch (const YAML::Exception& e) {
     throw ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ":" +
@@ -73,19 +112,29 @@ void ConfigNode::expect_map() const {
 }
 
 bool ConfigNode::has(const std::string& key) const {
-  return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+  return (node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull()) || (base_ && base_->has(key));
 }
 
 ConfigNode ConfigNode::at(const std::string& key) const {
   expect_map();
   if (!has(key)) fail("missing required key '" + key + "'");
-  return ConfigNode(node_[key], file_, child_path(path_, key), mark_);
+  if (!(node_[key].IsDefined() && !node_[key].IsNull())) return base_->at(key);
+  ConfigNode child(node_[key], file_, child_path(path_, key), mark_);
+  // A map in both files: this one's keys over the base's.
+  if (base_ && base_->has(key) && child.is_map()) {
+    ConfigNode below = base_->at(key);
+    if (below.is_map()) child.base_ = std::make_shared<ConfigNode>(std::move(below));
+  }
+  return child;
 }
 
 std::vector<std::string> ConfigNode::keys() const {
   expect_map();
   std::vector<std::string> out;
   for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  if (base_ && base_->is_map())
+    for (const auto& k : base_->keys())
+      if (std::find(out.begin(), out.end(), k) == out.end()) out.push_back(k);
   return out;
 }
 
@@ -99,6 +148,7 @@ std::vector<ConfigNode> ConfigNode::items() const {
 
 void ConfigNode::allow_only(const std::vector<std::string>& allowed) const {
   expect_map();
+  if (base_ && base_->is_map()) base_->allow_only(allowed);
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
@@ -139,13 +189,14 @@ double ConfigNode::quantity(Dimension d) const {
 double ConfigNode::quantity_or(const std::string& key, Dimension d, double fallback,
                                const Domain& domain) const {
   if (!has(key)) return fallback;
-  const ConfigNode k = at(key);
-  const double v = k.quantity(d);
+  return at(key).quantity(d, domain);
+}
+
+double ConfigNode::quantity(Dimension d, const Domain& domain) const {
+  const double v = quantity(d);
   if (!domain.contains(v)) {
-    auto end = [&](double x) { return std::isinf(x) ? std::string(x < 0 ? "-inf" : "inf") : fmt_number(x); };
-    k.fail("expected a value in " + std::string(domain.lo_open ? "(" : "[") + end(domain.lo) + ", " +
-           end(domain.hi) + (domain.hi_open ? ")" : "]") +
-           (si_unit(d).empty() ? "" : " " + si_unit(d)) + ", got '" + k.text() + "'");
+    const bool interval = std::isfinite(domain.lo) && std::isfinite(domain.hi);
+    fail("expected a value " + std::string(interval ? "in " : "") + to_string(domain, d) + ", got '" + text() + "'");
   }
   return v;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <sstream>
 
 namespace opt {
 namespace {
@@ -21,8 +22,32 @@ const Unit kUnits[] = {
     {"rpm", Dimension::angular_speed, kPi / 30}, {"kg", Dimension::mass, 1.0},
     {"t", Dimension::mass, 1e3},            {"kg/m", Dimension::linear_density, 1.0},
     {"N", Dimension::force, 1.0},           {"kN", Dimension::force, 1e3},
+    {"MN", Dimension::force, 1e6},          {"tf", Dimension::force, 9806.65},  // tonne-force
     {"s", Dimension::time, 1.0},            {"ms", Dimension::time, 1e-3},
+    {"N m", Dimension::torque, 1.0},        {"kN m", Dimension::torque, 1e3},
+    {"J", Dimension::energy, 1.0},          {"kJ", Dimension::energy, 1e3},
+    {"N m/rad", Dimension::rotational_stiffness, 1.0},
+    {"kN m/rad", Dimension::rotational_stiffness, 1e3},
+    {"N/m", Dimension::linear_stiffness, 1.0}, {"kN/m", Dimension::linear_stiffness, 1e3},
+    {"N m s/rad", Dimension::rotational_damping, 1.0},
+    {"kg m^2", Dimension::inertia, 1.0},
+    {"W", Dimension::power, 1.0},           {"kW", Dimension::power, 1e3},
+    {"Pa", Dimension::pressure, 1.0},       {"MPa", Dimension::pressure, 1e6},
+    {"1/m", Dimension::inverse_length, 1.0}, {"1/mm", Dimension::inverse_length, 1e3},
 };
+
+// "kN*m / rad" -> "kN m/rad": factors separated by one space, none around '/'.
+std::string normalize_unit(std::string u) {
+  std::string out;
+  for (char c : u) {
+    if (c == '*') c = ' ';
+    if (c == ' ' && (out.empty() || out.back() == ' ' || out.back() == '/')) continue;
+    if (c == '/' && !out.empty() && out.back() == ' ') out.pop_back();
+    out += c;
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
 
 }  // namespace
 
@@ -36,8 +61,32 @@ std::string to_string(Dimension d) {
     case Dimension::linear_density: return "a mass per length";
     case Dimension::force: return "a force";
     case Dimension::time: return "a time";
+    case Dimension::torque: return "a torque";
+    case Dimension::energy: return "an energy";
+    case Dimension::rotational_stiffness: return "a rotational stiffness";
+    case Dimension::linear_stiffness: return "a linear stiffness";
+    case Dimension::rotational_damping: return "a rotational damping";
+    case Dimension::inertia: return "a moment of inertia";
+    case Dimension::power: return "a power";
+    case Dimension::pressure: return "a pressure";
+    case Dimension::inverse_length: return "an inverse length";
   }
   return "a quantity";
+}
+
+std::string to_string(const Domain& d, Dimension dim) {
+  auto number = [](double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  };
+  const bool lo = std::isfinite(d.lo), hi = std::isfinite(d.hi);
+  std::string out;
+  if (!lo && !hi) out = "any";
+  else if (!hi) out = std::string(d.lo_open ? "> " : ">= ") + number(d.lo);
+  else if (!lo) out = std::string(d.hi_open ? "< " : "<= ") + number(d.hi);
+  else out = std::string(d.lo_open ? "(" : "[") + number(d.lo) + ", " + number(d.hi) + (d.hi_open ? ")" : "]");
+  return si_unit(dim).empty() || out == "any" ? out : out + " " + si_unit(dim);
 }
 
 std::vector<std::string> units_of(Dimension d) {
@@ -65,8 +114,9 @@ ParsedQuantity parse_quantity(const std::string& text, Dimension d) {
   const double number = std::strtod(begin, &end);
   if (end == begin) return {0, "not a number"};
   std::string unit(end);
-  unit.erase(0, unit.find_first_not_of(" \t"));
-  unit.erase(unit.find_last_not_of(" \t") + 1);
+  for (char& c : unit)
+    if (c == '\t') c = ' ';
+  unit = normalize_unit(unit);
   if (!std::isfinite(number)) return {0, "not a finite number"};
   if (unit.empty()) return {number, ""};
   for (const auto& u : kUnits) {

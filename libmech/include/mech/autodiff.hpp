@@ -1,6 +1,7 @@
 // Forward-mode autodiff scalars used by every model: exact first derivatives
-// with respect to N design variables (N fixed at compile time, so there is no
-// heap use and one variable costs one derivative, not kMaxDerivatives).
+// with respect to N design variables. Up to 4 (problems/model_problem.hpp), N is fixed
+// at compile time (no heap use; one variable costs one derivative); beyond,
+// DualX carries a derivative vector sized at run time.
 #pragma once
 #include <Eigen/Core>
 #include <type_traits>
@@ -8,9 +9,9 @@
 
 namespace mech {
 
-inline constexpr int kMaxDerivatives = 4;
 template <int N>
 using DualN = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+using DualX = Eigen::AutoDiffScalar<Eigen::VectorXd>;
 using Dual = DualN<1>;  // derivative along one direction (e.g. the crank angle)
 
 inline double value(double x) { return x; }

@@ -3,25 +3,21 @@
 // state found directly by shooting over one crank revolution with KINSOL
 // (Newton with the monodromy matrix from the variational equations), or by
 // integrating cycle after cycle. Failures (too many steps, a stalled motor,
-// no periodic orbit) are statuses, never exceptions.
+// no periodic orbit: mech::Status) are statuses, never exceptions: each
+// entry point checks the design (check, elastic_drive.hpp) and its settings
+// before integrating (invalid_parameter, cannot_assemble), and a failure
+// inside (a SUNDIALS set-up, an exception in a callback) is evaluation_error
+// with its message.
 #pragma once
 #include <string>
 #include <vector>
 
 #include "mech/elastic_drive.hpp"
+#include "mech/status.hpp"
 
 namespace mech {
 
 enum class OdeMethod { bdf, adams, erk };
-
-enum class DynamicsStatus {
-  ok,
-  too_many_steps,     // the integrator hit its step limit
-  solver_failure,     // error test or Newton (corrector) failures in the integrator
-  stalled,            // the crank stopped or turned back: no steady motion
-  no_periodic_orbit,  // the shooting Newton iteration did not converge
-};
-const char* to_string(DynamicsStatus s);
 
 // bdf, adams: CVODE (BDF with Newton and a dense autodiff Jacobian; Adams
 // with functional iteration, for non-stiff motion); erk: ARKODE ERKStep,
@@ -39,7 +35,7 @@ struct Trajectory {
 };
 
 struct SteadyCycle {
-  DynamicsStatus status = DynamicsStatus::ok;
+  Status status = Status::ok;
   std::string message;
   double theta0 = 0, w10 = 0, w20 = 0;  // the periodic state at phi2 = 0 (mod 2 pi)
   double period = 0;                    // time of one crank revolution [s]
@@ -78,10 +74,15 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
 SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max_cycles = 400,
                              double tol = 1e-9, int samples = 720);
 
+// The most samples a start-up keeps: past it, every other one is dropped
+// (and every other later one skipped), so a trajectory of any length keeps
+// 50 000-100 000 evenly spaced samples, and its end.
+constexpr long kStartupSamples = 100000;
+
 struct Startup {
-  DynamicsStatus status = DynamicsStatus::ok;
+  Status status = Status::ok;
   std::string message;
-  Trajectory trajectory;
+  Trajectory trajectory;       // at most kStartupSamples
   double peak_coupling = 0;    // max |coupling moment| during the run [N m]
   double time_to_steady = -1;  // first time after which every revolution's peak
                                // |coupling| stays within 1% of the steady one (-1: never)
@@ -91,8 +92,16 @@ struct Startup {
 
 // Start-up for t_end seconds, sampled every dt_out, from phi = 0 and both
 // masses at `initial_speed` (crank axis; 0: from rest). With `steady`, also
-// the time to reach it.
+// the time to reach it. The peak and the time to steady use every sample;
+// the trajectory keeps at most kStartupSamples. The step budget bounds the
+// work: a start-up too long for it ends in too_many_steps.
 Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
                          const SteadyCycle* steady = nullptr, double initial_speed = 0);
+
+// Test hook (tests only; not thread-safe): when set, every SUNDIALS callback
+// (integrator right-hand side "rhs" and Jacobian "jacobian", KINSOL
+// "residual" and "newton_jacobian") calls it first with its name; what it
+// throws takes the callbacks' failure path (status evaluation_error).
+inline void (*callback_hook)(const char* callback) = nullptr;
 
 }  // namespace mech

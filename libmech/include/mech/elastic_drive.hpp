@@ -10,9 +10,13 @@
 // Units: SI at the crank axis (rad, rad/s, N m, kg m^2) unless noted.
 #pragma once
 #include <cmath>
+#include <cstdio>
+#include <initializer_list>
+#include <string>
 
 #include "mech/autodiff.hpp"
 #include "mech/slider_crank.hpp"
+#include "mech/status.hpp"
 
 namespace mech {
 
@@ -81,6 +85,78 @@ struct ElasticDrive {
     return gear_ratio * drive_efficiency * motor.torque(S(w1 * gear_ratio));
   }
 };
+
+// A value that must lie in its domain, named for the message.
+struct DomainCheck {
+  const char* name;
+  double value;
+  bool ok;
+};
+
+namespace detail {
+inline std::string text(double v) {  // %g: 1e-12 stays 1e-12
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+}  // namespace detail
+
+// invalid_parameter if a value lies outside its domain (`why`, if given,
+// names the first), else ok.
+inline Status first_invalid(std::initializer_list<DomainCheck> values, std::string* why) {
+  for (const DomainCheck& v : values)
+    if (!v.ok) {
+      if (why) *why = std::string(v.name) + " = " + detail::text(v.value) + " is outside its domain";
+      return Status::invalid_parameter;
+    }
+  return Status::ok;
+}
+
+// Physical domain, then assembly: invalid_parameter (a non-finite value, a
+// stiffness <= 0, a negative damping, mass, inertia or force, an efficiency
+// outside (0, 1], a slip outside (0, 1), a gearbox factor < 1, a side with
+// no inertia), else cannot_assemble (the rod no longer than its crank: it
+// cannot reach the slider axis at psi = 90 deg), else ok. `why`, if given,
+// gets the reason.
+inline Status check(const ElasticDrive& d, std::string* why = nullptr) {
+  const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  const auto non_negative = [](double v) { return v >= 0 && std::isfinite(v); };
+  const InductionMotor& m = d.motor;
+  const double j1 = d.motor_side_inertia(), j2 = d.crank_side_constant_inertia() + d.lumped_cart_mass();
+  const Status s = first_invalid(
+      {{"motor synchronous_speed", m.synchronous_speed, positive(m.synchronous_speed)},
+       {"motor critical_torque", m.critical_torque, positive(m.critical_torque)},
+       {"motor critical_slip", m.critical_slip, m.critical_slip > 0 && m.critical_slip < 1},
+       {"motor rotor_inertia", m.rotor_inertia, non_negative(m.rotor_inertia)},
+       {"coupling_inertia", d.coupling_inertia, non_negative(d.coupling_inertia)},
+       {"gear_ratio", d.gear_ratio, positive(d.gear_ratio)},
+       {"gearbox_factor", d.gearbox_factor, d.gearbox_factor >= 1 && std::isfinite(d.gearbox_factor)},
+       {"drive_efficiency", d.drive_efficiency, d.drive_efficiency > 0 && d.drive_efficiency <= 1},
+       {"stiffness", d.stiffness, positive(d.stiffness)},
+       {"damping", d.damping, non_negative(d.damping)},
+       {"crank_radius", d.crank_radius, positive(d.crank_radius)},
+       {"rod_length", d.rod_length, positive(d.rod_length)},
+       {"phase_shift", d.phase_shift, std::isfinite(d.phase_shift)},
+       {"cart_mass", d.cart_mass, non_negative(d.cart_mass)},
+       {"rod_mass", d.rod_mass, non_negative(d.rod_mass)},
+       {"crank_inertia", d.crank_inertia, non_negative(d.crank_inertia)},
+       {"roller_horizontal", d.roller_horizontal, non_negative(d.roller_horizontal)},
+       {"roller_vertical", d.roller_vertical, non_negative(d.roller_vertical)},
+       {"cart_weight", d.cart_weight, non_negative(d.cart_weight)},
+       {"guide_friction", d.guide_friction, non_negative(d.guide_friction)},
+       // Each side of the coupling needs inertia: J_p1 (eq. 1), and J_k or the carts (eq. 9).
+       {"motor-side inertia", j1, j1 > 0},
+       {"mechanism inertia", j2, j2 > 0}},
+      why);
+  if (s != Status::ok) return s;
+  if (!assembles_over_cycle(d.mechanism(0))) {
+    if (why)
+      *why = "rod_length = " + detail::text(d.rod_length) + " is not longer than crank_radius = " +
+             detail::text(d.crank_radius) + ": the rod cannot reach the slider axis";
+    return Status::cannot_assemble;
+  }
+  return Status::ok;
+}
 
 // Mechanism side at crank angle phi2: J_p2 (eq. 9), J_p2'/2, and the
 // resistance moment M_p2 (eqs 18-20, positive resisting the drive).

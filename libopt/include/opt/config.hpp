@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <memory>
 
 #include <stdexcept>
 #include <string>
@@ -18,18 +19,6 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Where a quantity may lie (SI), with open or closed ends.
-struct Domain {
-  double lo = -HUGE_VAL, hi = HUGE_VAL;
-  bool lo_open = false, hi_open = false;
-  bool contains(double v) const {
-    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
-  }
-};
-inline const Domain kAnyValue{};
-inline const Domain kPositive{0, HUGE_VAL, true, false};
-inline const Domain kNonNegative{0, HUGE_VAL, false, false};
-
 // A node of a config, with the file and key path it came from.
 class ConfigNode {
  public:
@@ -38,6 +27,8 @@ class ConfigNode {
         mark_(node_.IsDefined() && node_.Mark().line >= 0 ? node_.Mark() : fallback) {}
 
   // Loads a YAML file; unreadable files and YAML syntax errors are ConfigErrors.
+  // `base: FILE` (relative to the file) names a config whose keys this one
+  // inherits and may override, map by map.
   static ConfigNode load(const std::string& file);
   static ConfigNode parse(const std::string& text, const std::string& name);
 
@@ -60,6 +51,8 @@ class ConfigNode {
   std::string text() const;                                   // a scalar as written
   std::string choice(const std::vector<std::string>& options) const;
   double quantity(Dimension d) const;                         // SI value
+  // The same, and outside `domain` is an error naming the domain.
+  double quantity(Dimension d, const Domain& domain) const;
   double number() const { return quantity(Dimension::dimensionless); }
   // The quantity under `key` if present, else `fallback`; outside `domain`
   // is an error naming the domain.
@@ -75,6 +68,7 @@ class ConfigNode {
   YAML::Node node_;
   std::string file_, path_;
   YAML::Mark mark_;
+  std::shared_ptr<const ConfigNode> base_;  // the same path in the base file, if any
 };
 
 }  // namespace opt

@@ -18,6 +18,7 @@ struct Variable {
   Dimension dimension = Dimension::dimensionless;  // values are SI: m, rad, ...
   double lower = 0, upper = 0;
   double initial = 0;
+  Domain domain = kAnyValue;  // of the model value (the bounds lie in it)
 };
 
 struct MetricValue {
@@ -30,6 +31,7 @@ struct MetricValue {
 // stay defined everywhere (such as the implicit constraints below).
 struct Evaluation {
   std::string status = "ok";
+  std::string message;  // why, when the status alone does not say
   std::map<std::string, MetricValue> metrics;
   bool ok() const { return status == "ok"; }
   double at(const std::string& name) const { return metrics.at(name).value; }
@@ -78,9 +80,10 @@ class Problem {
   // slider): defined everywhere, added by every driver.
   virtual std::vector<Constraint> implicit_constraints() const { return {}; }
   // Evaluates the metrics named in `wanted` (all if empty) at x, with
-  // gradients if asked.
-  virtual Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
-                              bool gradient) const = 0;
+  // gradients if asked. Never lies: a design whose metrics (or gradients)
+  // come out NaN or infinite has status non_finite and no metrics.
+  Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+                      bool gradient) const;
   // Curves over one crank revolution at x, at n + 1 angles from 0 to 2 pi;
   // empty when the design is infeasible or the problem has none.
   virtual CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const {
@@ -109,6 +112,11 @@ class Problem {
   Eigen::VectorXd lower_bounds() const;
   Eigen::VectorXd upper_bounds() const;
   bool has_metric(const std::string& name) const;
+
+ protected:
+  // The model's evaluation behind evaluate().
+  virtual Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+                                       bool gradient) const = 0;
 };
 
 }  // namespace opt

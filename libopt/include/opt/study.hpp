@@ -12,24 +12,19 @@
 
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/parameters.hpp"
 #include "opt/problem.hpp"
 
 namespace opt {
 
-// A variable a problem can free, with the dimension its bounds are given in.
-struct VariableSpec {
-  std::string name;
-  Dimension dimension;
-};
-
-// Reads `variables: {NAME: {min: .., max: .., initial: ..}}`; the initial value
-// defaults to the model value given in `model_values`.
-std::vector<Variable> parse_variables(const ConfigNode& root,
-                                      const std::vector<VariableSpec>& candidates,
-                                      const std::map<std::string, double>& model_values);
+// Reads `variables: {NAME: {min: .., max: .., initial: ..}}` for the
+// parameters that may be freed (Parameter::variable); bounds and the initial
+// value (default: the model value) must lie in the parameter's domain.
+std::vector<Variable> parse_variables(const ConfigNode& root, const std::vector<Parameter>& parameters);
 
 struct GridAxis {
   std::string variable;
+  int index = 0;               // of the variable in Problem::variables()
   std::vector<double> values;  // SI
 };
 
@@ -40,7 +35,7 @@ struct Reference {
 };
 
 struct RunSpec {
-  std::string type = "optimize";  // optimize | sweep | pareto
+  std::string type = "optimize";  // optimize | sweep | pareto | evaluate (the model values)
   Objective objective;
   std::vector<Constraint> constraints;
   bool optimize = true;           // sweeps: also run the driver

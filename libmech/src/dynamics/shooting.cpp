@@ -1,202 +1,29 @@
-#include "mech/drive_dynamics.hpp"
-
-#include <arkode/arkode_erkstep.h>
-#include <cvodes/cvodes.h>
+// The periodic steady state of the elastic drive: one revolution integrated
+// in the crank angle (quadratures, extrema by root finding, variational
+// equations), shooting on it with KINSOL, its Floquet multipliers, and
+// revolution after revolution as the fallback.
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <Eigen/Eigenvalues>
-#include <algorithm>
 #include <cmath>
-#include <functional>
-#include <numbers>
-#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "internal.hpp"
 
 namespace mech {
-
-const char* to_string(DynamicsStatus s) {
-  switch (s) {
-    case DynamicsStatus::ok: return "ok";
-    case DynamicsStatus::too_many_steps: return "too_many_steps";
-    case DynamicsStatus::solver_failure: return "solver_failure";
-    case DynamicsStatus::stalled: return "stalled";
-    case DynamicsStatus::no_periodic_orbit: return "no_periodic_orbit";
-  }
-  return "unknown";
-}
-
+namespace dynamics {
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
-constexpr int kStall = 1;  // recoverable-error code a right-hand side returns when the crank stops
-constexpr int kMaxStates = 18;  // the largest system integrated (the orbit with its sensitivities)
-constexpr int kMaxRhs = 9;      // the most components an autodiff Jacobian differentiates
 // The periodicity residual of a revolution carries the revolution's global
 // integration error, measured at 10-400 rtol on these drives (scaled states):
 // Newton aims at kPeriodicTol rtol and, where that noise stops its line
 // search, accepts kNoiseTol rtol (the start is then as good as the
 // integration that defines it).
 constexpr double kPeriodicTol = 100, kNoiseTol = 1000;
-
-// SUNDIALS prints its warnings and errors to stderr by default; every outcome
-// is a status here, so they are silenced.
-void silent(int, const char*, const char*, char*, void*) {}
-
-// One SUNDIALS context per integration (they are cheap and not thread-shared).
-struct Context {
-  SUNContext ctx = nullptr;
-  Context() {
-    if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
-  }
-  ~Context() { SUNContext_Free(&ctx); }
-};
-
-// y' = f(t, y) with an optional dense Jacobian, on CVODE (BDF, Adams; Newton
-// with a dense direct solver) or ARKODE ERKStep (explicit, no Jacobian).
-class Integrator {
- public:
-  using Rhs = std::function<int(double, const double*, double*)>;
-  using Jac = std::function<void(double, const double*, double*)>;  // row-major n x n
-
-  // atol: one absolute tolerance per component (nullptr: o.atol for all).
-  Integrator(int n, Rhs f, Jac j, const OdeOptions& o, double t0, const double* y0,
-             const double* atol = nullptr)
-      : n_(n), f_(std::move(f)), j_(std::move(j)), method_(o.method), max_steps_(o.max_steps) {
-    y_ = N_VNew_Serial(n, ctx_.ctx);
-    // Fused vector operations: a stage combination is one loop, not a chain
-    // of pairwise sums (the per-call overhead dominates on these few states).
-    N_VEnableFusedOps_Serial(y_, SUNTRUE);
-    std::copy(y0, y0 + n, N_VGetArrayPointer(y_));
-    atol_ = N_VNew_Serial(n, ctx_.ctx);
-    work_ = N_VNew_Serial(n, ctx_.ctx);
-    if (atol) std::copy(atol, atol + n, N_VGetArrayPointer(atol_));
-    else N_VConst(o.atol, atol_);
-    if (method_ == OdeMethod::erk) {
-      mem_ = ERKStepCreate(rhs, t0, y_, ctx_.ctx);
-      ERKStepSVtolerances(mem_, o.rtol, atol_);
-      ERKStepSetTableNum(mem_, ARKODE_DORMAND_PRINCE_7_4_5);  // order 5 with a 4th-order error estimate
-      ERKStepSetUserData(mem_, this);
-      ERKStepSetMaxNumSteps(mem_, o.max_steps);
-      ERKStepSetErrHandlerFn(mem_, silent, nullptr);
-    } else {
-      mem_ = CVodeCreate(method_ == OdeMethod::bdf ? CV_BDF : CV_ADAMS, ctx_.ctx);
-      CVodeInit(mem_, rhs, t0, y_);
-      CVodeSVtolerances(mem_, o.rtol, atol_);
-      CVodeSetUserData(mem_, this);
-      CVodeSetMaxNumSteps(mem_, o.max_steps);
-      CVodeSetErrHandlerFn(mem_, silent, nullptr);
-      if (method_ == OdeMethod::adams) {
-        // Adams is for non-stiff motion: functional (fixed-point) iteration,
-        // no Jacobian or linear solve (as LSODA does in its non-stiff mode).
-        NLS_ = SUNNonlinSol_FixedPoint(y_, 0, ctx_.ctx);
-        CVodeSetNonlinearSolver(mem_, NLS_);
-      } else {
-        A_ = SUNDenseMatrix(n, n, ctx_.ctx);
-        LS_ = SUNLinSol_Dense(y_, A_, ctx_.ctx);
-        CVodeSetLinearSolver(mem_, LS_, A_);
-        if (j_) CVodeSetJacFn(mem_, jac);
-      }
-    }
-  }
-  ~Integrator() {
-    if (method_ == OdeMethod::erk) ERKStepFree(&mem_);
-    else CVodeFree(&mem_);
-    if (LS_) SUNLinSolFree(LS_);
-    if (NLS_) SUNNonlinSolFree(NLS_);
-    if (A_) SUNMatDestroy(A_);
-    N_VDestroy(y_);
-    N_VDestroy(atol_);
-    N_VDestroy(work_);
-  }
-  Integrator(const Integrator&) = delete;
-  Integrator& operator=(const Integrator&) = delete;
-
-  // Advances to t (interpolated output); the state is in y(). max_steps
-  // bounds the whole integration, not one call.
-  DynamicsStatus advance(double t) { return evolve(t, false); }
-
-  // One internal step, never past `stop`; the state is in y() at time(), and
-  // dense() interpolates within the step just taken.
-  DynamicsStatus step(double stop) {
-    if (method_ == OdeMethod::erk) ERKStepSetStopTime(mem_, stop);
-    else CVodeSetStopTime(mem_, stop);
-    return evolve(stop, true);
-  }
-  void dense(double t, double* out) {
-    if (method_ == OdeMethod::erk) ERKStepGetDky(mem_, t, 0, work_);
-    else CVodeGetDky(mem_, t, 0, work_);
-    std::copy(N_VGetArrayPointer(work_), N_VGetArrayPointer(work_) + n_, out);
-  }
-  const double* y() const { return N_VGetArrayPointer(y_); }
-  double time() const { return reached_; }
-  long steps() const {
-    long s = 0;
-    if (method_ == OdeMethod::erk) ERKStepGetNumSteps(mem_, &s);
-    else CVodeGetNumSteps(mem_, &s);
-    return s;
-  }
-
- private:
-  DynamicsStatus evolve(double t, bool one_step) {
-    const long left = max_steps_ - steps();
-    if (left <= 0) return DynamicsStatus::too_many_steps;
-    if (method_ == OdeMethod::erk) ERKStepSetMaxNumSteps(mem_, left);
-    else CVodeSetMaxNumSteps(mem_, left);
-    const int flag = method_ == OdeMethod::erk
-                         ? ERKStepEvolve(mem_, t, y_, &reached_, one_step ? ARK_ONE_STEP : ARK_NORMAL)
-                         : CVode(mem_, t, y_, &reached_, one_step ? CV_ONE_STEP : CV_NORMAL);
-    if (flag >= 0) return DynamicsStatus::ok;
-    if (stalled_) return DynamicsStatus::stalled;
-    if (flag == CV_TOO_MUCH_WORK) return DynamicsStatus::too_many_steps;  // == ARK_TOO_MUCH_WORK
-    return DynamicsStatus::solver_failure;
-  }
-  static int rhs(double t, N_Vector y, N_Vector dy, void* data) {
-    auto* self = static_cast<Integrator*>(data);
-    const int r = self->f_(t, N_VGetArrayPointer(y), N_VGetArrayPointer(dy));
-    if (r == kStall) self->stalled_ = true;
-    return r;
-  }
-  static int jac(double t, N_Vector y, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector,
-                 N_Vector) {
-    auto* self = static_cast<Integrator*>(data);
-    double m[kMaxStates * kMaxStates];
-    self->j_(t, N_VGetArrayPointer(y), m);
-    for (int r = 0; r < self->n_; ++r)
-      for (int c = 0; c < self->n_; ++c) SM_ELEMENT_D(J, r, c) = m[r * self->n_ + c];
-    return 0;
-  }
-
-  Context ctx_;
-  int n_;
-  Rhs f_;
-  Jac j_;
-  double reached_ = 0;
-  OdeMethod method_;
-  long max_steps_;
-  N_Vector y_ = nullptr, atol_ = nullptr, work_ = nullptr;
-  void* mem_ = nullptr;
-  SUNMatrix A_ = nullptr;
-  SUNLinearSolver LS_ = nullptr;
-  SUNNonlinearSolver NLS_ = nullptr;
-  bool stalled_ = false;
-};
-
-// Dense Jacobian of a templated right-hand side g(y, dy) of the first M of
-// n components by forward autodiff, row-major n x n (columns M..n-1 zero:
-// quadratures do not feed back).
-template <int M, class G>
-void autodiff_jacobian(int n, const double* y, G&& g, double* J) {
-  using D = DualN<M>;
-  D yd[M], dd[kMaxRhs];
-  for (int i = 0; i < M; ++i) yd[i] = D(y[i], M, i);
-  g(yd, dd);
-  std::fill(J, J + n * n, 0.0);
-  for (int r = 0; r < n && r < kMaxRhs; ++r)
-    for (int c = 0; c < M; ++c) J[r * n + c] = dd[r].derivatives()[c];
-}
 
 // The system in the crank angle phi2 as the independent variable, over one
 // revolution: z = (theta, w1, w2 | t, int M dt, int M^2 dt, int P_motor dt,
@@ -208,6 +35,8 @@ void autodiff_jacobian(int n, const double* y, G&& g, double* J) {
 constexpr int kOrbit = 3, kQuadratures = 6, kPlain = kOrbit + kQuadratures;
 constexpr int kSensitive = kPlain + kOrbit * kOrbit;
 
+// dz = f(phi2, z) for the orbit and (with `quadratures`) the quadratures:
+// reads z[0..2] only.
 template <class S>
 void angle_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi2, const S* z, S* dz,
                bool quadratures = true) {
@@ -244,21 +73,6 @@ void sensitive_rhs(const ElasticDrive& d, const PhaseRotation& shift, double phi
     for (int j = 0; j < kOrbit; ++j) dz[kPlain + 3 * i + j] = dd[i].derivatives()[j];
 }
 
-// Appends one sample of a trajectory; returns its coupling moment (none in
-// the rigid drive).
-double append(Trajectory& tr, const ElasticDrive& d, double t, double phi2, double theta, double w1,
-              double w2) {
-  const double m = d.fidelity == DriveFidelity::rigid ? 0.0 : coupling_moment(d, theta, w1, w2);
-  tr.t.push_back(t);
-  tr.phi2.push_back(phi2);
-  tr.theta.push_back(theta);
-  tr.w1.push_back(w1);
-  tr.w2.push_back(w2);
-  tr.coupling.push_back(m);
-  tr.motor_torque.push_back(d.motor.torque(w1 * d.gear_ratio));
-  return m;
-}
-
 // Smallest and largest value seen.
 struct Range {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -266,7 +80,7 @@ struct Range {
 };
 
 struct Revolution {
-  DynamicsStatus status = DynamicsStatus::ok;
+  Status status = Status::ok;
   double end[kSensitive] = {};  // z at phi2 = 2 pi (quadratures unless bare, S with sensitivities)
   Range coupling, w1, w2;       // over the revolution: at its ends and interior extrema
   long steps = 0;
@@ -304,15 +118,14 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
   // Newton matrix of the implicit methods: df/dz of the orbit and the
   // quadratures, and the same 3 x 3 block on each column of S (the second
   // derivatives left out: they only slow the corrector, never the answer).
+  // The right-hand side reads only the orbit's states (nothing feeds back),
+  // so only they are differentiated, and the quadratures' rows exist only
+  // when they are integrated (n > 3): z has n components, no more.
   auto j = [&](double phi2, const double* z, double* J) {
-    autodiff_jacobian<kOrbit>(n, z,
-                              [&](const DualN<kOrbit>* zz, DualN<kOrbit>* dz) {
-                                DualN<kOrbit> full[kPlain];
-                                for (int i = 0; i < kPlain; ++i)
-                                  full[i] = i < kOrbit ? zz[i] : DualN<kOrbit>(z[i]);
-                                angle_rhs(d, shift, phi2, full, dz);
-                              },
-                              J);
+    autodiff_jacobian<kOrbit>(
+        n, z,
+        [&](const DualN<kOrbit>* zz, DualN<kOrbit>* dz) { angle_rhs(d, shift, phi2, zz, dz, n > kOrbit); },
+        J);
     for (int c = 0; c < (sensitivities ? kOrbit : 0); ++c)  // column c of S: rows kPlain + 3 i + c
       for (int i = 0; i < kOrbit; ++i)
         for (int k = 0; k < kOrbit; ++k) J[(kPlain + 3 * i + c) * n + kPlain + 3 * k + c] = J[i * n + k];
@@ -356,7 +169,7 @@ Revolution revolution(const ElasticDrive& d, const OdeOptions& o, const double* 
     // v'' e^2 / 2), so a few iterations reach the integration's accuracy.
     double a = 0;
     int sample = 1;
-    while (a < kTwoPi && (r.status = in.step(kTwoPi)) == DynamicsStatus::ok) {
+    while (a < kTwoPi && (r.status = in.step(kTwoPi)) == Status::ok) {
       const double b = in.time();
       watched(b, in.y(), v1, g1);
       for (int i = 0; i < 3 && rec.extrema; ++i) {
@@ -478,11 +291,12 @@ struct Shooting {
   double P[3][3] = {};  // start = P u
   double R[3][3] = {};  // F = R (end - start)
   long steps = 0;
-  DynamicsStatus failure = DynamicsStatus::ok;
+  Status failure = Status::ok;
   double u[3] = {}, start[3] = {};  // the last evaluation's
   Revolution last;
   bool valid = false, sensitive = false;
   double multiplier = 0;  // largest of the last Jacobian's monodromy matrix
+  std::exception_ptr error;  // thrown in a KINSOL callback
 
   // One revolution from P x; with sensitivities (twice the cost of a plain
   // revolution) only when a Jacobian is asked for.
@@ -496,7 +310,7 @@ struct Shooting {
     sensitive = with_jacobian;
     last = revolution(*d, *o, scale, start, {.sensitivities = sensitive});
     steps += last.steps;
-    valid = last.status == DynamicsStatus::ok;
+    valid = last.status == Status::ok;
     if (!valid) failure = last.status;
     if (valid && sensitive) multiplier = largest_multiplier(last, n == 1);
     return valid;
@@ -518,17 +332,53 @@ struct Shooting {
 
 int shooting_residual(N_Vector u, N_Vector F, void* data) {
   auto& s = *static_cast<Shooting*>(data);
-  if (!s.evaluate(N_VGetArrayPointer(u), false)) return 1;  // recoverable: KINSOL's line search backs off
-  s.residual(N_VGetArrayPointer(F));
-  return 0;
+  return guarded("residual", s.error, [&] {
+    if (!s.evaluate(N_VGetArrayPointer(u), false)) return 1;  // recoverable: KINSOL's line search backs off
+    s.residual(N_VGetArrayPointer(F));
+    return 0;
+  });
 }
 
 int shooting_jacobian(N_Vector u, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector) {
   auto& s = *static_cast<Shooting*>(data);
-  if (!s.evaluate(N_VGetArrayPointer(u), true)) return 1;
-  for (int i = 0; i < s.n; ++i)
-    for (int j = 0; j < s.n; ++j) SM_ELEMENT_D(J, i, j) = s.jacobian(i, j);
-  return 0;
+  return guarded("newton_jacobian", s.error, [&] {
+    if (!s.evaluate(N_VGetArrayPointer(u), true)) return 1;
+    for (int i = 0; i < s.n; ++i)
+      for (int j = 0; j < s.n; ++j) SM_ELEMENT_D(J, i, j) = s.jacobian(i, j);
+    return 0;
+  });
+}
+
+// KINSOL (Newton, line search, the exact Jacobian) on the shooting problem
+// from x, left at its last iterate; returns KINSOL's flag. What a callback
+// threw is rethrown once KINSOL has returned.
+int newton(Shooting& sh, double* x, double ftol, int& iterations) {
+  const Context ctx = new_context();
+  const Vector u = new_vector(sh.n, ctx.get()), ones = new_vector(sh.n, ctx.get());
+  std::copy(x, x + sh.n, N_VGetArrayPointer(u.get()));
+  N_VConst(1.0, ones.get());
+  const Matrix J = new_matrix(sh.n, ctx.get());
+  const LinearSolver LS = new_dense_solver(u.get(), J.get(), ctx.get());
+  const Memory kin(setup(KINCreate(ctx.get()), "KINCreate"), [](void* m) { KINFree(&m); });
+  void* k = kin.get();
+  setup(KINInit(k, shooting_residual, u.get()), "KINInit");
+  setup(KINSetUserData(k, &sh), "KINSetUserData");
+  setup(KINSetErrHandlerFn(k, silent, nullptr), "KINSetErrHandlerFn");
+  setup(KINSetLinearSolver(k, LS.get(), J.get()), "KINSetLinearSolver");
+  setup(KINSetJacFn(k, shooting_jacobian), "KINSetJacFn");
+  setup(KINSetFuncNormTol(k, ftol), "KINSetFuncNormTol");
+  setup(KINSetScaledStepTol(k, ftol), "KINSetScaledStepTol");  // a step this small is inside the noise
+  setup(KINSetNumMaxIters(k, 50), "KINSetNumMaxIters");
+  // A fresh Jacobian every iteration: quadratic convergence, and the last
+  // one gives the orbit's multipliers.
+  setup(KINSetMaxSetupCalls(k, 1), "KINSetMaxSetupCalls");
+  const int flag = KINSol(k, u.get(), KIN_LINESEARCH, ones.get(), ones.get());
+  if (sh.error) std::rethrow_exception(std::exchange(sh.error, nullptr));
+  long iters = 0;
+  setup(KINGetNumNonlinSolvIters(k, &iters), "KINGetNumNonlinSolvIters");
+  iterations = static_cast<int>(iters);
+  std::copy(N_VGetArrayPointer(u.get()), N_VGetArrayPointer(u.get()) + sh.n, x);
+  return flag;
 }
 
 // Revolution after revolution from `start` until the state repeats.
@@ -539,7 +389,7 @@ SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta
   for (s.iterations = 1; s.iterations <= max_cycles; ++s.iterations) {
     const Revolution r = revolution(d, o, scale, start, {.extrema = false});
     s.steps += r.steps;
-    if (r.status != DynamicsStatus::ok) {
+    if (r.status != Status::ok) {
       s.status = r.status;
       s.message = "integration failed in revolution " + std::to_string(s.iterations);
       return s;
@@ -560,26 +410,9 @@ SteadyCycle cycles_from(const ElasticDrive& d, const OdeOptions& o, double theta
       return s;
     }
   }
-  s.status = DynamicsStatus::no_periodic_orbit;
+  s.status = Status::not_converged;
   s.message = "the state still changed after " + std::to_string(max_cycles) + " revolutions";
   return s;
-}
-
-// The state (theta, w1, w2) where a start-up from `w0` last crossed a whole
-// revolution of the crank after t seconds; false if it stalled or never turned.
-bool startup_guess(const ElasticDrive& d, const OdeOptions& o, double t, double w0,
-                   double* guess) {
-  const Startup st = simulate_startup(d, o, t, 1e-3, nullptr, w0);
-  const Trajectory& tr = st.trajectory;
-  if (st.status != DynamicsStatus::ok || tr.phi2.back() < kTwoPi) return false;
-  const double target = kTwoPi * std::floor(tr.phi2.back() / kTwoPi);
-  size_t i = tr.phi2.size() - 1;
-  while (i > 0 && tr.phi2[i - 1] >= target) --i;
-  const double a = (target - tr.phi2[i - 1]) / (tr.phi2[i] - tr.phi2[i - 1]);
-  guess[0] = tr.theta[i - 1] + a * (tr.theta[i] - tr.theta[i - 1]);
-  guess[1] = tr.w1[i - 1] + a * (tr.w1[i] - tr.w1[i - 1]);
-  guess[2] = tr.w2[i - 1] + a * (tr.w2[i] - tr.w2[i - 1]);
-  return guess[2] > 0;
 }
 
 // Newton (KINSOL, line search, the exact Jacobian from the variational
@@ -620,10 +453,10 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   // contraction) unless the first residual is itself down in the noise: then
   // the second takes the sensitivities for the exact multiplier.
   const bool guess_periodic = f0 <= kNoiseTol * o.rtol;
-  bool converged = r0.status == DynamicsStatus::ok && sh.evaluate(x0, guess_periodic);
+  bool converged = r0.status == Status::ok && sh.evaluate(x0, guess_periodic);
   // The two revolutions from the guess are what a machine would run: if one
   // fails (stall, step budget, solver), so does every other way to the orbit.
-  const DynamicsStatus from_guess = r0.status != DynamicsStatus::ok ? r0.status : sh.failure;
+  const Status from_guess = r0.status != Status::ok ? r0.status : sh.failure;
   if (converged) {
     double f1 = 0;
     sh.residual(f);
@@ -631,49 +464,23 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
     converged = f1 <= ftol;
     if (!guess_periodic) sh.multiplier = f1 / f0;
   }
-  if (!converged && r0.status == DynamicsStatus::ok && sh.valid) {
-    Context ctx;
-    N_Vector u = N_VNew_Serial(sh.n, ctx.ctx), ones = N_VNew_Serial(sh.n, ctx.ctx);
-    std::copy(x0, x0 + sh.n, N_VGetArrayPointer(u));
-    N_VConst(1.0, ones);
-    void* kin = KINCreate(ctx.ctx);
-    KINInit(kin, shooting_residual, u);
-    KINSetUserData(kin, &sh);
-    KINSetErrHandlerFn(kin, silent, nullptr);
-    SUNMatrix J = SUNDenseMatrix(sh.n, sh.n, ctx.ctx);
-    SUNLinearSolver LS = SUNLinSol_Dense(u, J, ctx.ctx);
-    KINSetLinearSolver(kin, LS, J);
-    KINSetJacFn(kin, shooting_jacobian);
-    KINSetFuncNormTol(kin, ftol);
-    KINSetScaledStepTol(kin, ftol);  // a step this small is inside the noise
-    KINSetNumMaxIters(kin, 50);
-    // A fresh Jacobian every iteration: quadratic convergence, and the last
-    // one gives the orbit's multipliers.
-    KINSetMaxSetupCalls(kin, 1);
-    flag = KINSol(kin, u, KIN_LINESEARCH, ones, ones);
-    long iters = 0;
-    KINGetNumNonlinSolvIters(kin, &iters);
-    s.iterations = static_cast<int>(iters);
+  if (!converged && r0.status == Status::ok && sh.valid) {
+    flag = newton(sh, x0, ftol, s.iterations);
     // Stopped by a tiny step or a failed line search: accepted if the
     // residual is within the noise.
     const bool noise_limited = flag == KIN_STEP_LT_STPTOL || flag == KIN_LINESEARCH_NONCONV;
-    converged = (flag >= 0 || noise_limited) && sh.evaluate(N_VGetArrayPointer(u), false);
-    KINFree(&kin);
-    SUNLinSolFree(LS);
-    SUNMatDestroy(J);
-    N_VDestroy(u);
-    N_VDestroy(ones);
+    converged = (flag >= 0 || noise_limited) && sh.evaluate(x0, false);
     sh.residual(f);
     for (int i = 0; i < sh.n; ++i)
       converged = converged && (!noise_limited || std::abs(f[i]) <= kNoiseTol * o.rtol);
   }
   s.steps = sh.steps;
   if (!converged) {
-    s.status = from_guess != DynamicsStatus::ok ? from_guess : DynamicsStatus::no_periodic_orbit;
+    s.status = from_guess != Status::ok ? from_guess : Status::not_converged;
     const std::string trial =
-        sh.failure != DynamicsStatus::ok ? std::string(", a trial revolution: ") + to_string(sh.failure) : "";
-    s.message = from_guess != DynamicsStatus::ok
-                    ? std::string("the integration from the first guess failed: ") + to_string(from_guess)
+        sh.failure != Status::ok ? ", a trial revolution: " + std::string(to_string(sh.failure)) : "";
+    s.message = from_guess != Status::ok
+                    ? "the integration from the first guess failed: " + std::string(to_string(from_guess))
                     : "shooting did not converge (KINSOL flag " + std::to_string(flag) + trial + ")";
     return s;
   }
@@ -690,10 +497,9 @@ SteadyCycle shoot_from(const ElasticDrive& d, const OdeOptions& o, int samples, 
   return s;
 }
 
-}  // namespace
-
-SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
-                               double warmup, double initial_speed) {
+// steady_by_shooting once its inputs are checked.
+SteadyCycle shooting(const ElasticDrive& d, const OdeOptions& o, int samples, double warmup,
+                     double initial_speed) {
   const ResistanceSummary res = resistance_summary(d);
   const double mean = res.mean, theta_scale = twist_scale(d, res);
   const double most = d.motor_moment(d.motor.synchronous_speed / d.gear_ratio * (1 - d.motor.critical_slip));
@@ -701,101 +507,65 @@ SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int s
     // Over a periodic cycle the motor's mean moment (per crank angle) must
     // cover the resistance's; Kloss's curve never exceeds its critical torque.
     SteadyCycle s;
-    s.status = DynamicsStatus::stalled;
+    s.status = Status::stalled;
     s.message = "the mean resistance " + std::to_string(mean) + " N m exceeds the motor's largest moment " +
                 std::to_string(most) + " N m at the crank";
     return s;
   }
   double guess[3];
   rigid_guess(d, mean, guess);
-  if (warmup > 0 && !startup_guess(d, o, warmup, initial_speed, guess)) {
+  if (warmup > 0) {
     SteadyCycle s;
-    s.status = DynamicsStatus::stalled;
-    s.message = "the start-up did not complete a revolution in " + std::to_string(warmup) + " s";
-    return s;
+    if ((s.status = startup_guess(d, o, warmup, initial_speed, guess, s.message)) != Status::ok) return s;
   }
   SteadyCycle s = shoot_from(d, o, samples, theta_scale, guess);
   // An integration from the guess that fails (stall, step budget, solver)
   // would fail again revolution by revolution: that is the answer.
-  if (s.status != DynamicsStatus::ok && s.status != DynamicsStatus::no_periodic_orbit) return s;
-  if (s.status == DynamicsStatus::ok && s.largest_multiplier < 1) return s;
+  if (s.status != Status::ok && s.status != Status::not_converged) return s;
+  if (s.status == Status::ok && s.largest_multiplier < 1) return s;
   // Newton failed (a poor start near a resonance) or found an orbit the
   // machine cannot hold (a multiplier outside the unit circle): integrate
   // revolution after revolution from the guess instead, which follows the
   // orbit the machine itself settles on.
   const std::string why =
-      s.status == DynamicsStatus::ok
+      s.status == Status::ok
           ? "shooting found an unstable orbit (multiplier " + std::to_string(s.largest_multiplier) + ")"
           : "shooting failed: " + s.message;
   SteadyCycle c = cycles_from(d, o, theta_scale, guess, 300, kNoiseTol * o.rtol, samples);
   c.steps += s.steps;
   c.message =
-      why + (c.status == DynamicsStatus::ok ? "; found by integrating revolutions" : "; " + c.message);
+      why + (c.status == Status::ok ? "; found by integrating revolutions" : "; " + c.message);
   return c;
+}
+
+}  // namespace
+}  // namespace dynamics
+
+using namespace dynamics;
+
+SteadyCycle steady_by_shooting(const ElasticDrive& d, const OdeOptions& o, int samples,
+                               double warmup, double initial_speed) {
+  return entry_point<SteadyCycle>(
+      d, o,
+      {{"samples", double(samples), samples >= 0},
+       {"warm-up time", warmup, warmup >= 0 && std::isfinite(warmup)},
+       {"initial speed", initial_speed, initial_speed >= 0 && std::isfinite(initial_speed)}},
+      [&] { return shooting(d, o, samples, warmup, initial_speed); });
 }
 
 SteadyCycle steady_by_cycles(const ElasticDrive& d, const OdeOptions& o, int max_cycles, double tol,
                              int samples) {
-  const ResistanceSummary res = resistance_summary(d);
-  double start[3];
-  rigid_guess(d, res.mean, start);
-  return cycles_from(d, o, twist_scale(d, res), start, max_cycles, tol, samples);
-}
-
-Startup simulate_startup(const ElasticDrive& d, const OdeOptions& o, double t_end, double dt_out,
-                         const SteadyCycle* steady, double initial_speed) {
-  Startup out;
-  const double y0[4] = {0, 0, initial_speed, initial_speed};
-  const PhaseRotation shift(d.phase_shift);
-  auto f = [&](double, const double* y, double* dy) {
-    drive_rhs(d, shift, y, dy);
-    return 0;
-  };
-  auto j = [&](double, const double* y, double* J) {
-    autodiff_jacobian<4>(4, y, [&](const DualN<4>* yy, DualN<4>* dy) { drive_rhs(d, shift, yy, dy); }, J);
-  };
-  Integrator in(4, f, j, o, 0.0, y0);
-  Trajectory& tr = out.trajectory;
-  auto record = [&](double t, const double* y) {
-    const double m = append(tr, d, t, y[1], y[0] - y[1], y[2], y[3]);
-    out.peak_coupling = std::max(out.peak_coupling, std::abs(m));
-  };
-  record(0, y0);
-  const int n = static_cast<int>(std::ceil(t_end / dt_out));
-  for (int k = 1; k <= n; ++k) {
-    const double t = std::min(t_end, k * dt_out);
-    out.status = in.advance(t);
-    if (out.status != DynamicsStatus::ok) {
-      out.message = std::string("start-up integration stopped at t = ") + std::to_string(tr.t.back());
-      break;
-    }
-    record(t, in.y());
-  }
-  out.steps = in.steps();
-  out.final_speed = tr.w2.back();
-  if (steady && steady->status == DynamicsStatus::ok && out.status == DynamicsStatus::ok) {
-    // Per revolution peak |coupling| against the steady one: the first
-    // revolution from which all stay within 1%.
-    std::vector<std::pair<double, double>> revs;  // (start time, peak)
-    double peak = 0, start = 0;
-    int rev = 0;
-    for (size_t i = 0; i < tr.t.size(); ++i) {
-      const int r = static_cast<int>(std::floor(tr.phi2[i] / kTwoPi));
-      if (r != rev) {
-        revs.emplace_back(start, peak);
-        rev = r, peak = 0, start = tr.t[i];
-      }
-      peak = std::max(peak, std::abs(tr.coupling[i]));
-    }
-    for (size_t i = revs.size(); i-- > 0;) {
-      if (std::abs(revs[i].second - steady->coupling_peak) > 0.01 * steady->coupling_peak) {
-        out.time_to_steady = i + 1 < revs.size() ? revs[i + 1].first : -1;
-        break;
-      }
-      if (i == 0) out.time_to_steady = 0;
-    }
-  }
-  return out;
+  return entry_point<SteadyCycle>(
+      d, o,
+      {{"samples", double(samples), samples >= 0},
+       {"revolutions", double(max_cycles), max_cycles >= 1},
+       {"tolerance", tol, tol > 0 && std::isfinite(tol)}},
+      [&] {
+        const ResistanceSummary res = resistance_summary(d);
+        double start[3];
+        rigid_guess(d, res.mean, start);
+        return cycles_from(d, o, twist_scale(d, res), start, max_cycles, tol, samples);
+      });
 }
 
 }  // namespace mech

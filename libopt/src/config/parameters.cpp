@@ -1,0 +1,80 @@
+#include "opt/parameters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace opt {
+namespace {
+
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+std::string value_text(const Parameter& p) {
+  if (!p.choices.empty()) return p.choices.at(static_cast<size_t>(p.value));
+  if (p.automatic && p.value == 0) return "auto";
+  const std::string u = si_unit(p.dimension);
+  return number(p.value) + (u.empty() ? "" : " " + u);
+}
+
+std::string domain_text(const Parameter& p) {
+  std::string out;
+  if (!p.choices.empty()) {
+    for (const auto& c : p.choices) out += (out.empty() ? "one of: " : ", ") + c;
+    return out;
+  }
+  out = to_string(p.domain, p.dimension);
+  if (p.integer) out += ", whole";
+  if (p.automatic) out += ", or auto";
+  return out;
+}
+
+double read_parameter(const ConfigNode& n, const Parameter& p) {
+  if (!p.choices.empty()) {
+    const std::string c = n.choice(p.choices);
+    return static_cast<double>(std::find(p.choices.begin(), p.choices.end(), c) - p.choices.begin());
+  }
+  if (p.automatic && n.is_scalar() && n.text() == "auto") return 0;
+  if (p.integer) {
+    const auto bound = [](double v) { return static_cast<int>(std::clamp(v, -2e9, 2e9)); };
+    return n.integer(bound(p.domain.lo + (p.domain.lo_open ? 1 : 0)), bound(p.domain.hi - (p.domain.hi_open ? 1 : 0)));
+  }
+  return n.quantity(p.dimension, p.domain);
+}
+
+void check_model_keys(const ConfigNode& model, const std::vector<Parameter>& rows) {
+  std::vector<std::string> top;
+  auto add = [](std::vector<std::string>& v, const std::string& k) {
+    if (std::find(v.begin(), v.end(), k) == v.end()) v.push_back(k);
+  };
+  for (const auto& r : rows) add(top, r.name.substr(0, r.name.find('.')));
+  model.allow_only(top);
+  for (const auto& section : top) {
+    if (!model.has(section)) continue;
+    std::vector<std::string> inner;
+    for (const auto& r : rows)
+      if (r.name.rfind(section + ".", 0) == 0) add(inner, r.name.substr(section.size() + 1));
+    if (!inner.empty()) model.at(section).allow_only(inner);
+  }
+}
+
+nlohmann::json parameters_json(const std::vector<Parameter>& rows) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& r : rows) {
+    nlohmann::json v = r.value;
+    if (!r.choices.empty()) v = r.choices.at(static_cast<size_t>(r.value));
+    else if (r.automatic && r.value == 0) v = "auto";
+    else if (r.integer) v = static_cast<long>(r.value);
+    const auto dot = r.name.find('.');
+    if (dot == std::string::npos) j[r.name] = v;
+    else j[r.name.substr(0, dot)][r.name.substr(dot + 1)] = v;
+  }
+  return j;
+}
+
+}  // namespace opt

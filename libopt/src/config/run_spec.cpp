@@ -1,0 +1,218 @@
+// Reading a run from a config: variables, objective, constraints, study,
+// driver, grid, output and reference, each key checked against the problem.
+#include <cmath>
+
+#include "opt/study.hpp"
+#include "report/report.hpp"
+
+namespace opt {
+namespace {
+
+using report::fmt;
+using report::join;
+
+int variable_index(const Problem& p, const std::string& name) {
+  const auto& v = p.variables();
+  for (size_t i = 0; i < v.size(); ++i)
+    if (v[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+const Variable* find_variable(const Problem& p, const std::string& name) {
+  const int i = variable_index(p, name);
+  return i < 0 ? nullptr : &p.variables()[i];
+}
+
+// Points a sweep may have in all (the product over its axes).
+constexpr double kMaxGridPoints = 100000;
+
+std::vector<double> parse_values(const ConfigNode& n, const Variable& v) {
+  std::vector<double> out;
+  if (n.is_sequence()) {
+    for (const auto& item : n.items()) out.push_back(item.quantity(v.dimension, v.domain));
+  } else {
+    n.allow_only({"from", "to", "step"});
+    const double from = n.at("from").quantity(v.dimension, v.domain);
+    const double to = n.at("to").quantity(v.dimension, v.domain);
+    const double step = n.at("step").quantity(v.dimension);
+    if (!(step > 0) || to < from) n.fail("expected from <= to and step > 0");
+    // Counted in double: a tiny step must not overflow an integer.
+    const double count = std::floor((to - from) / step + 1e-9) + 1;
+    if (!(count <= kMaxGridPoints))
+      n.fail("the grid would have " + fmt(count, 3) + " points; the limit is " +
+             fmt(kMaxGridPoints) + " (a larger step, or fewer values)");
+    for (int i = 0; i < static_cast<int>(count); ++i) out.push_back(from + i * step);
+  }
+  if (out.empty()) n.fail("expected at least one value");
+  return out;
+}
+
+DriverOptions parse_driver(const ConfigNode& n) {
+  DriverOptions o;
+  if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt"});
+  if (o.library == "ipopt") {
+    n.allow_only({"library", "tol", "max_iterations", "max_seconds", "constraint_tol",
+                  "print_level", "epigraph", "hessian"});
+    o.algorithm = "interior-point";
+    if (n.has("tol")) o.tol = n.at("tol").number();
+    if (n.has("max_iterations")) o.max_iterations = n.at("max_iterations").integer(1, 100000000);
+    if (n.has("print_level")) o.print_level = n.at("print_level").integer(0, 12);
+    if (n.has("epigraph")) o.epigraph = n.at("epigraph").boolean();
+    if (n.has("hessian")) n.at("hessian").choice({"limited-memory"});  // no model gives exact Hessians yet
+    if (!(o.tol > 0)) n.at("tol").fail("expected a tolerance > 0");
+  } else {
+    n.allow_only({"library", "algorithm", "xtol_rel", "ftol_rel", "max_evaluations",
+                  "max_seconds", "constraint_tol", "local_algorithm", "polish", "seed"});
+  }
+  if (o.library == "nlopt" && n.has("algorithm")) o.algorithm = n.at("algorithm").choice(nlopt_algorithms());
+  if (n.has("seed")) o.seed = static_cast<unsigned long>(n.at("seed").integer(0, 2147483647));
+  if (n.has("local_algorithm")) {
+    if (o.algorithm != "G_MLSL_LDS") n.at("local_algorithm").fail("goes with algorithm: G_MLSL_LDS");
+    o.local_algorithm = n.at("local_algorithm").choice(nlopt_algorithms());
+    if (algorithm_is_global(o.local_algorithm)) n.at("local_algorithm").fail("expected a local (L*) algorithm");
+  }
+  if (o.algorithm == "G_MLSL_LDS" && !n.has("max_evaluations") && !n.has("max_seconds"))
+    n.fail("G_MLSL_LDS runs until a limit: give max_evaluations or max_seconds");
+  if (n.has("polish")) {
+    const ConfigNode pn = n.at("polish");
+    o.polish = std::make_shared<DriverOptions>(parse_driver(pn));
+    if (o.polish->polish) pn.at("polish").fail("one hand-off only: polish cannot have its own polish");
+  }
+  if (n.has("xtol_rel")) o.xtol_rel = n.at("xtol_rel").number();
+  if (n.has("ftol_rel")) o.ftol_rel = n.at("ftol_rel").number();
+  if (n.has("max_evaluations")) o.max_evaluations = n.at("max_evaluations").integer(1, 100000000);
+  if (n.has("max_seconds")) o.max_seconds = n.at("max_seconds").quantity(Dimension::time);
+  if (n.has("constraint_tol")) o.constraint_tol = n.at("constraint_tol").number();
+  if (o.xtol_rel < 0 || o.ftol_rel < 0 || !(o.max_seconds > 0) || o.constraint_tol < 0)
+    n.fail("tolerances must be >= 0 and max_seconds > 0");
+  return o;
+}
+
+void check_metric(const ConfigNode& n, const Problem& p, const std::string& metric) {
+  if (!p.has_metric(metric))
+    n.fail("unknown metric '" + metric + "'; expected one of: " + join(p.metric_names()));
+}
+
+}  // namespace
+
+std::vector<Variable> parse_variables(const ConfigNode& root, const std::vector<Parameter>& parameters) {
+  std::vector<Variable> out;
+  if (!root.has("variables")) return out;
+  const ConfigNode vars = root.at("variables");
+  std::vector<std::string> names;
+  for (const auto& c : parameters)
+    if (c.variable) names.push_back(c.name);
+  vars.allow_only(names);
+  for (const auto& c : parameters) {
+    if (!c.variable || !vars.has(c.name)) continue;
+    const ConfigNode n = vars.at(c.name);
+    n.allow_only({"min", "max", "initial"});
+    Variable v{c.name, c.dimension, n.at("min").quantity(c.dimension, c.domain),
+               n.at("max").quantity(c.dimension, c.domain), c.value, c.domain};
+    if (!(v.lower < v.upper)) n.fail("expected min < max");
+    if (n.has("initial")) v.initial = n.at("initial").quantity(c.dimension, c.domain);
+    out.push_back(v);
+  }
+  return out;
+}
+
+RunSpec parse_run(const ConfigNode& root, const Problem& p) {
+  RunSpec s;
+  if (root.has("objective")) {
+    const ConfigNode o = root.at("objective");
+    o.allow_only({"minimize", "maximize"});
+    if (o.keys().size() != 1) o.fail("expected exactly one of minimize or maximize");
+    s.objective.maximize = o.has("maximize");
+    const ConfigNode m = o.at(s.objective.maximize ? "maximize" : "minimize");
+    s.objective.metric = m.text();
+    check_metric(m, p, s.objective.metric);
+  }
+  if (root.has("constraints")) {
+    const ConfigNode cs = root.at("constraints");
+    for (const auto& name : cs.keys()) {
+      const ConfigNode c = cs.at(name);
+      check_metric(c, p, name);
+      c.allow_only({"max", "min", "equal"});
+      const Dimension d = dimension_of(p.metric_unit(name));
+      for (const char* side : {"max", "min"})
+        if (c.has(side)) s.constraints.push_back({name, side[1] == 'a', c.at(side).quantity(d)});
+      if (c.has("equal")) {
+        if (c.has("max") || c.has("min")) c.fail("expected equal: VALUE alone, or max/min");
+        s.constraints.push_back({name, true, c.at("equal").quantity(d), true});
+      }
+      if (!c.has("max") && !c.has("min") && !c.has("equal"))
+        c.fail("expected max: VALUE, min: VALUE or equal: VALUE");
+    }
+  }
+  if (root.has("study")) {
+    const ConfigNode st = root.at("study");
+    st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points"});
+    s.type = st.at("type").choice({"optimize", "sweep", "pareto", "evaluate"});
+    if (s.type == "pareto") {
+      const ConfigNode ob = st.at("objectives");
+      for (const auto& item : ob.items()) {
+        check_metric(item, p, item.text());
+        s.objectives.push_back(item.text());
+      }
+      if (s.objectives.size() != 2 || s.objectives[0] == s.objectives[1])
+        ob.fail("expected two different metrics, both minimised: [f1, f2]");
+      if (st.has("points")) s.points = st.at("points").integer(3, 1000);
+      if (root.has("objective")) root.at("objective").fail("a pareto study takes study.objectives instead");
+      s.objective = {s.objectives[0], false};
+    } else if (st.has("objectives") || st.has("points")) {
+      st.fail("'objectives' and 'points' go with type: pareto");
+    }
+    if (st.has("driver")) s.driver = parse_driver(st.at("driver"));
+    if (st.has("optimize")) s.optimize = st.at("optimize").boolean();
+    if (s.type == "sweep") {
+      const ConfigNode g = st.at("grid");
+      double points = 1;
+      for (const auto& name : g.keys()) {
+        const int i = variable_index(p, name);
+        if (i < 0) g.fail("grid variable '" + name + "' is not among the config's variables");
+        s.grid.push_back({name, i, parse_values(g.at(name), p.variables()[i])});
+        points *= static_cast<double>(s.grid.back().values.size());
+      }
+      if (s.grid.empty() || s.grid.size() > 2) g.fail("expected one or two grid variables");
+      if (s.grid.size() != p.variables().size())
+        g.fail("a sweep needs a grid for every variable in 'variables'");
+      if (points > kMaxGridPoints)
+        g.fail("the grid would have " + fmt(points, 3) + " points in all; the limit is " +
+               fmt(kMaxGridPoints));
+    }
+    if (st.has("columns"))
+      for (const auto& c : st.at("columns").items()) {
+        check_metric(c, p, c.text());
+        s.columns.push_back(c.text());
+      }
+  }
+  // Nothing to optimise and no study: every metric at the model values.
+  if (!root.has("study") && !root.has("objective") && !root.has("variables")) s.type = "evaluate";
+  if (s.objective.metric.empty() && (s.type == "optimize" || (s.type == "sweep" && s.optimize)))
+    root.fail("missing required key 'objective' (e.g. objective: {minimize: METRIC})");
+  if ((s.type == "optimize" || s.type == "pareto") && p.variables().empty())
+    root.fail("missing required key 'variables': an optimisation needs at least one");
+  if (s.columns.empty()) {
+    s.columns.push_back(s.objective.metric);
+    for (const auto& c : s.constraints) s.columns.push_back(c.metric);
+  }
+  if (root.has("output")) {
+    const ConfigNode o = root.at("output");
+    o.allow_only({"directory", "chart"});
+    if (o.has("directory")) s.output_directory = o.at("directory").text();
+    if (o.has("chart")) s.chart = o.at("chart").boolean();
+  }
+  if (root.has("reference")) {
+    const ConfigNode r = root.at("reference");
+    for (const auto& key : r.keys()) {
+      if (key == "source") { s.reference.source = r.at(key).text(); continue; }
+      const Variable* v = find_variable(p, key);
+      if (!v) check_metric(r.at(key), p, key);
+      const Dimension d = v ? v->dimension : dimension_of(p.metric_unit(key));
+      for (const auto& item : r.at(key).items()) s.reference.columns[key].push_back(item.quantity(d));
+    }
+  }
+  return s;
+}
+
+}  // namespace opt

@@ -1,0 +1,38 @@
+// Shared by the studies: number formatting, the printed tables, variables as
+// JSON, and the charts along a variable and over the crank cycle.
+#pragma once
+#include <Eigen/Core>
+#include <iosfwd>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "opt/problem.hpp"
+#include "opt/study.hpp"
+
+namespace opt::report {
+
+// v with `precision` significant digits; "-" when not finite.
+std::string fmt(double v, int precision = 6);
+std::string join(const std::vector<std::string>& v);
+// Right-aligned cells, each as wide as its column's header (at least 12).
+void print_row(std::ostream& out, const std::vector<std::string>& cells,
+               const std::vector<std::string>& head);
+void print_variables(std::ostream& out, const Problem& p, const Eigen::VectorXd& x);
+void print_metrics(std::ostream& out, const Problem& p, const nlohmann::json& m);
+nlohmann::json variables_json(const Problem& p, const Eigen::VectorXd& x);
+
+// One chart per metric along the single variable: the continuous curve, the
+// grid points, the paper's values, the constraint bound and the optimum.
+// Returns the files written.
+std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
+                                      const std::vector<Eigen::VectorXd>& grid_x,
+                                      const std::vector<Evaluation>& grid_e,
+                                      const nlohmann::json* optimum, const std::string& dir);
+// The problem's headline cycle curve over the crank angle at each design in
+// `xs` (labelled), plus cycle.csv with every curve at the last design.
+std::vector<std::string> write_cycle_chart(const Problem& p,
+                                           const std::vector<std::pair<std::string, Eigen::VectorXd>>& xs,
+                                           const std::string& dir);
+
+}  // namespace opt::report

@@ -1,0 +1,132 @@
+// slider_crank: one slider-crank at constant crank speed (seed 000 eqs 1-8),
+// sized for its stroke, the slider's peak acceleration and the rod's largest
+// angle to the slider axis (the pressure angle). The smallest complete
+// problem: its parameter table, metrics, evaluation on any scalar, and its
+// registration; docs/adding-a-problem.md walks through it.
+#include <cmath>
+
+#include "mech/cycle.hpp"
+#include "mech/slider_crank.hpp"
+#include "opt/parameters.hpp"
+#include "problems/model_problem.hpp"
+#include "problems/registry.hpp"
+
+namespace problems {
+namespace {
+
+using opt::Dimension;
+
+struct Model {
+  mech::SliderCrank<double> mechanism{0.2, 0.8, 0.0, 1};
+  double crank_speed = 100 * std::numbers::pi / 30;
+  int cycle_points = 64;
+};
+
+// The variables first, in the order of slot() below.
+const opt::ParameterTable<Model> kTable = {
+    {opt::variable("crank_radius", Dimension::length, opt::kPositive, "r", "seed 000 eq. (1)"),
+     MECHOPT_STORED_AT(m.mechanism.r)},
+    {opt::variable("rod_length", Dimension::length, opt::kPositive, "l (l <= r + |e|: cannot_assemble)",
+                   "seed 000 eq. (1)"),
+     MECHOPT_STORED_AT(m.mechanism.l)},
+    {opt::variable("offset", Dimension::length, opt::kAnyValue, "e, the slider axis off the crank axis", ""),
+     MECHOPT_STORED_AT(m.mechanism.e)},
+    {opt::quantity("crank_speed", Dimension::angular_speed, opt::kPositive, "w, constant", "seed 000 eq. (5)"),
+     MECHOPT_STORED_AT(m.crank_speed)},
+    {opt::choice("kinematics", {"exact", "binomial"}, "exact, or the binomial series", "seed 001 eqs (36)-(39)"),
+     MECHOPT_STORED_AT(m.mechanism.kinematics)},
+    {opt::whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""),
+     MECHOPT_STORED_AT(m.cycle_points)},
+};
+
+template <class S>
+S& slot(mech::SliderCrank<S>& k, int row) {
+  switch (row) {
+    case 0: return k.r;
+    case 1: return k.l;
+    default: return k.e;
+  }
+}
+
+const std::vector<MetricSpec> kMetrics = {
+    {"stroke", "m"},                          // max x - min x over the cycle
+    {"peak_slider_acceleration", "m/s^2"},    // max |x''| w^2
+    {"max_pressure_angle", "rad"},            // max |asin(h / l)|, the rod against the slider axis
+};
+
+class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
+ public:
+  SliderCrankProblem(Model m, std::vector<opt::Variable> vars)
+      : ModelProblem("slider_crank", kMetrics, std::move(vars)), m_(std::move(m)),
+        slots_(opt::variable_rows(kTable, variables())) {}
+
+  nlohmann::json settings() const override {
+    return {{"model", opt::parameters_json(opt::parameters(kTable, m_))},
+            {"numerics", {{"extrema", "grid bracket + Brent root of the angle derivative; Danskin gradients"}}}};
+  }
+
+  template <class S>
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
+    mech::SliderCrank<S> k{S(m_.mechanism.r), S(m_.mechanism.l), S(m_.mechanism.e), 1, m_.mechanism.kinematics};
+    for (size_t i = 0; i < x.size(); ++i) slot(k, slots_[i]) = x[i];
+    if (!mech::assembles_over_cycle(k)) {
+      out.result.status = "cannot_assemble";
+      return;
+    }
+    // Each extremum at its refined angle (double), then valued with S there:
+    // the gradient at a fixed maximising angle is the extremum's (Danskin).
+    const mech::SliderCrank<double> kd{mech::value(k.r), mech::value(k.l), mech::value(k.e), 1, k.kinematics};
+    const mech::SliderCrank<mech::Dual> kv{mech::Dual(kd.r), mech::Dual(kd.l), mech::Dual(kd.e), 1, k.kinematics};
+    auto at = [&](const auto& f) {  // angle of the cycle maximum of f(model, phi)
+      std::vector<double> v(m_.cycle_points);
+      for (int i = 0; i < m_.cycle_points; ++i) v[i] = f(kd, mech::kTwoPi * i / m_.cycle_points);
+      return mech::global_max_angle(
+          v, [&](double phi) { return f(kd, phi); },
+          [&](double phi) { return f(kv, mech::seed(phi)).derivatives()[0]; });
+    };
+    // (Named points: GCC takes members of a temporary point for uninitialised.)
+    auto position = [](const auto& m, const auto& phi) {
+      const auto p = mech::slider_crank_point(m, phi);
+      return p.x;
+    };
+    auto minus_position = [&](const auto& m, const auto& phi) {
+      const auto x = position(m, phi);
+      return decltype(x)(-x);  // a value: AutoDiff's -x is an expression on x
+    };
+    auto acceleration = [](const auto& m, const auto& phi) {
+      using std::abs;
+      const auto p = mech::slider_crank_point(m, phi);
+      return decltype(p.ddx)(abs(p.ddx));
+    };
+    auto rod_slope = [](const auto& m, const auto& phi) {  // |h| / l = |sin(rod angle)|
+      using std::abs;
+      using std::sin;
+      return decltype(m.r)(abs(m.r * sin(phi) + m.e) / m.l);
+    };
+    using std::asin;
+    const S w(m_.crank_speed);
+    if (out.want("stroke"))
+      out.put("stroke", position(k, S(at(position))) - position(k, S(at(minus_position))));
+    if (out.want("peak_slider_acceleration"))
+      out.put("peak_slider_acceleration", acceleration(k, S(at(acceleration))) * w * w);
+    if (out.want("max_pressure_angle")) out.put("max_pressure_angle", asin(rod_slope(k, S(at(rod_slope)))));
+  }
+
+ private:
+  Model m_;
+  std::vector<int> slots_;  // table row of each variable
+};
+
+std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
+  Model m;
+  opt::read_parameters(root, kTable, m);
+  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
+  return std::make_unique<SliderCrankProblem>(std::move(m), std::move(vars));
+}
+
+const Registration kRegistration{
+    {"slider_crank", "one slider-crank sized for stroke, peak acceleration and pressure angle (seed 000)",
+     opt::parameters(kTable, Model{}), make}};
+
+}  // namespace
+}  // namespace problems
