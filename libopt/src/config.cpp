@@ -34,6 +34,19 @@ std::string child_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
 
+// A node as one short line for a message: a block list or map would break
+// the one-line error.
+std::string shown(const YAML::Node& n) {
+  YAML::Emitter e;
+  e.SetSeqFormat(YAML::Flow);
+  e.SetMapFormat(YAML::Flow);
+  e << n;
+  std::string t = e.c_str();
+  for (char& c : t)
+    if (c == '\n') c = ' ';
+  return t.size() > 60 ? t.substr(0, 57) + "..." : t;
+}
+
 std::string line_col(const YAML::Mark& m) {
   return std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
 }
@@ -109,7 +122,7 @@ void ConfigNode::fail(const std::string& what) const {
 }
 
 void ConfigNode::expect_map() const {
-  if (!node_.IsMap()) fail("expected a mapping of keys, got '" + YAML::Dump(node_) + "'");
+  if (!node_.IsMap()) fail("expected a mapping of keys, got '" + shown(node_) + "'");
 }
 
 bool ConfigNode::has(const std::string& key) const {
@@ -140,7 +153,7 @@ std::vector<std::string> ConfigNode::keys() const {
 }
 
 std::vector<ConfigNode> ConfigNode::items() const {
-  if (!node_.IsSequence()) fail("expected a list [a, b, ...], got '" + YAML::Dump(node_) + "'");
+  if (!node_.IsSequence()) fail("expected a list [a, b, ...], got '" + shown(node_) + "'");
   std::vector<ConfigNode> out;
   for (size_t i = 0; i < node_.size(); ++i)
     out.emplace_back(node_[i], file_, path_ + "[" + std::to_string(i) + "]", mark_);
@@ -164,7 +177,7 @@ void ConfigNode::allow_only(const std::vector<std::string>& allowed) const {
 }
 
 std::string ConfigNode::text() const {
-  if (!node_.IsScalar()) fail("expected a single value, got '" + YAML::Dump(node_) + "'");
+  if (!node_.IsScalar()) fail("expected a single value, got '" + shown(node_) + "'");
   return node_.Scalar();
 }
 
