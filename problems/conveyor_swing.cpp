@@ -11,7 +11,6 @@
 namespace problems {
 namespace {
 
-using opt::Dimension;
 
 // Margins [m] kept from a toggle inside the cycle and from a synthesis whose
 // extreme positions straddle the frame line: the moment grows without bound
@@ -54,12 +53,6 @@ struct Model {
   double half_swing() const { return swing_angle / 2; }
 };
 
-using opt::choice;
-using opt::kAnyValue;
-using opt::kNonNegative;
-using opt::kPositive;
-using opt::quantity;
-using opt::variable;
 
 // The variables first, in the order of the switch in design().
 const opt::ParameterTable<Model> kTable = {
@@ -114,7 +107,7 @@ const opt::ParameterTable<Model> kTable = {
      MECHOPT_STORED_AT(m.bearing_diameter)},
     {quantity("platform_weight", Dimension::force, kNonNegative, "G of M_c = f G D / 2", "seed 002 eq. (7)"),
      MECHOPT_STORED_AT(m.platform_weight)},
-    {opt::whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for maxima and kinks", ""),
+    {whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for maxima and kinks", ""),
      MECHOPT_STORED_AT(m.cycle_points)},
 };
 

@@ -11,7 +11,6 @@
 namespace problems {
 namespace {
 
-using opt::Dimension;
 
 // "coupling" metrics on the side chosen by coupling_side.
 const std::vector<MetricSpec> kMetrics = {
@@ -45,12 +44,6 @@ struct Model {
   double nominal_slip = 0.025, overload_ratio = 2.0;  // eq. (27a), when critical_slip is not given
 };
 
-using opt::choice;
-using opt::kAnyValue;
-using opt::kNonNegative;
-using opt::kPositive;
-using opt::quantity;
-using opt::variable;
 const opt::Domain kFraction{0, 1, true, false};
 
 // The variables first, in the order of the switch in drive().
@@ -139,7 +132,7 @@ const opt::ParameterTable<Model> kTable = {
     {quantity("ode.atol", Dimension::dimensionless, kPositive,
               "absolute tolerance (steady state: relative to each state's scale)", ""),
      MECHOPT_STORED_AT(m.ode.atol)},
-    {opt::whole("ode.max_steps", {10, 100000000, false, false}, "step budget of one whole integration", ""),
+    {whole("ode.max_steps", {10, 100000000, false, false}, "step budget of one whole integration", ""),
      MECHOPT_STORED_AT(m.ode.max_steps)},
 };
 

@@ -12,9 +12,20 @@
 
 #include "mech/autodiff.hpp"
 #include "mech/cycle.hpp"
+#include "opt/parameters.hpp"
 #include "opt/problem.hpp"
 
 namespace problems {
+
+// The words of a parameter table (opt/parameters.hpp), for the problem files.
+using opt::choice;
+using opt::Dimension;
+using opt::kAnyValue;
+using opt::kNonNegative;
+using opt::kPositive;
+using opt::quantity;
+using opt::variable;
+using opt::whole;
 
 // Collects the metrics a caller wants, with gradients when S carries them.
 template <class S>

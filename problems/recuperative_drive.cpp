@@ -11,19 +11,12 @@
 namespace problems {
 namespace {
 
-using opt::Dimension;
 
 // Ratio (r + |e|)/l kept at most this far from the dead point (ratio 1), where
 // the rod can no longer reach the slider and velocities become unbounded.
 constexpr double kMaxCrankRodRatio = 0.99;
 
 using Model = RecuperativeDriveModel;
-using opt::choice;
-using opt::kAnyValue;
-using opt::kNonNegative;
-using opt::kPositive;
-using opt::quantity;
-using opt::variable;
 
 // Seed 000 data at 100 rpm (the speed Table 1 was computed at; docs/reproduction.md).
 Model default_model() {
@@ -67,7 +60,7 @@ const opt::ParameterTable<Model> kTable = {
     {choice("fidelity.rod", {"point_masses", "full"},
             "rod as its mass at its centre, or with its rotational inertia q l^3/12 added", "seed 000 eq. (10)"),
      MECHOPT_STORED_AT(m.drive.rod)},
-    {opt::whole("cycle_points", {4, 100000, false, false},
+    {whole("cycle_points", {4, 100000, false, false},
                 "grid points per revolution; auto: 45/acosh(l/(r+|e|)), at least 16 (~1e-13 relative)", "")
          .or_auto(),
      MECHOPT_STORED_AT(m.cycle_points)},

@@ -14,7 +14,6 @@
 namespace problems {
 namespace {
 
-using opt::Dimension;
 
 struct Model {
   mech::SliderCrank<double> mechanism{0.2, 0.8, 0.0, 1};
@@ -24,18 +23,18 @@ struct Model {
 
 // The variables first, in the order of slot() below.
 const opt::ParameterTable<Model> kTable = {
-    {opt::variable("crank_radius", Dimension::length, opt::kPositive, "r", "seed 000 eq. (1)"),
+    {variable("crank_radius", Dimension::length, opt::kPositive, "r", "seed 000 eq. (1)"),
      MECHOPT_STORED_AT(m.mechanism.r)},
-    {opt::variable("rod_length", Dimension::length, opt::kPositive, "l (l <= r + |e|: cannot_assemble)",
+    {variable("rod_length", Dimension::length, opt::kPositive, "l (l <= r + |e|: cannot_assemble)",
                    "seed 000 eq. (1)"),
      MECHOPT_STORED_AT(m.mechanism.l)},
-    {opt::variable("offset", Dimension::length, opt::kAnyValue, "e, the slider axis off the crank axis", ""),
+    {variable("offset", Dimension::length, opt::kAnyValue, "e, the slider axis off the crank axis", ""),
      MECHOPT_STORED_AT(m.mechanism.e)},
-    {opt::quantity("crank_speed", Dimension::angular_speed, opt::kPositive, "w, constant", "seed 000 eq. (5)"),
+    {quantity("crank_speed", Dimension::angular_speed, opt::kPositive, "w, constant", "seed 000 eq. (5)"),
      MECHOPT_STORED_AT(m.crank_speed)},
-    {opt::choice("kinematics", {"exact", "binomial"}, "exact, or the binomial series", "seed 001 eqs (36)-(39)"),
+    {choice("kinematics", {"exact", "binomial"}, "exact, or the binomial series", "seed 001 eqs (36)-(39)"),
      MECHOPT_STORED_AT(m.mechanism.kinematics)},
-    {opt::whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""),
+    {whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""),
      MECHOPT_STORED_AT(m.cycle_points)},
 };
 
