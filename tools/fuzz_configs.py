@@ -253,7 +253,8 @@ def m_choice(data, rng, ctx, mild=True):
     """Another value of an enum-like key: one seen in a config of the same
     problem (mild), or any value seen for that key name, other libraries
     and study types included (hostile)."""
-    table = ctx["choices"][data.get("problem")] if mild else ctx["any_choice"]
+    prob = data.get("problem")  # an earlier mutation may have made it a list
+    table = ctx["choices"].get(prob, {}) if mild and isinstance(prob, str) else ctx["any_choice"]
     cand = [(p, v) for p, v in paths(data) if isinstance(v, str) and isinstance(p[-1], str)
             and len(table.get(p[-1], ())) > 1 and not (mild and p[-1] in MILD_EXCLUDED)]
     if not cand:
