@@ -69,7 +69,7 @@ template <class Model>
 using ParameterTable = std::vector<ParameterRow<Model>>;
 
 // set and get of a row from one field expression of `m`:
-//   {{"crank_radius", Dimension::length, kPositive, "crank radius r", "eq. (1)"},
+//   {variable("crank_radius", Dimension::length, kPositive, "crank radius r", "seed 000 eq. (1)"),
 //    MECHOPT_STORED_AT(m.drive.crank_radius)}
 #define MECHOPT_STORED_AT(field)                                                         \
   [](auto& m, double v) { field = static_cast<std::remove_cvref_t<decltype(field)>>(v); }, \
