@@ -105,3 +105,25 @@ TEST(Repro, RenamedMetricIsAcceptedWithANotice) {
 }
 
 }  // namespace
+
+namespace {
+
+// `problem: elastic_drive` alone: the default BDF path (whose Jacobian once
+// read past a 3-entry vector under AddressSanitizer; `make sanitize` runs this
+// test too) evaluates the model values. Over a steady cycle the motor's mean
+// power goes into the resistance and the damping (energy balance); the
+// residual stays at the integration's tolerance level (rtol 1e-8).
+TEST(Repro, ElasticDefaultBdfEvaluatesAndBalancesEnergy) {
+  const std::string dir = cli::fresh_dir("repro_elastic_default_bdf_sanitizer");
+  const auto o = cli::run("run " + cli::source("tests/repro/elastic_default_bdf_sanitizer.yaml") + " --output " + dir);
+  ASSERT_TRUE(o.exited(0)) << o.output;
+  std::ifstream in(dir + "/result.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["study"], "evaluate");
+  ASSERT_EQ(j["design_status"], "ok") << j.dump(2);
+  for (const auto& [name, v] : j["metrics"].items()) EXPECT_TRUE(v.is_number()) << name;
+  EXPECT_LT(j["metrics"]["energy_balance_error"].get<double>(), 1e-6);
+  EXPECT_EQ(j["settings"]["model"]["ode"]["method"], "bdf");
+}
+
+}  // namespace
