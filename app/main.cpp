@@ -137,7 +137,7 @@ int check(const opt::Problem& p) {
     std::cerr << "mechopt: " << p.name() << " has no exact gradients to check\n";
     return 2;
   }
-  const auto e = p.evaluate(x, {}, false);
+  const auto e = p.evaluate(x, opt::MetricSet::all(), false);
   if (!e.ok()) {
     std::cerr << "mechopt: the model values give an infeasible design (" << mech::to_string(e.status) << ")\n";
     return 1;

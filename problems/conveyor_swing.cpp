@@ -17,20 +17,39 @@ namespace {
 // as either vanishes.
 constexpr double kMinMargin = 1e-3;
 
+// The metrics, in the order of kMetrics (their MetricIds).
+struct M {
+  enum Id : int {
+    peak_crank_torque,
+    mean_abs_crank_torque,
+    rms_crank_torque,
+    max_pressure_angle,
+    time_ratio,
+    swing_angle,
+    crank_length,
+    coupler_length,
+    rocker_length,
+    frame_length,
+    grashof_margin,
+    rotation_margin,
+    synthesis_margin,
+  };
+};
+
 const std::vector<MetricSpec> kMetrics = {
-    {"peak_crank_torque", "N m", "peak_moment"},         // max |M| over the cycle, eq. (6)
-    {"mean_abs_crank_torque", "N m", "mean_abs_moment"},     // cycle mean of |M|
-    {"rms_crank_torque", "N m", "rms_moment"},
-    {"max_pressure_angle", "rad"},  // max over the cycle, [gamma]_max of Table 2
-    {"time_ratio", ""},             // K_w, eq. (5)
-    {"swing_angle", "rad"},         // rocker swing between dead centres (2 theta)
-    {"crank_length", "m"},          // l1
-    {"coupler_length", "m"},        // l2
-    {"rocker_length", "m"},         // l3
-    {"frame_length", "m"},          // l4, eq. (1)
-    {"grashof_margin", "m"},        // p + q - s - l: >= 0 for a fully turning link
-    {"rotation_margin", "m"},       // > 0: the crank turns fully (no toggle in the cycle)
-    {"synthesis_margin", "m"},      // > 0: B', B'' on one side of O1O (synthesis mode)
+    {M::peak_crank_torque, "peak_crank_torque", "N m", "peak_moment"},         // max |M| over the cycle, eq. (6)
+    {M::mean_abs_crank_torque, "mean_abs_crank_torque", "N m", "mean_abs_moment"},     // cycle mean of |M|
+    {M::rms_crank_torque, "rms_crank_torque", "N m", "rms_moment"},
+    {M::max_pressure_angle, "max_pressure_angle", "rad"},  // max over the cycle, [gamma]_max of Table 2
+    {M::time_ratio, "time_ratio", ""},             // K_w, eq. (5)
+    {M::swing_angle, "swing_angle", "rad"},         // rocker swing between dead centres (2 theta)
+    {M::crank_length, "crank_length", "m"},          // l1
+    {M::coupler_length, "coupler_length", "m"},        // l2
+    {M::rocker_length, "rocker_length", "m"},         // l3
+    {M::frame_length, "frame_length", "m"},          // l4, eq. (1)
+    {M::grashof_margin, "grashof_margin", "m"},        // p + q - s - l: >= 0 for a fully turning link
+    {M::rotation_margin, "rotation_margin", "m"},       // > 0: the crank turns fully (no toggle in the cycle)
+    {M::synthesis_margin, "synthesis_margin", "m"},      // > 0: B', B'' on one side of O1O (synthesis mode)
 };
 
 // The config's values (SI); `mech` is derived from them by derive().
@@ -163,29 +182,29 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     using std::abs;
     const Design<S> d = design(x);
     const auto& k = d.mech.linkage;
-    if (model_.synthesis()) out.put("synthesis_margin", d.synthesis_margin);
-    out.put("crank_length", k.crank);
-    out.put("coupler_length", k.coupler);
-    out.put("rocker_length", k.rocker);
-    out.put("frame_length", k.frame());
-    out.put("rotation_margin", mech::rotation_margin(k));
-    out.put("grashof_margin", grashof_margin(k));
+    if (model_.synthesis()) out.put(M::synthesis_margin, d.synthesis_margin);
+    out.put(M::crank_length, k.crank);
+    out.put(M::coupler_length, k.coupler);
+    out.put(M::rocker_length, k.rocker);
+    out.put(M::frame_length, k.frame());
+    out.put(M::rotation_margin, mech::rotation_margin(k));
+    out.put(M::grashof_margin, grashof_margin(k));
     if (const mech::Status st = d.status(); st != mech::Status::ok) {
       out.result.status = st;
       return;
     }
     const auto dc = mech::dead_centres(k);
-    out.put("swing_angle", abs(dc.theta3_folded - dc.theta3_extended));
-    out.put("time_ratio", mech::time_ratio(dc));
-    if (!out.want_any("peak_crank_torque", "mean_abs_crank_torque", "rms_crank_torque", "max_pressure_angle")) return;
-    const bool means = out.want_any("mean_abs_crank_torque", "rms_crank_torque");
+    out.put(M::swing_angle, abs(dc.theta3_folded - dc.theta3_extended));
+    out.put(M::time_ratio, mech::time_ratio(dc));
+    if (!out.want_any(M::peak_crank_torque, M::mean_abs_crank_torque, M::rms_crank_torque, M::max_pressure_angle)) return;
+    const bool means = out.want_any(M::mean_abs_crank_torque, M::rms_crank_torque);
     const auto r = mech::swing_metrics(d.mech, model_.cycle_points, means);
-    out.put("peak_crank_torque", r.peak_moment);
+    out.put(M::peak_crank_torque, r.peak_moment);
     if (means) {
-      out.put("mean_abs_crank_torque", r.mean_abs_moment);
-      out.put("rms_crank_torque", r.rms_moment);
+      out.put(M::mean_abs_crank_torque, r.mean_abs_moment);
+      out.put(M::rms_crank_torque, r.rms_moment);
     }
-    out.put("max_pressure_angle", r.max_pressure_angle);
+    out.put(M::max_pressure_angle, r.max_pressure_angle);
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
@@ -202,18 +221,17 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     return c;
   }
 
-  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x,
-                                             const std::string& metric) const override {
+  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
     if (design(std::vector<double>(x.data(), x.data() + x.size())).status() != mech::Status::ok)
       return {};
     auto model_at = [&](const auto& xs) { return design(xs).mech; };
     const int n = model_.cycle_points;
-    if (metric == "peak_crank_torque")
+    if (metric == M::peak_crank_torque)
       return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
         using std::abs;
         return std::decay_t<decltype(phi)>(abs(mech::swing_point(m, phi).moment()));
       });
-    if (metric == "max_pressure_angle")
+    if (metric == M::max_pressure_angle)
       return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
         mech::FourBarPoint<std::decay_t<decltype(phi)>> p;
         mech::four_bar_point(m.linkage, phi, p);

@@ -12,25 +12,48 @@ namespace problems {
 namespace {
 
 
-// "coupling" metrics on the side chosen by coupling_side.
+// The metrics, in the order of kMetrics (their MetricIds); "coupling"
+// metrics on the side chosen by coupling_side.
+struct M {
+  enum Id : int {
+    peak_coupling_torque,
+    rms_coupling_torque,
+    min_coupling_torque,
+    max_coupling_torque,
+    mean_crank_speed,
+    speed_irregularity,
+    min_motor_torque,
+    max_motor_torque,
+    min_motor_speed,
+    max_motor_speed,
+    mean_motor_power,
+    mean_resistance_power,
+    mean_damping_power,
+    energy_balance_error,
+    largest_multiplier,
+    peak_startup_coupling_torque,
+    time_to_steady,
+  };
+};
+
 const std::vector<MetricSpec> kMetrics = {
-    {"peak_coupling_torque", "N m"},  // max |c theta + k theta'| over the steady cycle
-    {"rms_coupling_torque", "N m"},   // time RMS over the steady cycle
-    {"min_coupling_torque", "N m"},
-    {"max_coupling_torque", "N m"},
-    {"mean_crank_speed", "rad/s", "mean_speed"},          // crank, steady cycle
-    {"speed_irregularity", ""},       // (w2max - w2min) / w2mean
-    {"min_motor_torque", "N m", "motor_torque_min"},      // motor shaft
-    {"max_motor_torque", "N m", "motor_torque_max"},
-    {"min_motor_speed", "rad/s", "motor_speed_min"},     // motor shaft
-    {"max_motor_speed", "rad/s", "motor_speed_max"},
-    {"mean_motor_power", "W"},
-    {"mean_resistance_power", "W"},
-    {"mean_damping_power", "W"},
-    {"energy_balance_error", ""},     // |P_motor - P_res - P_damping| / P_motor
-    {"largest_multiplier", ""},       // of the steady orbit (< 1: it attracts; docs/config.md)
-    {"peak_startup_coupling_torque", "N m", "startup_peak_coupling_torque"},  // start-up transient
-    {"time_to_steady", "s"},          // start-up: every revolution's peak within 1% after it
+    {M::peak_coupling_torque, "peak_coupling_torque", "N m"},  // max |c theta + k theta'| over the steady cycle
+    {M::rms_coupling_torque, "rms_coupling_torque", "N m"},   // time RMS over the steady cycle
+    {M::min_coupling_torque, "min_coupling_torque", "N m"},
+    {M::max_coupling_torque, "max_coupling_torque", "N m"},
+    {M::mean_crank_speed, "mean_crank_speed", "rad/s", "mean_speed"},          // crank, steady cycle
+    {M::speed_irregularity, "speed_irregularity", ""},       // (w2max - w2min) / w2mean
+    {M::min_motor_torque, "min_motor_torque", "N m", "motor_torque_min"},      // motor shaft
+    {M::max_motor_torque, "max_motor_torque", "N m", "motor_torque_max"},
+    {M::min_motor_speed, "min_motor_speed", "rad/s", "motor_speed_min"},     // motor shaft
+    {M::max_motor_speed, "max_motor_speed", "rad/s", "motor_speed_max"},
+    {M::mean_motor_power, "mean_motor_power", "W"},
+    {M::mean_resistance_power, "mean_resistance_power", "W"},
+    {M::mean_damping_power, "mean_damping_power", "W"},
+    {M::energy_balance_error, "energy_balance_error", ""},     // |P_motor - P_res - P_damping| / P_motor
+    {M::largest_multiplier, "largest_multiplier", ""},       // of the steady orbit (< 1: it attracts; docs/config.md)
+    {M::peak_startup_coupling_torque, "peak_startup_coupling_torque", "N m", "startup_peak_coupling_torque"},  // start-up transient
+    {M::time_to_steady, "time_to_steady", "s"},          // start-up: every revolution's peak within 1% after it
 };
 
 struct Model {
@@ -144,49 +167,45 @@ class ElasticDriveProblem : public TabledProblem {
 
   bool provides_gradients() const override { return false; }
 
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
-                           bool) const override {
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
+                                    bool) const override {
     const mech::ElasticDrive d = drive(x);
-    auto want = [&](const char* n) {
-      return wanted.empty() || std::find(wanted.begin(), wanted.end(), n) != wanted.end();
-    };
-    opt::Evaluation e;
-    auto put = [&](const char* n, double v) {
-      if (want(n)) e.metrics[n] = {v, {}};
-    };
+    MetricSink<double> out(wanted);
+    opt::Evaluation& e = out.result;
+    auto put = [&](M::Id id, double v) { out.put(id, v); };
     const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
     if (s.status != mech::Status::ok) {
       e.status = s.status;
-      return e;
+      return std::move(out.result);
     }
     const double side = m_.motor_side ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
-    put("peak_coupling_torque", s.coupling_peak * side);
-    put("rms_coupling_torque", s.coupling_rms * side);
-    put("min_coupling_torque", s.coupling_min * side);
-    put("max_coupling_torque", s.coupling_max * side);
-    put("mean_crank_speed", s.mean_speed);
-    put("speed_irregularity", s.speed_irregularity);
-    put("min_motor_torque", s.motor_torque_min);
-    put("max_motor_torque", s.motor_torque_max);
-    put("min_motor_speed", s.motor_speed_min);
-    put("max_motor_speed", s.motor_speed_max);
-    put("mean_motor_power", s.mean_motor_power);
-    put("mean_resistance_power", s.mean_resistance_power);
-    put("mean_damping_power", s.mean_damping_power);
-    put("energy_balance_error",
+    put(M::peak_coupling_torque, s.coupling_peak * side);
+    put(M::rms_coupling_torque, s.coupling_rms * side);
+    put(M::min_coupling_torque, s.coupling_min * side);
+    put(M::max_coupling_torque, s.coupling_max * side);
+    put(M::mean_crank_speed, s.mean_speed);
+    put(M::speed_irregularity, s.speed_irregularity);
+    put(M::min_motor_torque, s.motor_torque_min);
+    put(M::max_motor_torque, s.motor_torque_max);
+    put(M::min_motor_speed, s.motor_speed_min);
+    put(M::max_motor_speed, s.motor_speed_max);
+    put(M::mean_motor_power, s.mean_motor_power);
+    put(M::mean_resistance_power, s.mean_resistance_power);
+    put(M::mean_damping_power, s.mean_damping_power);
+    put(M::energy_balance_error,
         std::abs(s.mean_motor_power - s.mean_resistance_power - s.mean_damping_power) /
             std::max(std::abs(s.mean_motor_power), 1e-12));
-    put("largest_multiplier", s.largest_multiplier);
-    if (want("peak_startup_coupling_torque") || want("time_to_steady")) {
+    put(M::largest_multiplier, s.largest_multiplier);
+    if (out.want_any(M::peak_startup_coupling_torque, M::time_to_steady)) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
       if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
         e.status = st.status;
-        return e;
+        return std::move(out.result);
       }
-      put("peak_startup_coupling_torque", st.peak_coupling * side);
-      put("time_to_steady", st.time_to_steady);
+      put(M::peak_startup_coupling_torque, st.peak_coupling * side);
+      put(M::time_to_steady, st.time_to_steady);
     }
-    return e;
+    return std::move(out.result);
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int) const override {

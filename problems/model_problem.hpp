@@ -5,6 +5,7 @@
 // the scalar; nothing here knows which driver runs it.
 #pragma once
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -28,46 +29,58 @@ using opt::variable;
 using opt::whole;
 
 // Collects the metrics a caller wants, with gradients when S carries them.
+// Metrics are named by the problem's own enum, whose values are the rows of
+// its metric table (TabledProblem checks the order).
 template <class S>
 class MetricSink {
  public:
-  explicit MetricSink(const std::vector<std::string>& wanted) : wanted_(wanted) {}
-  bool want(const std::string& name) const {
-    return wanted_.empty() || std::find(wanted_.begin(), wanted_.end(), name) != wanted_.end();
-  }
-  template <class... Names>
-  bool want_any(const Names&... names) const { return (want(names) || ...); }
-  void put(const std::string& name, const S& v) {
-    if (!want(name)) return;
+  explicit MetricSink(const opt::MetricSet& wanted) : wanted_(wanted) {}
+  template <class Id>
+  bool want(Id id) const { return wanted_.contains(static_cast<opt::MetricId>(id)); }
+  template <class... Ids>
+  bool want_any(Ids... ids) const { return (want(ids) || ...); }
+  template <class Id>
+  void put(Id id, const S& v) {
+    if (!want(id)) return;
     opt::MetricValue mv;
     mv.value = mech::value(v);
     if constexpr (mech::is_dual<S>) mv.gradient = v.derivatives();
-    result.metrics[name] = mv;
+    result.set(static_cast<opt::MetricId>(id), std::move(mv));
   }
   opt::Evaluation result;
 
  private:
-  const std::vector<std::string>& wanted_;
+  const opt::MetricSet& wanted_;
 };
 
+// A row of a problem's metric table: `id` is the problem's enum value for
+// it, equal to the row's position.
 struct MetricSpec {
+  int id;
   std::string name, unit;
   std::string formerly = "";  // an earlier name, still accepted in configs
+  template <class Id>
+  MetricSpec(Id i, std::string n, std::string u, std::string f = "")
+      : id(static_cast<int>(i)), name(std::move(n)), unit(std::move(u)), formerly(std::move(f)) {}
 };
 
 // A problem's name, its table of metrics with units, and its variables.
 class TabledProblem : public opt::Problem {
  public:
   TabledProblem(std::string name, std::vector<MetricSpec> metrics, std::vector<opt::Variable> vars)
-      : name_(std::move(name)), metrics_(std::move(metrics)), vars_(std::move(vars)) {}
+      : name_(std::move(name)), metrics_(std::move(metrics)), vars_(std::move(vars)) {
+    if (metrics_.size() > static_cast<size_t>(opt::MetricSet::kMax))
+      throw std::logic_error(name_ + ": more metrics than opt::MetricSet holds");
+    for (size_t i = 0; i < metrics_.size(); ++i) {
+      if (metrics_[i].id != static_cast<int>(i))
+        throw std::logic_error(name_ + ": metric " + metrics_[i].name + " is not at its enum's position");
+      names_.push_back(metrics_[i].name);
+    }
+  }
 
   std::string name() const override { return name_; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override {
-    std::vector<std::string> out;
-    for (const auto& m : metrics_) out.push_back(m.name);
-    return out;
-  }
+  const std::vector<std::string>& metric_names() const override { return names_; }
   std::string renamed_metric(const std::string& old) const override {
     for (const auto& m : metrics_)
       if (!old.empty() && m.formerly == old) return m.name;
@@ -82,6 +95,7 @@ class TabledProblem : public opt::Problem {
  private:
   std::string name_;
   std::vector<MetricSpec> metrics_;
+  std::vector<std::string> names_;
   std::vector<opt::Variable> vars_;
 };
 
@@ -93,8 +107,8 @@ class ModelProblem : public TabledProblem {
  public:
   using TabledProblem::TabledProblem;
 
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
-                           bool gradient) const override {
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
+                                    bool gradient) const override {
     return with_scalar(x, gradient, [&](const auto& xs) {
       MetricSink<typename std::decay_t<decltype(xs)>::value_type> sink(wanted);
       static_cast<const Derived&>(*this).evaluate_model(xs, sink);

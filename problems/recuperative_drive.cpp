@@ -77,17 +77,33 @@ S& slot(mech::TwinDrive<S>& d, int i) {
   }
 }
 
+// The metrics, in the order of kMetrics (their MetricIds).
+struct M {
+  enum Id : int {
+    peak_kinetic_energy,
+    mean_kinetic_energy,
+    least_mean_kinetic_energy,
+    k1,
+    k2,
+    k3,
+    peak_crank_torque,
+    mean_crank_torque,
+    rms_crank_torque,
+    crank_rod_ratio,
+  };
+};
+
 const std::vector<MetricSpec> kMetrics = {
-    {"peak_kinetic_energy", "J"},        // T_max, eqs (11), (15)
-    {"mean_kinetic_energy", "J"},        // T_cp, eq. (12)
-    {"least_mean_kinetic_energy", "J"},  // T_min, eq. (14)
-    {"k1", ""},                          // T_max / T_cp, eq. (15)
-    {"k2", ""},                          // T_cp / T_min
-    {"k3", ""},                          // T_max / T_min
-    {"peak_crank_torque", "N m", "peak_total_moment"},        // max |M| over the cycle, eq. (21)
-    {"mean_crank_torque", "N m", "mean_total_moment"},
-    {"rms_crank_torque", "N m", "rms_total_moment"},
-    {"crank_rod_ratio", ""},             // (r + |e|) / l
+    {M::peak_kinetic_energy, "peak_kinetic_energy", "J"},        // T_max, eqs (11), (15)
+    {M::mean_kinetic_energy, "mean_kinetic_energy", "J"},        // T_cp, eq. (12)
+    {M::least_mean_kinetic_energy, "least_mean_kinetic_energy", "J"},  // T_min, eq. (14)
+    {M::k1, "k1", ""},                          // T_max / T_cp, eq. (15)
+    {M::k2, "k2", ""},                          // T_cp / T_min
+    {M::k3, "k3", ""},                          // T_max / T_min
+    {M::peak_crank_torque, "peak_crank_torque", "N m", "peak_total_moment"},        // max |M| over the cycle, eq. (21)
+    {M::mean_crank_torque, "mean_crank_torque", "N m", "mean_total_moment"},
+    {M::rms_crank_torque, "rms_crank_torque", "N m", "rms_total_moment"},
+    {M::crank_rod_ratio, "crank_rod_ratio", ""},             // (r + |e|) / l
 };
 
 class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
@@ -123,17 +139,16 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
     return c;
   }
 
-  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x,
-                                             const std::string& metric) const override {
+  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
     const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
     if (mech::check(d) != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return drive(xs); };
     const int n = points(d);
-    if (metric == "peak_kinetic_energy")
+    if (metric == M::peak_kinetic_energy)
       return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
         return std::decay_t<decltype(phi)>(mech::drive_point(dr, phi).kinetic_energy);
       });
-    if (metric == "peak_crank_torque")
+    if (metric == M::peak_crank_torque)
       return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
         using std::abs;
         return std::decay_t<decltype(phi)>(abs(mech::drive_point(dr, phi).total_moment()));
@@ -157,42 +172,42 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     const mech::TwinDrive<S> d = drive(x);
     using std::abs;
-    out.put("crank_rod_ratio", (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
+    out.put(M::crank_rod_ratio, (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
     if (const mech::Status st = mech::check(d); st != mech::Status::ok) {
       out.result.status = st;
       return;
     }
     mech::CycleNeeds needs;
-    needs.peak_energy = out.want_any("peak_kinetic_energy", "k1", "k3");
-    needs.moments = out.want_any("peak_crank_torque", "mean_crank_torque", "rms_crank_torque");
+    needs.peak_energy = out.want_any(M::peak_kinetic_energy, M::k1, M::k3);
+    needs.moments = out.want_any(M::peak_crank_torque, M::mean_crank_torque, M::rms_crank_torque);
     const bool need_cycle = needs.peak_energy || needs.moments ||
-                            out.want_any("mean_kinetic_energy", "k2");
+                            out.want_any(M::mean_kinetic_energy, M::k2);
     if (!need_cycle) {
-      out.put("least_mean_kinetic_energy", mech::least_mean_kinetic_energy(d));
+      out.put(M::least_mean_kinetic_energy, mech::least_mean_kinetic_energy(d));
       return;
     }
     const int n = points(d);
     if (!needs.peak_energy && !needs.moments) {  // the fast path: the cycle mean alone
       const S mean = mech::mean_kinetic_energy(d, n);
       const S least = mech::least_mean_kinetic_energy(d);
-      out.put("mean_kinetic_energy", mean);
-      out.put("least_mean_kinetic_energy", least);
-      out.put("k2", mean / least);
+      out.put(M::mean_kinetic_energy, mean);
+      out.put(M::least_mean_kinetic_energy, least);
+      out.put(M::k2, mean / least);
       return;
     }
     const auto m = mech::cycle_metrics(d, n, needs);
-    out.put("mean_kinetic_energy", m.mean_kinetic_energy);
-    out.put("least_mean_kinetic_energy", m.least_mean_kinetic_energy);
-    out.put("k2", m.k2);
+    out.put(M::mean_kinetic_energy, m.mean_kinetic_energy);
+    out.put(M::least_mean_kinetic_energy, m.least_mean_kinetic_energy);
+    out.put(M::k2, m.k2);
     if (needs.peak_energy) {
-      out.put("peak_kinetic_energy", m.peak_kinetic_energy);
-      out.put("k1", m.k1);
-      out.put("k3", m.k3);
+      out.put(M::peak_kinetic_energy, m.peak_kinetic_energy);
+      out.put(M::k1, m.k1);
+      out.put(M::k3, m.k3);
     }
     if (needs.moments) {
-      out.put("peak_crank_torque", m.peak_total_moment);
-      out.put("mean_crank_torque", m.mean_total_moment);
-      out.put("rms_crank_torque", m.rms_total_moment);
+      out.put(M::peak_crank_torque, m.peak_total_moment);
+      out.put(M::mean_crank_torque, m.mean_total_moment);
+      out.put(M::rms_crank_torque, m.rms_total_moment);
     }
   }
 

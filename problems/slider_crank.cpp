@@ -47,10 +47,19 @@ S& slot(mech::SliderCrank<S>& k, int row) {
   }
 }
 
+// The metrics, in the order of kMetrics (their MetricIds).
+struct M {
+  enum Id : int {
+    stroke,
+    peak_slider_acceleration,
+    max_pressure_angle,
+  };
+};
+
 const std::vector<MetricSpec> kMetrics = {
-    {"stroke", "m"},                          // max x - min x over the cycle
-    {"peak_slider_acceleration", "m/s^2"},    // max |x''| w^2
-    {"max_pressure_angle", "rad"},            // max |asin(h / l)|, the rod against the slider axis
+    {M::stroke, "stroke", "m"},                          // max x - min x over the cycle
+    {M::peak_slider_acceleration, "peak_slider_acceleration", "m/s^2"},    // max |x''| w^2
+    {M::max_pressure_angle, "max_pressure_angle", "rad"},            // max |asin(h / l)|, the rod against the slider axis
 };
 
 class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
@@ -104,11 +113,11 @@ class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
     };
     using std::asin;
     const S w(m_.crank_speed);
-    if (out.want("stroke"))
-      out.put("stroke", position(k, S(at(position))) - position(k, S(at(minus_position))));
-    if (out.want("peak_slider_acceleration"))
-      out.put("peak_slider_acceleration", acceleration(k, S(at(acceleration))) * w * w);
-    if (out.want("max_pressure_angle")) out.put("max_pressure_angle", asin(rod_slope(k, S(at(rod_slope)))));
+    if (out.want(M::stroke))
+      out.put(M::stroke, position(k, S(at(position))) - position(k, S(at(minus_position))));
+    if (out.want(M::peak_slider_acceleration))
+      out.put(M::peak_slider_acceleration, acceleration(k, S(at(acceleration))) * w * w);
+    if (out.want(M::max_pressure_angle)) out.put(M::max_pressure_angle, asin(rod_slope(k, S(at(rod_slope)))));
   }
 
  private:

@@ -174,12 +174,13 @@ class SlowRosenbrock : public opt::Problem {
   explicit SlowRosenbrock(std::vector<opt::Variable> v) : vars_(std::move(v)) {}
   std::string name() const override { return "slow_rosenbrock"; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override { return {"f"}; }
+  const std::vector<std::string>& metric_names() const override { return names_; }
+  const std::vector<std::string> names_ = {"f"};
   std::string metric_unit(const std::string&) const override { return ""; }
   nlohmann::json settings() const override { return {}; }
 
  protected:
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
                                     bool gradient) const override {
     std::this_thread::sleep_for(std::chrono::duration<double>(kEvaluationSeconds));
     return rosenbrock_.evaluate(x, wanted, gradient);
@@ -254,7 +255,7 @@ class Tripwire : public testing_problems::Analytic {
   mutable int evaluations = 0;
 
  protected:
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
                                     bool gradient) const override {
     if (++evaluations == at_) {
       if (action_ == Action::raise) throw std::runtime_error("model exploded at evaluation " + std::to_string(at_));
@@ -306,13 +307,14 @@ class NanBeyond : public opt::Problem {
  public:
   std::string name() const override { return "nan_beyond"; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override { return {"f"}; }
+  const std::vector<std::string>& metric_names() const override { return names_; }
+  const std::vector<std::string> names_ = {"f"};
   std::string metric_unit(const std::string&) const override { return ""; }
   nlohmann::json settings() const override { return {}; }
   mutable int nan_evaluations = 0;
 
  protected:
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet&,
                                     bool gradient) const override {
     const Eigen::VectorXd d = x - Eigen::Vector2d(1, 1);
     opt::MetricValue f{1 + d.squaredNorm(), gradient ? Eigen::VectorXd(2 * d) : Eigen::VectorXd()};
@@ -322,7 +324,7 @@ class NanBeyond : public opt::Problem {
       f.gradient.setConstant(std::numeric_limits<double>::quiet_NaN());
     }
     opt::Evaluation e;
-    e.metrics["f"] = f;
+    e.set(0, f);
     return e;
   }
 
@@ -360,10 +362,11 @@ class InfinitePeak : public opt::Problem {
   explicit InfinitePeak(double start) : vars_{{"x", opt::Dimension::dimensionless, -3, 5, start}} {}
   std::string name() const override { return "infinite_peak"; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override { return {"peak"}; }
+  const std::vector<std::string>& metric_names() const override { return names_; }
+  const std::vector<std::string> names_ = {"peak"};
   std::string metric_unit(const std::string&) const override { return ""; }
   nlohmann::json settings() const override { return {}; }
-  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, const std::string&) const override {
+  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId) const override {
     const double a = x[0] - 1, b = x[0] + 1;
     std::vector<opt::MetricValue> peaks = {{a * a, Eigen::VectorXd::Constant(1, 2 * a)},
                                            {b * b / 4, Eigen::VectorXd::Constant(1, b / 2)}};
@@ -372,12 +375,12 @@ class InfinitePeak : public opt::Problem {
   }
 
  protected:
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet&,
                                     bool gradient) const override {
     const double a = (x[0] - 1) * (x[0] - 1), b = (x[0] + 1) * (x[0] + 1) / 4;
     opt::Evaluation e;
-    e.metrics["peak"] = {std::max(a, b), gradient ? Eigen::VectorXd::Constant(1, a > b ? 2 * (x[0] - 1) : (x[0] + 1) / 2)
-                                                  : Eigen::VectorXd()};
+    e.set(0, {std::max(a, b), gradient ? Eigen::VectorXd::Constant(1, a > b ? 2 * (x[0] - 1) : (x[0] + 1) / 2)
+                                                  : Eigen::VectorXd()});
     return e;
   }
 

@@ -344,7 +344,7 @@ TEST(ElasticDriveProblem, GridValueOutsideTheDomainIsInvalidParameter) {
   // a design handed to the problem directly with c = -1000 is still a status.
   const auto p = problems::make_problem(opt::ConfigNode::parse(
       "problem: elastic_drive\nvariables: {stiffness: {min: 1000, max: 1e6}}\n", "<t>"));
-  EXPECT_EQ(p->evaluate(Eigen::VectorXd::Constant(1, -1000.0), {}, false).status, mech::Status::invalid_parameter);
+  EXPECT_EQ(p->evaluate(Eigen::VectorXd::Constant(1, -1000.0), opt::MetricSet::all(), false).status, mech::Status::invalid_parameter);
 }
 
 // No C++ exception crosses a SUNDIALS callback: a throwing callback (here a

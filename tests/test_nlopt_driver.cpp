@@ -141,19 +141,20 @@ class Quadratic : public opt::Problem {
   }
   std::string name() const override { return "quadratic"; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override { return {"f", "c"}; }
+  const std::vector<std::string>& metric_names() const override { return names_; }
+  const std::vector<std::string> names_ = {"f", "c"};
   std::string metric_unit(const std::string&) const override { return ""; }
   bool provides_gradients() const override { return gradients_; }
   nlohmann::json settings() const override { return {}; }
   mutable int evaluations = 0;
 
  protected:
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet&,
                                     bool gradient) const override {
     ++evaluations;
     opt::Evaluation e;
-    e.metrics["f"] = {x.squaredNorm(), gradient ? Eigen::VectorXd(2 * x) : Eigen::VectorXd()};
-    e.metrics["c"] = {x.sum(), gradient ? Eigen::VectorXd::Ones(x.size()).eval() : Eigen::VectorXd()};
+    e.set(0, {x.squaredNorm(), gradient ? Eigen::VectorXd(2 * x) : Eigen::VectorXd()});
+    e.set(1, {x.sum(), gradient ? Eigen::VectorXd::Ones(x.size()).eval() : Eigen::VectorXd()});
     return e;
   }
 

@@ -16,22 +16,21 @@ class Analytic : public opt::Problem {
  public:
   using Fn = std::function<opt::MetricValue(const Eigen::VectorXd&)>;
   Analytic(std::string name, std::vector<opt::Variable> vars, std::vector<std::pair<std::string, Fn>> metrics)
-      : name_(std::move(name)), vars_(std::move(vars)), metrics_(std::move(metrics)) {}
+      : name_(std::move(name)), vars_(std::move(vars)), metrics_(std::move(metrics)) {
+    for (const auto& m : metrics_) names_.push_back(m.first);
+  }
   std::string name() const override { return name_; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
-  std::vector<std::string> metric_names() const override {
-    std::vector<std::string> out;
-    for (const auto& m : metrics_) out.push_back(m.first);
-    return out;
-  }
+  const std::vector<std::string>& metric_names() const override { return names_; }
   std::string metric_unit(const std::string&) const override { return ""; }
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>&,
-                           bool gradient) const override {
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet&,
+                                    bool gradient) const override {
     if (throws) throw std::runtime_error("model exploded");
     opt::Evaluation e;
-    for (const auto& [name, f] : metrics_) {
-      e.metrics[name] = f(x);
-      if (!gradient) e.metrics[name].gradient.resize(0);
+    for (size_t i = 0; i < metrics_.size(); ++i) {
+      opt::MetricValue v = metrics_[i].second(x);
+      if (!gradient) v.gradient.resize(0);
+      e.set(static_cast<opt::MetricId>(i), std::move(v));
     }
     return e;
   }
@@ -42,6 +41,7 @@ class Analytic : public opt::Problem {
   std::string name_;
   std::vector<opt::Variable> vars_;
   std::vector<std::pair<std::string, Fn>> metrics_;
+  std::vector<std::string> names_;
 };
 
 // NLopt tutorial: min sqrt(x2) s.t. x2 >= (a x1 + b)^3 for (a, b) = (2, 0),

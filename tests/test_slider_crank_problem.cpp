@@ -26,7 +26,7 @@ constexpr double kTol = 1e-12;  // relative: extrema refined to machine precisio
 TEST(SliderCrankProblem, StrokeAndPressureAngleWithOffset) {
   const double r = 0.25, l = 0.9, e = 0.07;
   const auto p = slider_crank("crank_radius: 0.25 m, rod_length: 0.9 m, offset: 0.07 m");
-  const auto m = p->evaluate(p->initial_point(), {}, false);
+  const auto m = p->evaluate(p->initial_point(), opt::MetricSet::all(), false);
   ASSERT_TRUE(m.ok());
   const double stroke = std::sqrt((l + r) * (l + r) - e * e) - std::sqrt((l - r) * (l - r) - e * e);
   EXPECT_NEAR(m.at("stroke") / stroke, 1, kTol);
@@ -36,7 +36,7 @@ TEST(SliderCrankProblem, StrokeAndPressureAngleWithOffset) {
 TEST(SliderCrankProblem, PeakAccelerationWithoutOffset) {
   const double r = 0.2, l = 1.0, w = 10;
   const auto p = slider_crank("crank_radius: 0.2 m, rod_length: 1 m, crank_speed: 10 rad/s");
-  const auto m = p->evaluate(p->initial_point(), {}, false);
+  const auto m = p->evaluate(p->initial_point(), opt::MetricSet::all(), false);
   ASSERT_TRUE(m.ok());
   EXPECT_NEAR(m.at("stroke") / (2 * r), 1, kTol);
   EXPECT_NEAR(m.at("peak_slider_acceleration") / (r * w * w * (1 + r / l)), 1, kTol);
@@ -48,7 +48,7 @@ TEST(SliderCrankProblem, GradientsAndTheDeadPoint) {
     EXPECT_TRUE(c.ok) << c.metric << " d/d" << c.variable << ": " << c.autodiff << " vs " << c.central;
   // r + |e| >= l: the rod cannot reach the slider axis at every crank angle.
   const auto q = slider_crank("crank_radius: 0.3 m, rod_length: 0.5 m, offset: 0.2 m");
-  EXPECT_EQ(q->evaluate(q->initial_point(false), {}, false).status, mech::Status::cannot_assemble);
+  EXPECT_EQ(q->evaluate(q->initial_point(false), opt::MetricSet::all(), false).status, mech::Status::cannot_assemble);
 }
 
 }  // namespace

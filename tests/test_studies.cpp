@@ -56,6 +56,7 @@ study: {type: pareto, objectives: [peak_crank_torque]}
 
 // Nothing non-finite is reported as ok: a metric (or a gradient) that comes
 // out NaN or infinite makes the design non_finite, with no metrics.
+#include "problems/model_problem.hpp"
 #include "test_problems.hpp"
 
 namespace {
@@ -68,16 +69,48 @@ TEST(Evaluate, NonFiniteMetricIsAStatusNotAValue) {
        {"hole", [&](const Eigen::VectorXd& x) {
           return opt::MetricValue{x[0] < 0.25 ? nan : 1.0, Eigen::VectorXd::Constant(1, x[0] > 0.75 ? HUGE_VAL : 0)};
         }}});
-  const auto fine = p.evaluate(Eigen::VectorXd::Constant(1, 0.5), {}, true);
+  const auto fine = p.evaluate(Eigen::VectorXd::Constant(1, 0.5), opt::MetricSet::all(), true);
   EXPECT_EQ(fine.status, mech::Status::ok);
-  EXPECT_EQ(fine.metrics.size(), 2u);
-  const auto value = p.evaluate(Eigen::VectorXd::Constant(1, 0.1), {}, false);
+  EXPECT_TRUE(fine.has("finite") && fine.has("hole"));
+  const auto value = p.evaluate(Eigen::VectorXd::Constant(1, 0.1), opt::MetricSet::all(), false);
   EXPECT_EQ(value.status, mech::Status::non_finite);
-  EXPECT_TRUE(value.metrics.empty());
+  EXPECT_FALSE(value.has("finite") || value.has("hole"));
   EXPECT_EQ(value.message, "hole is not finite");
-  const auto gradient = p.evaluate(Eigen::VectorXd::Constant(1, 0.9), {}, true);
+  const auto gradient = p.evaluate(Eigen::VectorXd::Constant(1, 0.9), opt::MetricSet::all(), true);
   EXPECT_EQ(gradient.status, mech::Status::non_finite);
   EXPECT_EQ(gradient.message, "hole has a non-finite gradient");
+}
+
+// Metrics travel by id: the id a problem puts a value under is the row of
+// its metric table, checked when the problem is built, and a name resolves
+// to the same id everywhere.
+class Misordered : public problems::TabledProblem {
+ public:
+  enum Metric { a, b };
+  explicit Misordered(bool swap)
+      : TabledProblem("misordered", {{swap ? b : a, "a", ""}, {swap ? a : b, "b", ""}}, {}) {}
+  nlohmann::json settings() const override { return {}; }
+
+ protected:
+  opt::Evaluation evaluate_model_at(const Eigen::VectorXd&, const opt::MetricSet& wanted, bool) const override {
+    opt::Evaluation e;
+    if (wanted.contains(b)) e.set(b, {2.0, {}});
+    return e;
+  }
+};
+
+TEST(Evaluate, MetricIdsFollowTheTable) {
+  EXPECT_THROW(Misordered(true), std::logic_error);
+  const Misordered p(false);
+  EXPECT_EQ(p.metric_id("b"), 1);
+  EXPECT_EQ(p.metric_id("c"), -1);
+  EXPECT_THROW(p.metric_set({"c"}), std::invalid_argument);
+  const auto e = p.evaluate(Eigen::VectorXd(), std::vector<std::string>{"b"}, false);
+  EXPECT_TRUE(e.has("b"));
+  EXPECT_FALSE(e.has("a"));
+  EXPECT_EQ(e.at("b"), 2.0);
+  EXPECT_THROW(e.at("a"), std::out_of_range);
+  EXPECT_FALSE(p.evaluate(Eigen::VectorXd(), p.metric_set({"a"}), false).has("b")) << "not wanted, not computed";
 }
 
 }  // namespace

@@ -10,7 +10,7 @@ std::vector<DerivativeCheck> check_derivatives(const Problem& p, const Eigen::Ve
                                                double rel_step, double tol) {
   std::vector<DerivativeCheck> out;
   if (!p.provides_gradients()) return out;
-  const Evaluation e = p.evaluate(x, {}, true);
+  const Evaluation e = p.evaluate(x, MetricSet::all(), true);
   if (!e.ok()) {  // e.g. a gradient that is not finite: a failed check for each variable, never none
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (const auto& v : p.variables())
@@ -26,14 +26,15 @@ std::vector<DerivativeCheck> check_derivatives(const Problem& p, const Eigen::Ve
     Eigen::VectorXd xp = x, xm = x;
     xp[i] += h;
     xm[i] -= h;
-    const Evaluation ep = p.evaluate(xp, {}, false), em = p.evaluate(xm, {}, false);
-    for (const auto& [name, v] : e.metrics) {
-      if (!ep.metrics.count(name) || !em.metrics.count(name)) continue;
-      record(name, i, v.value, v.gradient[i], (ep.at(name) - em.at(name)) / (2 * h));
+    const Evaluation ep = p.evaluate(xp, MetricSet::all(), false), em = p.evaluate(xm, MetricSet::all(), false);
+    for (MetricId m = 0; m < static_cast<MetricId>(p.metric_names().size()); ++m) {
+      if (!e.has(m) || !ep.has(m) || !em.has(m)) continue;
+      const std::string& name = p.metric_names()[static_cast<size_t>(m)];
+      record(name, i, e[m].value, e[m].gradient[i], (ep[m].value - em[m].value) / (2 * h));
       // Local maxima (epigraph rows): each peak's gradient at its fixed
       // angle against the change of the re-refined peak value.
-      const auto peaks = p.local_maxima(x, name);
-      const auto pp = p.local_maxima(xp, name), pm = p.local_maxima(xm, name);
+      const auto peaks = p.local_maxima(x, m);
+      const auto pp = p.local_maxima(xp, m), pm = p.local_maxima(xm, m);
       if (peaks.empty() || pp.size() != peaks.size() || pm.size() != peaks.size()) continue;
       for (size_t k = 0; k < peaks.size(); ++k)
         record(name + "[peak " + std::to_string(k) + "]", i, peaks[k].value, peaks[k].gradient[i],

@@ -63,11 +63,12 @@ class Nlp : public Ipopt::TNLP {
         scale_(scale), x0_(x0), t0_(t0), result_(result), history_(history), stop_(stop) {
     nx_ = static_cast<int>(x0.size());
     for (const auto& r : rows_) {
-      wanted_.push_back(r.constraint.metric);
+      wanted_.add(r.constraint.id);
       m_ += r.peaks ? r.peaks : 1;
     }
     m_ += objective_peaks_;
-    wanted_.push_back(obj.metric);
+    wanted_.add(obj.id);
+    row_peaks_.resize(rows_.size());
   }
 
   std::exception_ptr error;
@@ -110,7 +111,7 @@ class Nlp : public Ipopt::TNLP {
   bool eval_f(Index, const Number* x, bool, Number& f) override {
     return guard([&] {
       if (!update(x, false)) return false;
-      f = objective_peaks_ ? x[nx_] : sign() * at().metrics.at(obj_.metric).value / scale_;
+      f = objective_peaks_ ? x[nx_] : sign() * at()[obj_.id].value / scale_;
       return std::isfinite(f);
     });
   }
@@ -123,7 +124,7 @@ class Nlp : public Ipopt::TNLP {
         return true;
       }
       if (!update(x, true)) return false;
-      const auto& gr = at().metrics.at(obj_.metric).gradient;
+      const auto& gr = at()[obj_.id].gradient;
       for (int i = 0; i < nx_; ++i) g[i] = sign() * gr[i] / scale_;
       return all_finite(g, n);
     });
@@ -193,20 +194,26 @@ class Nlp : public Ipopt::TNLP {
     if (last_.x.size() == nx_ && last_.x == xv) return usable_;
     if (error || stop_()) return false;
     last_ = {xv, p_.evaluate(xv, wanted_, true)};
-    peaks_.clear();
-    for (const auto& r : rows_)
-      if (r.peaks) peaks_[r.constraint.metric] = p_.local_maxima(xv, r.constraint.metric);
-    if (objective_peaks_) peaks_[obj_.metric] = p_.local_maxima(xv, obj_.metric);
+    auto usable_peaks = [](const std::vector<MetricValue>& list) {
+      return !list.empty() && std::all_of(list.begin(), list.end(), [](const MetricValue& v) {
+        return std::isfinite(v.value) && v.gradient.allFinite();
+      });
+    };
     usable_ = at().ok();
-    for (const auto& [metric, list] : peaks_)
-      usable_ = usable_ && !list.empty() && std::all_of(list.begin(), list.end(), [](const MetricValue& v) {
-                  return std::isfinite(v.value) && v.gradient.allFinite();
-                });
+    for (size_t i = 0; i < rows_.size(); ++i)
+      if (rows_[i].peaks) {
+        row_peaks_[i] = p_.local_maxima(xv, rows_[i].constraint.id);
+        usable_ = usable_ && usable_peaks(row_peaks_[i]);
+      }
+    if (objective_peaks_) {
+      objective_peak_list_ = p_.local_maxima(xv, obj_.id);
+      usable_ = usable_ && usable_peaks(objective_peak_list_);
+    }
     ++result_.evaluations;
     if (!usable_) ++result_.infeasible_evaluations;
     if (history_)
       result_.history.push_back({result_.evaluations, at().status, xv,
-                                 at().ok() ? at().metrics.at(obj_.metric).value
+                                 at().ok() ? at()[obj_.id].value
                                            : std::numeric_limits<double>::quiet_NaN()});
     stop_();  // after the evaluation under way
     return usable_;
@@ -214,8 +221,7 @@ class Nlp : public Ipopt::TNLP {
 
   // The k rows of a maximum: its local maxima, the largest k if there are
   // more, the largest repeated if fewer.
-  std::vector<const MetricValue*> peak_rows(const std::string& metric, int k) const {
-    const auto& list = peaks_.at(metric);
+  static std::vector<const MetricValue*> peak_rows(const std::vector<MetricValue>& list, int k) {
     std::vector<const MetricValue*> rows;
     for (const auto& v : list) rows.push_back(&v);
     std::sort(rows.begin(), rows.end(), [](auto a, auto b) { return a->value > b->value; });
@@ -237,18 +243,19 @@ class Nlp : public Ipopt::TNLP {
       }
       ++j;
     };
-    for (const auto& r : rows_) {
+    for (size_t i = 0; i < rows_.size(); ++i) {
+      const Row& r = rows_[i];
       const Constraint& k = r.constraint;
       const double s = k.upper ? 1.0 : -1.0;
       if (!r.peaks) {
-        const auto& mv = at().metrics.at(k.metric);
+        const auto& mv = at()[k.id];
         put(k.g(mv.value), &mv.gradient, s, 0.0);
       } else {
-        for (const MetricValue* mv : peak_rows(k.metric, r.peaks)) put(k.g(mv->value), &mv->gradient, s, 0.0);
+        for (const MetricValue* mv : peak_rows(row_peaks_[i], r.peaks)) put(k.g(mv->value), &mv->gradient, s, 0.0);
       }
     }
     if (objective_peaks_) {
-      for (const MetricValue* mv : peak_rows(obj_.metric, objective_peaks_)) {
+      for (const MetricValue* mv : peak_rows(objective_peak_list_, objective_peaks_)) {
         const Eigen::VectorXd scaled = mv->gradient / scale_;
         put(mv->value / scale_ - x[nx_], &scaled, 1.0, -1.0);
       }
@@ -266,10 +273,11 @@ class Nlp : public Ipopt::TNLP {
   bool history_;
   detail::StopCheck& stop_;
   int nx_ = 0, m_ = 0;
-  std::vector<std::string> wanted_;
+  MetricSet wanted_;
   detail::EvaluationAt last_;
   bool usable_ = false;
-  std::map<std::string, std::vector<MetricValue>> peaks_;
+  std::vector<std::vector<MetricValue>> row_peaks_;  // by row, for rows with peaks
+  std::vector<MetricValue> objective_peak_list_;
 };
 
 DriverStatus map_status(Ipopt::ApplicationReturnStatus s) {
@@ -321,6 +329,7 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
   if (!why.empty()) return result;
   Eigen::VectorXd x = x0;
   const detail::Start start = detail::prepare_start(problem, objective, x, result, stop);
+  const Objective f = problem.bind(objective);
 
   // Rows: user constraints, then the problem's implicit ones; maxima
   // expanded into their peaks when bounded above.
@@ -328,18 +337,18 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
   auto add = [&](const Constraint& k) {
     int peaks = 0;
     if (options_.epigraph && k.upper && !k.equal) {
-      const auto list = problem.local_maxima(x, k.metric);
+      const auto list = problem.local_maxima(x, k.id);
       if (!list.empty()) peaks = static_cast<int>(list.size()) + kSpareRows;
     }
     rows.push_back({k, peaks});
   };
-  for (const auto& k : constraints) add(k);
-  for (const auto& k : problem.implicit_constraints()) add(k);
+  for (const auto& k : problem.bind(constraints)) add(k);
+  for (const auto& k : problem.bind(problem.implicit_constraints())) add(k);
 
   int objective_peaks = 0;
   double t0 = 0;
   if (options_.epigraph && !objective.maximize) {
-    const auto list = problem.local_maxima(x, objective.metric);
+    const auto list = problem.local_maxima(x, f.id);
     if (!list.empty()) {
       objective_peaks = static_cast<int>(list.size()) + kSpareRows;
       for (const auto& v : list)
@@ -348,7 +357,7 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
     }
   }
 
-  Ipopt::SmartPtr<Nlp> nlp = new Nlp(problem, objective, rows, objective_peaks, start.scale, x, t0,
+  Ipopt::SmartPtr<Nlp> nlp = new Nlp(problem, f, rows, objective_peaks, start.scale, x, t0,
                                      result, options_.record_history, stop);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", options_.print_level);

@@ -229,7 +229,7 @@ struct Context {
   double objective_scale;  // the objective is passed to NLopt divided by |f(x0)|
   std::vector<Constraint> constraints;  // user constraints, then implicit ones
   std::vector<Constraint> barrier;      // implicit constraints an algorithm cannot take
-  std::vector<std::string> wanted;
+  MetricSet wanted;
   bool record_history;
   detail::StopCheck* stop;
   Result* result;
@@ -254,7 +254,7 @@ struct Context {
     last = {xv, problem->evaluate(xv, wanted, gradient)};
     last_has_gradient = gradient;
     last_usable = last.e.ok() && std::none_of(barrier.begin(), barrier.end(), [&](const Constraint& k) {
-                    return k.g(last.e.at(k.metric)) > 0;
+                    return k.g(last.e[k.id].value) > 0;
                   });
     if ((*stop)()) nlopt_force_stop(opt);
     return &last;
@@ -265,12 +265,8 @@ struct Context {
 // kInfeasibleValue (and a zero gradient) where the run is stopping (`at` is
 // null), the design is not usable or a metric is not finite.
 double metric_value(const Context& c, const detail::EvaluationAt* at, unsigned n, double* grad,
-                    const std::string& metric, double sign, double shift) {
-  const MetricValue* m = nullptr;
-  if (at && c.last_usable) {
-    const auto it = at->e.metrics.find(metric);
-    if (it != at->e.metrics.end()) m = &it->second;
-  }
+                    MetricId metric, double sign, double shift) {
+  const MetricValue* m = at && c.last_usable && at->e.has(metric) ? &at->e[metric] : nullptr;
   if (!m || !std::isfinite(m->value) || (grad && !(m->gradient.size() == n && m->gradient.allFinite()))) {
     if (grad) std::fill(grad, grad + n, 0.0);
     return kInfeasibleValue;
@@ -285,14 +281,14 @@ double objective_cb(unsigned n, const double* x, double* grad, void* data) {
   try {
     const detail::EvaluationAt* at = c.at(n, x, grad != nullptr);
     const double sign = c.objective->maximize ? -1.0 : 1.0;
-    const double f = metric_value(c, at, n, grad, c.objective->metric, sign / c.objective_scale, 0.0);
+    const double f = metric_value(c, at, n, grad, c.objective->id, sign / c.objective_scale, 0.0);
     if (!at) return f;  // stopping: nothing was evaluated
     Result& r = *c.result;
     ++r.evaluations;
     if (!c.last_usable) ++r.infeasible_evaluations;
     if (c.record_history)
       r.history.push_back({r.evaluations, at->e.status, at->x,
-                           at->e.ok() ? at->e.at(c.objective->metric) : kNan});
+                           at->e.ok() ? at->e[c.objective->id].value : kNan});
     return f;
   } catch (...) {
     c.error = std::current_exception();
@@ -311,7 +307,7 @@ double constraint_cb(unsigned n, const double* x, double* grad, void* data) {
   Context& c = *d.context;
   try {
     const Constraint& k = c.constraints[d.index];
-    return metric_value(c, c.at(n, x, grad != nullptr), n, grad, k.metric, k.upper ? 1.0 : -1.0,
+    return metric_value(c, c.at(n, x, grad != nullptr), n, grad, k.id, k.upper ? 1.0 : -1.0,
                         k.upper ? k.bound : -k.bound);
   } catch (...) {
     c.error = std::current_exception();
@@ -340,7 +336,7 @@ DriverStatus map_status(nlopt_result r) {
 struct Restoration {
   const Problem* problem;
   std::vector<Constraint> constraints;
-  std::vector<std::string> wanted;
+  MetricSet wanted;
   detail::StopCheck* stop;
   int evaluations = 0;
   std::exception_ptr error;
@@ -360,16 +356,15 @@ double violation_cb(unsigned n, const double* x, double* grad, void* data) {
     double f = 0;
     if (grad) std::fill(grad, grad + n, 0.0);
     for (const auto& k : r.constraints) {
-      const auto it = e.metrics.find(k.metric);
-      if (it == e.metrics.end()) {  // not finite there (see Problem::evaluate): step back
+      if (!e.has(k.id)) {  // not finite there (see Problem::evaluate): step back
         if (grad) std::fill(grad, grad + n, 0.0);
         return kInfeasibleValue;
       }
-      const double g = k.g(it->second.value) + 1e-3 * std::max(1.0, std::abs(k.bound));
+      const double g = k.g(e[k.id].value) + 1e-3 * std::max(1.0, std::abs(k.bound));
       if (g <= 0) continue;
       f += g * g;
       if (grad)
-        for (unsigned i = 0; i < n; ++i) grad[i] += 2 * g * (k.upper ? 1.0 : -1.0) * it->second.gradient[i];
+        for (unsigned i = 0; i < n; ++i) grad[i] += 2 * g * (k.upper ? 1.0 : -1.0) * e[k.id].gradient[i];
     }
     return f;
   } catch (...) {
@@ -380,8 +375,8 @@ double violation_cb(unsigned n, const double* x, double* grad, void* data) {
 }
 
 int restore_feasibility(const Problem& problem, Eigen::VectorXd& x, detail::StopCheck& stop) {
-  Restoration r{&problem, problem.implicit_constraints(), {}, &stop, 0, nullptr, nullptr};
-  for (const auto& k : r.constraints) r.wanted.push_back(k.metric);
+  Restoration r{&problem, problem.bind(problem.implicit_constraints()), {}, &stop, 0, nullptr, nullptr};
+  for (const auto& k : r.constraints) r.wanted.add(k.id);
   if (r.constraints.empty()) return 0;
   const unsigned n = static_cast<unsigned>(x.size());
   r.opt = nlopt_create(NLOPT_LD_SLSQP, n);
@@ -405,13 +400,15 @@ namespace detail {
 
 Start prepare_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
                     Result& result, StopCheck& stop, bool inside_implicit) {
-  const std::vector<Constraint> implicit = problem.implicit_constraints();
-  std::vector<std::string> wanted{objective.metric};
-  for (const auto& k : implicit) wanted.push_back(k.metric);
+  const std::vector<Constraint> implicit = problem.bind(problem.implicit_constraints());
+  const MetricId f_id = problem.bind(objective).id;
+  MetricSet wanted;
+  wanted.add(f_id);
+  for (const auto& k : implicit) wanted.add(k.id);
   // Usable: the model can evaluate x, and (when asked) x satisfies the implicit constraints.
   auto usable = [&](const Evaluation& e) {
     return e.ok() && (!inside_implicit || std::none_of(implicit.begin(), implicit.end(), [&](const auto& k) {
-                        return k.g(e.at(k.metric)) > 0;
+                        return k.g(e[k.id].value) > 0;
                       }));
   };
   Start s;
@@ -426,21 +423,24 @@ Start prepare_start(const Problem& problem, const Objective& objective, Eigen::V
              " evaluations";
   }
   stop();
-  const auto it = e.metrics.find(objective.metric);
-  const double f = e.ok() && it != e.metrics.end() ? std::abs(it->second.value) : 0.0;
+  const double f = e.ok() && e.has(f_id) ? std::abs(e[f_id].value) : 0.0;
   s.scale = std::isfinite(f) && f > 0 ? f : 1.0;
   return s;
 }
 
-void finish(const Problem& problem, const Objective& objective,
-            const std::vector<Constraint>& constraints, Result& result, const EvaluationAt* last) {
-  const std::vector<Constraint> implicit = problem.implicit_constraints();
-  std::vector<std::string> wanted{objective.metric};
-  for (const auto& k : constraints) wanted.push_back(k.metric);
-  for (const auto& k : implicit) wanted.push_back(k.metric);
+void finish(const Problem& problem, const Objective& objective_named,
+            const std::vector<Constraint>& constraints_named, Result& result, const EvaluationAt* last) {
+  const std::vector<Constraint> implicit = problem.bind(problem.implicit_constraints());
+  const std::vector<Constraint> constraints = problem.bind(constraints_named);
+  const Objective objective = problem.bind(objective_named);
+  std::vector<MetricId> ids{objective.id};
+  for (const auto& k : constraints) ids.push_back(k.id);
+  for (const auto& k : implicit) ids.push_back(k.id);
+  MetricSet wanted;
+  for (MetricId i : ids) wanted.add(i);
   const bool reuse = last && last->x.size() == result.x.size() && last->x == result.x &&
-                     (!last->e.ok() || std::all_of(wanted.begin(), wanted.end(), [&](const auto& m) {
-                       return last->e.metrics.count(m) > 0;
+                     (!last->e.ok() || std::all_of(ids.begin(), ids.end(), [&](MetricId i) {
+                       return last->e.has(i);
                      }));
   if (!reuse && result.status == DriverStatus::interrupted) {  // no new evaluation after a stop request
     result.objective = kNan;
@@ -457,19 +457,19 @@ void finish(const Problem& problem, const Objective& objective,
     result.objective = kNan;
     return;
   }
-  result.objective = e.at(objective.metric);
+  result.objective = e[objective.id].value;
   auto violated = [](const Constraint& k, double v) {
     return k.violation(v) > 1e-6 * std::max(1.0, std::abs(k.bound));
   };
   for (const auto& k : constraints) {
-    result.constraint_values.push_back(e.at(k.metric));
-    if (violated(k, e.at(k.metric))) {
+    result.constraint_values.push_back(e[k.id].value);
+    if (violated(k, e[k.id].value)) {
       if (converged) result.status = DriverStatus::infeasible;
       result.message += "; constraint " + k.metric + " violated at the final design";
     }
   }
   for (const auto& k : implicit)
-    if (violated(k, e.at(k.metric))) {
+    if (violated(k, e[k.id].value)) {
       if (converged) result.status = DriverStatus::infeasible;
       result.message += "; the problem's own constraint " + describe(k) + " violated at the final design";
     }
@@ -491,7 +491,7 @@ Result ChainDriver::minimize(const Problem& problem, const Objective& objective,
   Result a = first_->minimize(problem, objective, constraints, x0);
   // Never skip the first stage silently, and never start the second after a stop request.
   if (a.status == DriverStatus::invalid_arguments || a.status == DriverStatus::interrupted) return a;
-  const bool usable = a.x.size() == x0.size() && problem.evaluate(a.x, {}, false).ok();
+  const bool usable = a.x.size() == x0.size() && problem.evaluate(a.x, MetricSet::all(), false).ok();
   Result b = then_->minimize(problem, objective, constraints, usable ? a.x : x0);
   b.message = a.library + " " + a.algorithm + " (" + std::to_string(a.evaluations) + " evaluations, " +
               to_string(a.status) + "): " + a.message + "; then " + b.library + " " + b.algorithm +
@@ -524,13 +524,14 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   const bool constrained_alg = algorithm_supports_constraints(algorithm);
   Eigen::VectorXd x = x0;
   const detail::Start start = detail::prepare_start(problem, objective, x, result, stop, !constrained_alg);
-  Context c{&problem, &objective, start.scale, constraints, {}, {}, options_.record_history,
+  const Objective bound = problem.bind(objective);
+  Context c{&problem, &bound, start.scale, problem.bind(constraints), {}, {}, options_.record_history,
             &stop, &result, nullptr, nullptr, {}, false, false};
-  for (const auto& k : problem.implicit_constraints())
+  for (const auto& k : problem.bind(problem.implicit_constraints()))
     (constrained_alg ? c.constraints : c.barrier).push_back(k);
-  c.wanted.push_back(objective.metric);
-  for (const auto& k : c.constraints) c.wanted.push_back(k.metric);
-  for (const auto& k : c.barrier) c.wanted.push_back(k.metric);
+  c.wanted.add(bound.id);
+  for (const auto& k : c.constraints) c.wanted.add(k.id);
+  for (const auto& k : c.barrier) c.wanted.add(k.id);
 
   const unsigned n = static_cast<unsigned>(x0.size());
   nlopt_opt opt = nlopt_create(nlopt_algorithm_from_string(algorithm.c_str()), n);

@@ -2,20 +2,44 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace opt {
 
+bool Evaluation::has(const std::string& name) const {
+  if (!names) return false;
+  const auto it = std::find(names->begin(), names->end(), name);
+  return it != names->end() && has(static_cast<MetricId>(it - names->begin()));
+}
+
+double Evaluation::at(const std::string& name) const {
+  if (!has(name)) throw std::out_of_range("metric " + name + " was not computed");
+  return (*this)[static_cast<MetricId>(std::find(names->begin(), names->end(), name) - names->begin())].value;
+}
+
+Evaluation Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient) const {
+  Evaluation e = evaluate_model_at(x, wanted, gradient);
+  e.names = &metric_names();
+  for (MetricId i = 0; i < static_cast<MetricId>(e.values.size()); ++i) {
+    if (!e.has(i)) continue;
+    const MetricValue& m = e[i];
+    if (std::isfinite(m.value) && m.gradient.allFinite()) continue;
+    // Metrics stay defined where the design is not (implicit constraints)
+    // and may be kept; a non-finite one never is.
+    Evaluation bad;
+    bad.names = e.names;
+    bad.status = e.ok() ? Status::non_finite : e.status;
+    bad.message = e.ok() ? (*e.names)[static_cast<size_t>(i)] +
+                               (std::isfinite(m.value) ? " has a non-finite gradient" : " is not finite")
+                         : e.message;
+    return bad;
+  }
+  return e;
+}
+
 Evaluation Problem::evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
                              bool gradient) const {
-  Evaluation e = evaluate_model_at(x, wanted, gradient);
-  for (const auto& [name, m] : e.metrics)
-    if (!std::isfinite(m.value) || !m.gradient.allFinite()) {
-      // Metrics stay defined where the design is not (implicit constraints)
-      // and may be kept; a non-finite one never is.
-      if (!e.ok()) return {e.status, e.message, {}};
-      return {Status::non_finite, name + (std::isfinite(m.value) ? " has a non-finite gradient" : " is not finite"), {}};
-    }
-  return e;
+  return evaluate(x, wanted.empty() ? MetricSet::all() : metric_set(wanted), gradient);
 }
 
 Eigen::VectorXd Problem::initial_point(bool clamp) const {
@@ -40,9 +64,32 @@ Eigen::VectorXd Problem::upper_bounds() const {
   return x;
 }
 
-bool Problem::has_metric(const std::string& name) const {
-  const auto names = metric_names();
-  return std::find(names.begin(), names.end(), name) != names.end();
+MetricId Problem::metric_id(const std::string& name) const {
+  const auto& names = metric_names();
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<MetricId>(it - names.begin());
+}
+
+MetricSet Problem::metric_set(const std::vector<std::string>& names) const {
+  MetricSet s;
+  for (const auto& n : names) s.add(checked_id(n));
+  return s;
+}
+
+MetricId Problem::checked_id(const std::string& metric) const {
+  const MetricId i = metric_id(metric);
+  if (i < 0) throw std::invalid_argument(name() + " has no metric " + metric);
+  return i;
+}
+
+Objective Problem::bind(Objective o) const {
+  o.id = checked_id(o.metric);
+  return o;
+}
+
+std::vector<Constraint> Problem::bind(std::vector<Constraint> cs) const {
+  for (auto& k : cs) k.id = checked_id(k.metric);
+  return cs;
 }
 
 }  // namespace opt

@@ -3,6 +3,7 @@
 // evaluated with a status and exact gradients where the model provides them.
 #pragma once
 #include <Eigen/Core>
+#include <bitset>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -30,15 +31,48 @@ struct MetricValue {
 // The one design status, from libmech (names only where results are written).
 using Status = mech::Status;
 
+// A metric by its position in Problem::metric_names(): resolved from its name
+// once, when a driver or study starts, never per evaluation.
+using MetricId = int;
+
+// A set of metrics by id (a problem has at most kMax metrics).
+class MetricSet {
+ public:
+  static constexpr int kMax = 64;
+  static MetricSet all() {
+    MetricSet s;
+    s.bits_.set();
+    return s;
+  }
+  void add(MetricId i) { bits_.set(static_cast<size_t>(i)); }
+  bool contains(MetricId i) const { return bits_.test(static_cast<size_t>(i)); }
+
+ private:
+  std::bitset<kMax> bits_;
+};
+
 // Metrics at one design. status is ok or the reason the design is infeasible
-// (e.g. cannot_assemble); values are empty unless ok, except metrics that
-// stay defined everywhere (such as the implicit constraints below).
+// (e.g. cannot_assemble); no metric is computed unless ok, except metrics
+// that stay defined everywhere (such as the implicit constraints below).
+// Values sit by MetricId: no map and no string per evaluation.
 struct Evaluation {
   Status status = Status::ok;
-  std::string message;  // why, when the status alone does not say
-  std::map<std::string, MetricValue> metrics;
+  std::string message;               // why, when the status alone does not say
+  std::vector<MetricValue> values;   // by MetricId; meaningful where computed
+  MetricSet computed;
+  const std::vector<std::string>* names = nullptr;  // the problem's metric names
+
   bool ok() const { return status == Status::ok; }
-  double at(const std::string& name) const { return metrics.at(name).value; }
+  bool has(MetricId i) const { return i >= 0 && computed.contains(i); }
+  const MetricValue& operator[](MetricId i) const { return values[static_cast<size_t>(i)]; }
+  void set(MetricId i, MetricValue v) {
+    if (values.size() <= static_cast<size_t>(i)) values.resize(static_cast<size_t>(i) + 1);
+    values[static_cast<size_t>(i)] = std::move(v);
+    computed.add(i);
+  }
+  // By name, for reports and tests (a search over the names).
+  bool has(const std::string& name) const;
+  double at(const std::string& name) const;  // std::out_of_range unless computed
 };
 
 // A metric kept below, above or at a bound: metric <= bound (upper),
@@ -48,6 +82,7 @@ struct Constraint {
   bool upper = true;
   double bound = 0;
   bool equal = false;
+  MetricId id = -1;  // of `metric`, set where a driver starts (Problem::metric_id)
   // Signed violation: g(x) <= 0, or g(x) == 0 for an equality.
   double g(double v) const { return upper ? v - bound : bound - v; }
   double violation(double v) const { return equal ? std::abs(g(v)) : std::max(0.0, g(v)); }
@@ -57,6 +92,7 @@ struct Constraint {
 struct Objective {
   std::string metric;
   bool maximize = false;
+  MetricId id = -1;  // of `metric`, set where a driver starts (Problem::metric_id)
 };
 
 // Quantities over one crank revolution, for charts and cycle.csv: column 0
@@ -76,8 +112,9 @@ class Problem {
   virtual ~Problem() = default;
   virtual std::string name() const = 0;
   virtual const std::vector<Variable>& variables() const = 0;
-  // Every metric this problem can compute, objectives and constraints alike.
-  virtual std::vector<std::string> metric_names() const = 0;
+  // Every metric this problem can compute, objectives and constraints alike;
+  // a metric's MetricId is its position here.
+  virtual const std::vector<std::string>& metric_names() const = 0;
   // The current name of a metric once called `old`, or "" (configs written
   // with the old name still run, with a notice).
   virtual std::string renamed_metric(const std::string& old) const {
@@ -89,11 +126,12 @@ class Problem {
   // Constraints that keep the model evaluable (e.g. the rod must reach the
   // slider): defined everywhere, added by every driver.
   virtual std::vector<Constraint> implicit_constraints() const { return {}; }
-  // Evaluates the metrics named in `wanted` (all if empty) at x, with
-  // gradients if asked. Never lies: a design whose metrics (or gradients)
-  // come out NaN or infinite has status non_finite and no metrics.
-  Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
-                      bool gradient) const;
+  // Evaluates the metrics in `wanted` at x, with gradients if asked. Never
+  // lies: a design whose metrics (or gradients) come out NaN or infinite has
+  // status non_finite and no metrics.
+  Evaluation evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient) const;
+  // The same by names (all metrics if empty), for reports and tests.
+  Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted, bool gradient) const;
   // Curves over one crank revolution at x, at n + 1 angles from 0 to 2 pi;
   // empty when the design is infeasible or the problem has none.
   virtual CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const {
@@ -105,8 +143,7 @@ class Problem {
   // that fixed angle (the local maximum's exact gradient, by the envelope
   // theorem), sorted by angle. Empty when the metric is not such a maximum or
   // x is infeasible. Drivers use it for epigraph formulations.
-  virtual std::vector<MetricValue> local_maxima(const Eigen::VectorXd& x,
-                                                const std::string& metric) const {
+  virtual std::vector<MetricValue> local_maxima(const Eigen::VectorXd& x, MetricId metric) const {
     (void)x, (void)metric;
     return {};
   }
@@ -121,11 +158,19 @@ class Problem {
   Eigen::VectorXd initial_point(bool clamp = true) const;
   Eigen::VectorXd lower_bounds() const;
   Eigen::VectorXd upper_bounds() const;
-  bool has_metric(const std::string& name) const;
+  bool has_metric(const std::string& name) const { return metric_id(name) >= 0; }
+  // The id of a metric, or -1.
+  MetricId metric_id(const std::string& name) const;
+  // The ids of metrics by name (std::invalid_argument naming an unknown one).
+  MetricSet metric_set(const std::vector<std::string>& names) const;
+  // The objective or constraints with their metrics' ids set (std::invalid_argument naming an unknown metric).
+  Objective bind(Objective o) const;
+  std::vector<Constraint> bind(std::vector<Constraint> cs) const;
 
  protected:
+  MetricId checked_id(const std::string& metric) const;
   // The model's evaluation behind evaluate().
-  virtual Evaluation evaluate_model_at(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,
+  virtual Evaluation evaluate_model_at(const Eigen::VectorXd& x, const MetricSet& wanted,
                                        bool gradient) const = 0;
 };
 

@@ -23,7 +23,7 @@ std::map<std::string, Series> profiles(const Problem& p, const std::vector<std::
       Series& line = lines[m];
       line.label = "continuous";
       line.x.push_back(x[0]);
-      line.y.push_back(e.ok() && e.metrics.count(m) ? e.at(m) : std::numeric_limits<double>::quiet_NaN());
+      line.y.push_back(e.ok() && e.has(m) ? e.at(m) : std::numeric_limits<double>::quiet_NaN());
     }
   }
   return lines;
@@ -53,7 +53,7 @@ std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
       Series g{"grid points", {}, {}, Series::Style::markers};
       for (size_t i = 0; i < grid_x.size(); ++i) {
         g.x.push_back(grid_x[i][0]);
-        g.y.push_back(grid_e[i].ok() && grid_e[i].metrics.count(m) ? grid_e[i].at(m) : nan);
+        g.y.push_back(grid_e[i].ok() && grid_e[i].has(m) ? grid_e[i].at(m) : nan);
       }
       c.series.push_back(g);
     }

@@ -10,9 +10,10 @@
 namespace opt {
 
 nlohmann::json metrics_json(const Problem& p, const Eigen::VectorXd& x) {
-  const Evaluation e = p.evaluate(x, {}, false);
+  const Evaluation e = p.evaluate(x, MetricSet::all(), false);
   nlohmann::json m = nlohmann::json::object();
-  for (const auto& [name, v] : e.metrics) m[name] = v.value;
+  for (MetricId i = 0; i < static_cast<MetricId>(p.metric_names().size()); ++i)
+    if (e.has(i)) m[p.metric_names()[static_cast<size_t>(i)]] = e[i].value;
   nlohmann::json j = {{"status", mech::to_string(e.status)}, {"metrics", m}};
   if (!e.message.empty()) j["message"] = e.message;
   return j;

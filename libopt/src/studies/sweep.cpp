@@ -45,7 +45,9 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
   // Cartesian product of the axes, first axis slowest.
   const size_t n0 = s.grid[0].values.size(), n1 = s.grid.size() > 1 ? s.grid[1].values.size() : 1;
   o.total = static_cast<long>(n0 * n1);
-  const std::vector<std::string> names = p.metric_names();
+  const std::vector<std::string>& names = p.metric_names();
+  std::vector<MetricId> printed_ids;
+  for (const auto& c : s.columns) printed_ids.push_back(p.metric_id(c));
   RecordLayout layout{"point", {}, names};
   for (const auto& v : p.variables()) layout.variables.push_back(v.name);
   CsvRecorder csv(dir + "sweep.csv", layout);
@@ -65,14 +67,14 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
     Eigen::VectorXd x(s.grid.size());
     x[s.grid[0].index] = s.grid[0].values[i];
     if (s.grid.size() > 1) x[s.grid[1].index] = s.grid[1].values[k];
-    const Evaluation e = p.evaluate(x, {}, false);
+    const Evaluation e = p.evaluate(x, MetricSet::all(), false);
     infeasible += !e.ok();
-    for (size_t m = 0; m < names.size(); ++m) values[m] = e.metrics.count(names[m]) ? e.at(names[m]) : nan;
+    for (size_t m = 0; m < names.size(); ++m) values[m] = e.has(static_cast<MetricId>(m)) ? e[static_cast<MetricId>(m)].value : nan;
     csv.record({point, x, mech::to_string(e.status), values});
     std::vector<std::string> row;
     for (const auto& a : s.grid) row.push_back(fmt(x[a.index]));
     for (size_t c = 0; c < s.columns.size(); ++c) {
-      const double v = e.metrics.count(s.columns[c]) ? e.at(s.columns[c]) : nan;
+      const double v = e.has(printed_ids[c]) ? e[printed_ids[c]].value : nan;
       printed[c].push_back(v);
       row.push_back(fmt(v));
     }
