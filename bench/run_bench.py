@@ -185,8 +185,8 @@ def performance_blocks(m, peer, debian, row, tcp, peak_elastic, lstar, l_co1_sta
           "; ".join(f"{o[0]} {fmt_time(o[1])} at {fmt_err(o[3])}" for o in meets) + ")" if meets else "**not met**")
     others = [o for o in opt_rows if o not in meets]
     if others:
-        t2 += "; not by " + "; ".join(f"{o[0]} ({fmt_time(o[1])} at {fmt_err(o[3])})"
-                                       for o in sorted(others, key=lambda o: o[1]))
+        t2 += "; not by " + join_and(f"{o[0]} ({fmt_time(o[1])} at {fmt_err(o[3])})"
+                                     for o in sorted(others, key=lambda o: o[1]))
     peer_cases = [("cycle mean, 32 points", "cycle_mean"), ("cycle mean, 16 points", "cycle_mean_16_points"),
                   ("cycle mean vs adaptive quadrature", "cycle_mean_vs_quad"),
                   ("cycle mean + gradient", "cycle_mean_gradient"), ("all cycle metrics", "cycle_peak"),
@@ -195,7 +195,7 @@ def performance_blocks(m, peer, debian, row, tcp, peak_elastic, lstar, l_co1_sta
     as_good = lambda r: r["mechopt_error"] <= max(r["peer_error"], 1e-15)  # both at roundoff: equal
     fast = [(label, row[c]) for label, c in peer_cases if row[c]["ratio"] >= 100 and as_good(row[c])]
     slow = [(label, row[c]) for label, c in peer_cases if not (row[c]["ratio"] >= 100 and as_good(row[c]))]
-    desc = lambda label, r: (f"{label} ({fmt_ratio(r['ratio'])}x, errors {fmt_err(r['mechopt_error'])} "
+    desc = lambda label, r: (f"{label} ({fmt_ratio(r['ratio'])}x, error {fmt_err(r['mechopt_error'])} "
                              f"against the peer's {fmt_err(r['peer_error'])})")
     t3 = ("**met** for " + join_and(desc(*x) for x in fast) if fast else "**not met** for any case")
     if slow:
@@ -366,26 +366,26 @@ def drivers_blocks(m):
     names = {"rod_length": "rod length", "conveyor_l_co1": "conveyor l_CO1"}
     summary = []
     for scene, drivers in scenes.items():
-        body, first_to, never, best_of = [], [], [], []  # body: (driver's first time, time, row)
+        body, first_to, never, best_of = [], [], [], []  # body: (driver's first time, tolerance, row)
         for d, runs in drivers.items():
             runs.sort()
             good = [r for r in runs if r[4] and r[3] <= 1e-8]
             conv = [r for r in runs if r[4]]
             best = min(conv, key=lambda r: r[3]) if conv else None
             if good:
-                body.append((good[0][1], good[0][1], [label(scene, d), tol_name(d, good[0][0]), fmt_time(good[0][1]),
+                body.append((good[0][1], good[0][0], [label(scene, d), tol_name(d, good[0][0]), fmt_time(good[0][1]),
                                                       good[0][2], fmt_err(good[0][3])]))
                 first_to.append((good[0][1], label(scene, d), tol_name(d, good[0][0])))
                 if best[3] < good[0][3] / 10:
-                    body.append((good[0][1], best[1], [label(scene, d), tol_name(d, best[0]), fmt_time(best[1]),
+                    body.append((good[0][1], best[0], [label(scene, d), tol_name(d, best[0]), fmt_time(best[1]),
                                                        best[2], fmt_err(best[3])]))
             elif best:
-                body.append((best[1], best[1], [label(scene, d), tol_name(d, best[0]), fmt_time(best[1]), best[2],
+                body.append((best[1], best[0], [label(scene, d), tol_name(d, best[0]), fmt_time(best[1]), best[2],
                                                 fmt_err(best[3]) + " (its best)"]))
                 never.append(f"{label(scene, d)} (at best {fmt_err(best[3])})")
             else:
                 r = runs[-1]
-                body.append((r[1], r[1], [label(scene, d), f"any ({tol_name(d, runs[0][0])} to 1e-{r[0]})", fmt_time(r[1]),
+                body.append((r[1], r[0], [label(scene, d), f"any ({tol_name(d, runs[0][0])} to 1e-{r[0]})", fmt_time(r[1]),
                                     r[2], f"not converged at any tolerance (figures at {tol_name(d, r[0])})"]))
                 never.append(f"{label(scene, d)} (does not converge)")
             if best:
