@@ -5,8 +5,8 @@
 # Why: Debian bookworm's libsundials 6.4.1 binaries are compiled without
 # optimisation (their N_VLinearCombination_Serial keeps every loop variable on
 # the stack), and on the drive's 9-18 states the integrators' own vector
-# operations are most of the cost: the optimised build integrates a revolution
-# 2-2.5x faster (docs/performance.md). Same version, same sources, same API.
+# operations are most of the cost: the optimised build integrates faster (by
+# how much: docs/performance.md, the SUNDIALS builds table). Same version, same sources, same API.
 # If anything here fails, the build falls back to Debian's binaries (slower,
 # same results) with a warning.
 set -uo pipefail
