@@ -1,0 +1,92 @@
+// The results store of the batch pipeline (docs/doe.md, "The store" and
+// "Resume, exactly"): one SQLite file DIR/store.sqlite, one row per evaluated
+// sample, written by one writer thread in batched transactions. A row is
+// committed or absent, so a run killed at any moment resumes from the indices
+// the store holds, and a duplicate index is impossible.
+#pragma once
+#include <cstdint>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace opt::doe {
+
+// The columns of `samples` after idx, status, wall_time and message.
+struct StoreLayout {
+  std::vector<std::string> factors;              // column names, in order
+  std::vector<std::vector<std::string>> labels;  // per factor: option names if categorical (TEXT), else empty (REAL)
+  std::vector<std::string> metrics;              // column names, in order
+};
+
+// One evaluated sample.
+struct Row {
+  std::int64_t index = 0;
+  std::string_view status;      // e.g. "ok", "cannot_assemble"
+  double wall_time = 0;         // s
+  std::string message;          // "" -> NULL
+  std::vector<double> factors;  // SI; a categorical factor's option index (written as its label)
+  std::vector<double> metrics;  // NaN -> NULL
+};
+
+// An existing store that another configuration (or another set of columns)
+// wrote: resuming into it would mix two designs.
+class StoreMismatch : public std::runtime_error {
+ public:
+  using runtime_error::runtime_error;
+};
+
+class Store {
+ public:
+  // Opens DIR/store.sqlite (creating DIR), or creates it with `layout` and
+  // `meta` (key -> text; must hold "config_hash"). An existing store must have
+  // the same config_hash and layout, else StoreMismatch names the file and the
+  // top-level keys of meta "config_canonical" (a JSON object) that differ. On
+  // reopening, meta keys the store lacks are added; stored ones are kept (use
+  // set_meta to change them). fresh=true first renames an existing store (and
+  // its -wal/-shm) to store.sqlite.old-YYYYmmdd-HHMMSS.
+  Store(const std::string& dir, const StoreLayout& layout, const std::map<std::string, std::string>& meta, bool fresh);
+  ~Store();
+  Store(Store&&) noexcept;
+  Store& operator=(Store&&) noexcept;
+
+  const std::string& path() const;
+  // The indices in the store as `total` bits (bit i: sample i done). An index
+  // outside [0, total) means the store is not this run's: runtime_error.
+  std::vector<bool> finished(std::int64_t total) const;
+  std::int64_t count() const;
+  // All rows in one transaction: all committed or none. A duplicate index (in
+  // the store or the batch) is a bug of the caller: std::logic_error naming it.
+  void append(std::span<const Row> rows);
+  void set_meta(const std::string& key, const std::string& value);
+  std::optional<std::string> meta(const std::string& key) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Readers of any store file (`mechopt export`): rows ordered by idx.
+// CSV: a header row, numbers with 17 significant digits, NULL as an empty cell.
+void export_csv(const std::string& store_file, std::ostream& out);
+// JSON: {"meta": {...}, "samples": [{column: value or null}, ...]}, streamed
+// row by row (one sample a line), so memory does not grow with the store.
+void export_json(const std::string& store_file, std::ostream& out);
+
+// `mechopt merge OUT STORE...`: the shard stores (files, or directories holding
+// store.sqlite) into OUT/store.sqlite, which must not exist yet. Every
+// config_hash must agree (else StoreMismatch naming the store), and every index
+// in [0, meta "samples") must appear exactly once (else runtime_error naming up
+// to 10 missing or doubled indices and their counts); nothing is written then.
+struct MergeReport {
+  std::int64_t rows = 0;
+  std::vector<std::string> inputs;  // the store files read
+};
+MergeReport merge_stores(const std::string& out_dir, const std::vector<std::string>& stores);
+
+}  // namespace opt::doe
