@@ -2,9 +2,6 @@
 // numbers. Reference values come from independent computations, each given
 // next to its test: a Python Philox written from the Random123 paper's
 // constants, scipy.stats.qmc.Sobol, numpy.linspace, and closed forms.
-#include "opt/doe/random.hpp"
-#include "opt/doe/sampler.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "opt/doe/random.hpp"
+#include "opt/doe/sampler.hpp"
+
 namespace {
 
 using opt::doe::Factor;
@@ -26,7 +26,9 @@ using Points = std::vector<std::vector<double>>;
 // d factors on [0, 1], so a point is its unit-cube coordinates.
 std::vector<Factor> unit_factors(int d) {
   std::vector<Factor> f(static_cast<std::size_t>(d));
-  for (int j = 0; j < d; ++j) f[static_cast<std::size_t>(j)] = {"x" + std::to_string(j), Factor::Kind::range, 0, 1, {}, {}, 0};
+  for (int j = 0; j < d; ++j)
+    f[static_cast<std::size_t>(j)] = {
+        "x" + std::to_string(j), Factor::Kind::range, 0, 1, {}, {}, 0};
   return f;
 }
 
@@ -108,7 +110,7 @@ TEST(DoeSamplers, FromUnitMapsRangesAndLevels) {
   EXPECT_EQ(opt::doe::from_unit(range, 0.25), 3.0);
   const Factor levels{"l", Factor::Kind::levels, 0, 0, {10, 20, 30}, {}, 0};
   EXPECT_EQ(opt::doe::from_unit(levels, 0.0), 10.0);
-  EXPECT_EQ(opt::doe::from_unit(levels, 0.34), 20.0);         // floor(1.02) = 1
+  EXPECT_EQ(opt::doe::from_unit(levels, 0.34), 20.0);  // floor(1.02) = 1
   EXPECT_EQ(opt::doe::from_unit(levels, 0.999999999), 30.0);
   EXPECT_EQ(opt::doe::from_unit(levels, std::nextafter(1.0, 0.0)), 30.0);  // 3u rounds to 3
   const Factor choice{"c", Factor::Kind::categorical, 0, 0, {0, 1}, {"a", "b"}, 0};
@@ -123,13 +125,13 @@ TEST(DoeSamplers, FromUnitMapsRangesAndLevels) {
 // (the first factor slowest); linspace's values, as hex floats:
 //   [x.hex() for x in numpy.linspace(-1.3, 2.9, 7)]
 TEST(DoeFactorial, MixedRadixOrderFirstFactorSlowest) {
-  const std::array<double, 7> linspace = {-0x1.4cccccccccccdp+0, -0x1.3333333333333p-1,
-                                          0x1.99999999999a0p-4,  0x1.999999999999ap-1,
-                                          0x1.8000000000001p+0,  0x1.199999999999ap+1,
-                                          0x1.7333333333333p+1};
-  const auto s = opt::doe::factorial({{"a", Factor::Kind::range, -1.3, 2.9, {}, {}, 7},
-                                      {"b", Factor::Kind::levels, 0, 0, {10, 20}, {}, 0},
-                                      {"c", Factor::Kind::categorical, 0, 0, {0, 1, 2}, {"x", "y", "z"}, 0}});
+  const std::array<double, 7> linspace = {
+      -0x1.4cccccccccccdp+0, -0x1.3333333333333p-1, 0x1.99999999999a0p-4, 0x1.999999999999ap-1,
+      0x1.8000000000001p+0,  0x1.199999999999ap+1,  0x1.7333333333333p+1};
+  const auto s =
+      opt::doe::factorial({{"a", Factor::Kind::range, -1.3, 2.9, {}, {}, 7},
+                           {"b", Factor::Kind::levels, 0, 0, {10, 20}, {}, 0},
+                           {"c", Factor::Kind::categorical, 0, 0, {0, 1, 2}, {"x", "y", "z"}, 0}});
   ASSERT_EQ(s->size(), 7 * 2 * 3);
   std::int64_t i = 0;
   std::vector<double> p(3);
@@ -144,7 +146,8 @@ TEST(DoeFactorial, MixedRadixOrderFirstFactorSlowest) {
 
 TEST(DoeFactorial, SizeOverflowIsRefused) {
   std::vector<Factor> f;
-  for (int j = 0; j < 62; ++j) f.push_back({"x" + std::to_string(j), Factor::Kind::levels, 0, 0, {0, 1}, {}, 0});
+  for (int j = 0; j < 62; ++j)
+    f.push_back({"x" + std::to_string(j), Factor::Kind::levels, 0, 0, {0, 1}, {}, 0});
   EXPECT_EQ(opt::doe::factorial(f)->size(), std::int64_t{1} << 62);
   f.push_back({"y", Factor::Kind::levels, 0, 0, {0, 1}, {}, 0});  // 2^63 > int64 max
   EXPECT_THROW(opt::doe::factorial(f), std::invalid_argument);
@@ -281,7 +284,8 @@ TEST(DoeSobol, UnscrambledMatchesScipyInFiveDimensions) {
   std::vector<double> p(5);
   for (int i = 0; i < 64; ++i) {
     s->point(i, p);
-    for (int j = 0; j < 5; ++j) EXPECT_EQ(p[j] * 64, kSobolD5[i][j]) << "point " << i << " dim " << j;
+    for (int j = 0; j < 5; ++j)
+      EXPECT_EQ(p[j] * 64, kSobolD5[i][j]) << "point " << i << " dim " << j;
   }
 }
 
@@ -319,7 +323,8 @@ TEST(DoeSobol, UnscrambledMatchesScipyInHighDimensions) {
   for (int k = 0; k < 4; ++k) {
     s->point(100777 + k, p);
     for (int c = 0; c < 3; ++c)
-      EXPECT_EQ(p[cols[c]] * 0x1p30, static_cast<double>(kSobolDeep[k][c])) << "point " << 100777 + k;
+      EXPECT_EQ(p[cols[c]] * 0x1p30, static_cast<double>(kSobolDeep[k][c]))
+          << "point " << 100777 + k;
   }
 }
 
@@ -398,7 +403,8 @@ TEST(DoeSamplers, PointListReturnsItsRows) {
   EXPECT_EQ(s->describe()["sampler"], "list");
   EXPECT_THROW(opt::doe::point_list(f, {{1.5}}), std::invalid_argument);
   EXPECT_THROW(opt::doe::point_list(f, {{1.5, 2}}), std::invalid_argument);  // no option 2
-  EXPECT_THROW(opt::doe::point_list(f, {{std::numeric_limits<double>::quiet_NaN(), 1}}), std::invalid_argument);
+  EXPECT_THROW(opt::doe::point_list(f, {{std::numeric_limits<double>::quiet_NaN(), 1}}),
+               std::invalid_argument);
   EXPECT_THROW(opt::doe::point_list(f, {}), std::invalid_argument);
   std::vector<double> out(2);
   EXPECT_THROW(s->point(2, out), std::out_of_range);

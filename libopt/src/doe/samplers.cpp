@@ -1,8 +1,6 @@
 // The samplers of docs/doe.md: each point(i) is a pure function of (seed, i).
 #include "opt/doe/sampler.hpp"
 
-#include "opt/doe/random.hpp"
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -12,6 +10,8 @@
 #include <set>
 #include <stdexcept>
 #include <utility>
+
+#include "opt/doe/random.hpp"
 
 namespace opt::doe {
 namespace {
@@ -72,8 +72,8 @@ void check_point(std::int64_t i, std::int64_t n, std::span<double> out, std::siz
                                 " for " + std::to_string(d) + " factors");
 }
 
-nlohmann::json header(const std::string& sampler, std::optional<std::uint64_t> seed,
-                      std::int64_t n, const std::vector<Factor>& factors) {
+nlohmann::json header(const std::string& sampler, std::optional<std::uint64_t> seed, std::int64_t n,
+                      const std::vector<Factor>& factors) {
   nlohmann::json names = nlohmann::json::array();
   for (const Factor& f : factors) names.push_back(f.name);
   return {{"sampler", sampler},
@@ -256,15 +256,16 @@ class LatinHypercube final : public Sampler {
   std::int64_t size() const override { return n_; }
   void point(std::int64_t i, std::span<double> out) const override {
     check_point(i, n_, out, factors_.size());
-    for (std::size_t j = 0; j < factors_.size(); ++j) out[j] = from_unit(factors_[j], cube_->unit(i, j));
+    for (std::size_t j = 0; j < factors_.size(); ++j)
+      out[j] = from_unit(factors_[j], cube_->unit(i, j));
   }
   nlohmann::json describe() const override {
     nlohmann::json d = header("latin_hypercube", seed_, n_, factors_);
     d["maximin"] = maximin_;
     if (maximin_) {
       d["candidate"] = candidate_;
-      d["min_distance"] = std::isfinite(min_distance_) ? nlohmann::json(min_distance_)
-                                                        : nlohmann::json(nullptr);
+      d["min_distance"] =
+          std::isfinite(min_distance_) ? nlohmann::json(min_distance_) : nlohmann::json(nullptr);
     }
     return d;
   }
@@ -280,9 +281,10 @@ class LatinHypercube final : public Sampler {
     double best = -1;
     for (int k = 0; k < kCandidates; ++k) {
       const std::uint64_t key =
-          k == 0 ? seed_ : philox_bits(seed_, static_cast<std::uint64_t>(k), 0, domain::derived_seed);
-      const double s = min_squared_distance(Hypercube(n_, factors_.size(), key), n_,
-                                            factors_.size(), best);
+          k == 0 ? seed_
+                 : philox_bits(seed_, static_cast<std::uint64_t>(k), 0, domain::derived_seed);
+      const double s =
+          min_squared_distance(Hypercube(n_, factors_.size(), key), n_, factors_.size(), best);
       if (s > best) best = s, key_ = key, candidate_ = k;
     }
     min_distance_ = std::sqrt(best);
@@ -301,8 +303,8 @@ class LatinHypercube final : public Sampler {
 // ---- Sobol' -------------------------------------------------------------------
 
 struct SobolDimension {
-  std::uint32_t poly;           // primitive polynomial with leading and constant terms
-  std::uint32_t m[18];          // initial direction integers, degree(poly) of them
+  std::uint32_t poly;   // primitive polynomial with leading and constant terms
+  std::uint32_t m[18];  // initial direction integers, degree(poly) of them
 };
 constexpr SobolDimension kSobolTable[] = {
 #include "sobol_directions.inc"
@@ -320,7 +322,8 @@ constexpr int kSobolDimensions = static_cast<int>(std::size(kSobolTable));
 // matrix keeps every dimension's first 2^m points one per [k/2^m, (k+1)/2^m).
 class SobolSequence {
  public:
-  SobolSequence(int d, std::optional<std::uint64_t> seed) : v_(static_cast<std::size_t>(d)), shift_(d, 0) {
+  SobolSequence(int d, std::optional<std::uint64_t> seed)
+      : v_(static_cast<std::size_t>(d)), shift_(d, 0) {
     for (int j = 0; j < d; ++j) {
       v_[j] = directions(j);
       if (seed) scramble(j, *seed);
@@ -364,7 +367,8 @@ class SobolSequence {
       const std::uint64_t diagonal = std::uint64_t{1} << (63 - p);
       const std::uint64_t at_or_above = ~(diagonal - 1);  // bits 63 .. 63 - p
       rows[p] = (philox_bits(seed, static_cast<std::uint64_t>(p), stream, domain::sobol_scramble) &
-                 at_or_above) | diagonal;
+                 at_or_above) |
+                diagonal;
     }
     for (std::uint64_t& v : v_[j]) {
       std::uint64_t out = 0;
@@ -395,13 +399,16 @@ int sobol_dimensions(const std::vector<Factor>& factors, std::int64_t n, int per
 class Sobol final : public Sampler {
  public:
   Sobol(std::vector<Factor> f, std::int64_t n, std::optional<std::uint64_t> seed)
-      : factors_(std::move(f)), n_(n), seed_(seed),
+      : factors_(std::move(f)),
+        n_(n),
+        seed_(seed),
         sequence_(sobol_dimensions(factors_, n_, 1, "sobol"), seed) {}
   std::int64_t size() const override { return n_; }
   void point(std::int64_t i, std::span<double> out) const override {
     check_point(i, n_, out, factors_.size());
     for (std::size_t j = 0; j < factors_.size(); ++j)
-      out[j] = from_unit(factors_[j], sequence_.unit(static_cast<std::uint64_t>(i), static_cast<int>(j)));
+      out[j] = from_unit(factors_[j],
+                         sequence_.unit(static_cast<std::uint64_t>(i), static_cast<int>(j)));
   }
   nlohmann::json describe() const override {
     nlohmann::json d = header("sobol", seed_, n_, factors_);
@@ -421,7 +428,9 @@ class Sobol final : public Sampler {
 class Saltelli final : public Sampler {
  public:
   Saltelli(std::vector<Factor> f, std::int64_t base, std::optional<std::uint64_t> seed)
-      : factors_(std::move(f)), base_(base), seed_(seed),
+      : factors_(std::move(f)),
+        base_(base),
+        seed_(seed),
         sequence_(sobol_dimensions(factors_, base_, 2, "saltelli"), seed) {
     const auto blocks = static_cast<std::int64_t>(factors_.size()) + 2;
     if (__builtin_mul_overflow(base_, blocks, &n_))
@@ -485,7 +494,9 @@ class PointList final : public Sampler {
     const auto& row = rows_[static_cast<std::size_t>(i)];
     std::copy(row.begin(), row.end(), out.begin());
   }
-  nlohmann::json describe() const override { return header("list", std::nullopt, size(), factors_); }
+  nlohmann::json describe() const override {
+    return header("list", std::nullopt, size(), factors_);
+  }
 
  private:
   std::vector<Factor> factors_;
@@ -497,7 +508,8 @@ class PointList final : public Sampler {
 double from_unit(const Factor& f, double u) {
   if (f.kind == Factor::Kind::range) return f.lower + u * (f.upper - f.lower);
   const std::size_t k = f.levels.size();
-  return f.levels[std::min(k - 1, static_cast<std::size_t>(std::floor(u * static_cast<double>(k))))];
+  return f
+      .levels[std::min(k - 1, static_cast<std::size_t>(std::floor(u * static_cast<double>(k))))];
 }
 
 SaltelliIndex saltelli_index(std::int64_t i, int d) {

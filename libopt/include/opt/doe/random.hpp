@@ -27,27 +27,26 @@ constexpr std::uint32_t derived_seed = 17;    // keys of maximin LHS candidates
 // The raw generator: Philox4x32-10 of counter {sample, stream, domain word}
 // under key = the seed's two 32-bit halves (low first).
 inline std::array<std::uint32_t, 4> philox(std::uint64_t seed, std::uint64_t sample,
-                                           std::uint32_t stream, std::uint32_t domain) {
+                                           std::uint32_t stream, std::uint32_t domain_word) {
   using Generator = r123::Philox4x32_R<10>;
   const Generator::key_type key = {
       {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
   const Generator::ctr_type counter = {{static_cast<std::uint32_t>(sample),
-                                        static_cast<std::uint32_t>(sample >> 32), stream,
-                                        domain}};
+                                        static_cast<std::uint32_t>(sample >> 32), stream, domain_word}};
   const Generator::ctr_type r = Generator()(counter, key);
   return {r[0], r[1], r[2], r[3]};
 }
 
-inline std::uint64_t philox_bits(std::uint64_t seed, std::uint64_t sample,
-                                 std::uint32_t stream, std::uint32_t domain_word) {
+// Words 0 (low) and 1 (high) of philox(): 64 bits for any domain.
+inline std::uint64_t philox_bits(std::uint64_t seed, std::uint64_t sample, std::uint32_t stream,
+                                 std::uint32_t domain_word) {
   const auto r = philox(seed, sample, stream, domain_word);
   return static_cast<std::uint64_t>(r[0]) | (static_cast<std::uint64_t>(r[1]) << 32);
 }
 
 // 64 random bits for (seed, sample, stream): words 0 (low) and 1 (high) of
 // Philox4x32-10 with counter {sample low, sample high, stream, 0}.
-inline std::uint64_t random_bits(std::uint64_t seed, std::uint64_t sample,
-                                 std::uint32_t stream) {
+inline std::uint64_t random_bits(std::uint64_t seed, std::uint64_t sample, std::uint32_t stream) {
   return philox_bits(seed, sample, stream, domain::sample);
 }
 

@@ -8,10 +8,9 @@
 // does not grow with N.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
@@ -45,12 +44,11 @@ class Sampler {
 // mixed-radix order, the first factor slowest.
 std::unique_ptr<Sampler> factorial(std::vector<Factor> f);
 // u_ij = uniform(seed, i, j).
-std::unique_ptr<Sampler> uniform_random(std::vector<Factor> f, std::int64_t n,
-                                        std::uint64_t seed);
+std::unique_ptr<Sampler> uniform_random(std::vector<Factor> f, std::int64_t n, std::uint64_t seed);
 // One point per stratum [k/n, (k+1)/n) in every factor. maximin: the best of 16
 // candidate hypercubes by their smallest pairwise distance (n <= 5000).
-std::unique_ptr<Sampler> latin_hypercube(std::vector<Factor> f, std::int64_t n,
-                                         std::uint64_t seed, bool maximin);
+std::unique_ptr<Sampler> latin_hypercube(std::vector<Factor> f, std::int64_t n, std::uint64_t seed,
+                                         bool maximin);
 // Sobol' points (Joe-Kuo new-joe-kuo-6.21201, at most 1111 factors) in scipy's
 // order: without a seed, equal to scipy.stats.qmc.Sobol(d, scramble=False);
 // with one, linearly matrix-scrambled and digitally shifted.
