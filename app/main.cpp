@@ -2,12 +2,15 @@
 // failure, 2 bad input (config or arguments).
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "opt/derivatives.hpp"
+#include "opt/doe/batch.hpp"
+#include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/study.hpp"
 #include "problems/registry.hpp"
@@ -19,6 +22,11 @@ const char* kUsage = R"(mechopt — optimisation of planar mechanisms of heavy m
 usage:
   mechopt run CONFIG [--output DIR]       run the config's study; writes DIR/result.json,
                                           DIR/sweep.csv (sweeps) and DIR/chart.svg
+      a doe study (docs/doe.md) writes DIR/store.sqlite and resumes it when run again:
+      [--threads N] [--progress bar|jsonl|none] [--new] [--force] [--dry-run] [--shard I/N|auto]
+  mechopt export STORE --csv|--json       a results store's rows on stdout
+  mechopt merge OUT STORE...              shard stores into OUT/store.sqlite, checking that
+                                          their configs agree and no sample is missing or doubled
   mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON;
                                           --set overrides model.KEY (VALUE may carry a unit)
   mechopt check-derivatives CONFIG [--set KEY=VALUE]
@@ -36,11 +44,33 @@ struct Args {
   std::string command, config, output;
   bool markdown = false;  // list --markdown
   std::vector<std::pair<std::string, std::string>> sets;
+  opt::doe::BatchOptions batch;
+  bool batch_flags = false;  // any of the doe flags given
+  std::string export_format;               // export: csv | json
+  std::vector<std::string> stores;         // export, merge
 };
+
 
 [[noreturn]] void usage_error(const std::string& what) {
   std::cerr << "mechopt: " << what << "\n\n" << kUsage;
   std::exit(2);
+}
+
+// --shard I/N with 0 <= I < N, or `auto` from a Slurm job array's environment.
+opt::doe::Shard parse_shard(const std::string& text) {
+  std::string t = text;
+  if (t == "auto") {
+    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    if (!id || !count) usage_error("--shard auto needs SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT");
+    t = std::string(id) + "/" + count;
+  }
+  opt::doe::Shard s;
+  char tail = 0;
+  if (std::sscanf(t.c_str(), "%d/%d%c", &s.index, &s.count, &tail) != 2 || s.count < 1 || s.index < 0 ||
+      s.index >= s.count)
+    usage_error("--shard expects I/N with 0 <= I < N, got '" + text + "'");
+  return s;
 }
 
 Args parse_args(int argc, char** argv) {
@@ -49,7 +79,38 @@ Args parse_args(int argc, char** argv) {
   if (v.empty()) usage_error("missing command");
   a.command = v[0];
   for (size_t i = 1; i < v.size(); ++i) {
-    if (v[i] == "--output" || v[i] == "--set") {
+    // --flag=value is --flag value
+    if (const auto eq = v[i].find('='); v[i].rfind("--", 0) == 0 && eq != std::string::npos) {
+      v.insert(v.begin() + static_cast<long>(i) + 1, v[i].substr(eq + 1));
+      v[i] = v[i].substr(0, eq);
+    }
+    auto value = [&] {
+      if (i + 1 == v.size()) usage_error(v[i] + " needs a value");
+      return v[++i];
+    };
+    if (v[i] == "--threads") {
+      const std::string t = value();
+      char* end = nullptr;
+      const long n = std::strtol(t.c_str(), &end, 10);
+      if (*end || n < 1 || n > 4096) usage_error("--threads expects a whole number from 1 to 4096, got '" + t + "'");
+      a.batch.threads = static_cast<int>(n);
+      a.batch_flags = true;
+    } else if (v[i] == "--progress") {
+      a.batch.progress = value();
+      if (a.batch.progress != "bar" && a.batch.progress != "jsonl" && a.batch.progress != "none")
+        usage_error("--progress expects bar, jsonl or none, got '" + a.batch.progress + "'");
+      a.batch_flags = true;
+    } else if (v[i] == "--shard") {
+      a.batch.shard = parse_shard(value());
+      a.batch_flags = true;
+    } else if (v[i] == "--new" || v[i] == "--force" || v[i] == "--dry-run") {
+      (v[i] == "--new" ? a.batch.fresh : v[i] == "--force" ? a.batch.force : a.batch.dry_run) = true;
+      a.batch_flags = true;
+    } else if ((v[i] == "--csv" || v[i] == "--json") && a.command == "export") {
+      a.export_format = v[i].substr(2);
+    } else if ((a.command == "export" || a.command == "merge") && v[i][0] != '-') {
+      a.stores.push_back(v[i]);
+    } else if (v[i] == "--output" || v[i] == "--set") {
       if (i + 1 == v.size()) usage_error(v[i] + " needs a value");
       const std::string val = v[++i];
       if (v[i - 1] == "--output") {
@@ -73,6 +134,10 @@ Args parse_args(int argc, char** argv) {
   if (!a.sets.empty() && a.command != "eval" && a.command != "check-derivatives")
     usage_error("--set goes with eval or check-derivatives");
   if (!a.output.empty() && a.command != "run") usage_error("--output goes with run");
+  if (a.batch_flags && a.command != "run") usage_error("--threads, --progress, --shard, --new, --force and --dry-run go with run");
+  if (a.command == "export" && (a.stores.size() != 1 || a.export_format.empty()))
+    usage_error("export expects one STORE and --csv or --json");
+  if (a.command == "merge" && a.stores.size() < 2) usage_error("merge expects OUT and at least one STORE");
   return a;
 }
 
@@ -154,6 +219,32 @@ int check(const opt::Problem& p) {
   return bad ? 1 : 0;
 }
 
+// SIGINT/SIGTERM: the evaluation under way finishes, what is done is written
+// and marked interrupted, and the exit code is 128 + the signal.
+int stopped(const std::string& where) {
+  if (!opt::stop_requested()) return 0;
+  const int sig = opt::stop_signal() ? opt::stop_signal() : SIGINT;
+  std::cerr << "mechopt: interrupted by " << (sig == SIGTERM ? "SIGTERM" : "SIGINT") << "; what was done is in "
+            << where << "\n";
+  return 128 + sig;
+}
+
+int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& problem) {
+  const problems::Entry* entry = nullptr;
+  for (const auto& e : problems::registry())
+    if (e.name == problem.name()) entry = &e;
+  const opt::doe::DoeSpec spec = opt::doe::parse_doe(root, entry->parameters, problem);
+  if (root.has("output")) root.at("output").allow_only({"directory"});
+  opt::doe::BatchOptions o = a.batch;
+  o.peers = opt::doe::mpi_peers();
+  o.output_directory = !a.output.empty() ? a.output
+                       : root.has("output") && root.at("output").has("directory")
+                           ? root.at("output").at("directory").text()
+                           : "results";
+  opt::doe::run_batch(root, problems::make_problem, spec, o, std::cout, std::cerr);
+  return stopped(o.output_directory + "/store.sqlite");
+}
+
 int run(const Args& a) {
   opt::ConfigNode root = opt::ConfigNode::load(a.config);
   for (const auto& [key, value] : a.sets) {
@@ -170,19 +261,14 @@ int run(const Args& a) {
     return 0;
   }
   if (a.command == "check-derivatives") return check(*problem);
+  const bool doe = root.has("study") && root.at("study").has("type") && root.at("study").at("type").text() == "doe";
+  if (a.batch_flags && !doe) usage_error("--threads, --progress, --shard, --new, --force and --dry-run go with a doe study");
+  opt::install_stop_handlers();
+  if (doe) return run_doe(a, root, *problem);
   opt::RunSpec spec = opt::parse_run(root, *problem);
   if (!a.output.empty()) spec.output_directory = a.output;
-  // SIGINT/SIGTERM: the evaluation under way finishes, what is done is
-  // written and marked interrupted, and the exit code is 128 + the signal.
-  opt::install_stop_handlers();
   opt::run_study(*problem, spec, std::cout);
-  if (opt::stop_requested()) {
-    const int sig = opt::stop_signal() ? opt::stop_signal() : SIGINT;
-    std::cerr << "mechopt: interrupted by " << (sig == SIGTERM ? "SIGTERM" : "SIGINT")
-              << "; what was done is in " << spec.output_directory << "/result.json\n";
-    return 128 + sig;
-  }
-  return 0;
+  return stopped(spec.output_directory + "/result.json");
 }
 
 }  // namespace
@@ -203,12 +289,25 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (a.command == "run" || a.command == "eval" || a.command == "check-derivatives") return run(a);
+    if (a.command == "export") {
+      if (a.export_format == "csv") opt::doe::export_csv(a.stores[0], std::cout);
+      else opt::doe::export_json(a.stores[0], std::cout);
+      return 0;
+    }
+    if (a.command == "merge") {
+      const auto r = opt::doe::merge_stores(a.stores[0], {a.stores.begin() + 1, a.stores.end()});
+      std::cout << "merged " << r.rows << " samples from " << r.inputs.size() << " stores into " << a.stores[0]
+                << "/store.sqlite\n";
+      return 0;
+    }
     usage_error("unknown command '" + a.command + "'");
   } catch (const opt::ConfigError& e) {
     std::cerr << "mechopt: error: " << e.what() << "\n";
+    opt::doe::abort_peers(2);  // the other MPI ranks, if any, would wait forever
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "mechopt: failed: " << e.what() << "\n";
+    opt::doe::abort_peers(1);
     return 1;
   }
 }

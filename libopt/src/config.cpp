@@ -113,6 +113,32 @@ ConfigNode ConfigNode::parse(const std::string& text, const std::string& name) {
   }
 }
 
+ConfigNode ConfigNode::with(const YAML::Node& over, const std::string& name) const {
+  ConfigNode top(over, name, path_, YAML::Mark::null_mark());
+  top.base_ = std::make_shared<ConfigNode>(*this);
+  return top;
+}
+
+ConfigNode ConfigNode::clone() const {
+  ConfigNode c(YAML::Clone(node_), file_, path_, mark_);
+  if (base_) c.base_ = std::make_shared<ConfigNode>(base_->clone());
+  return c;
+}
+
+nlohmann::json ConfigNode::to_json() const {
+  if (is_map()) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& k : keys()) j[k] = has(k) ? at(k).to_json() : nlohmann::json();
+    return j;
+  }
+  if (is_sequence()) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& item : items()) j.push_back(item.to_json());
+    return j;
+  }
+  return is_scalar() ? nlohmann::json(text()) : nlohmann::json();
+}
+
 std::string ConfigNode::where() const {
   return mark_.line >= 0 ? file_ + ":" + line_col(mark_) : file_;
 }

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include <stdexcept>
 #include <string>
@@ -31,6 +32,16 @@ class ConfigNode {
   // inherits and may override, map by map.
   static ConfigNode load(const std::string& file);
   static ConfigNode parse(const std::string& text, const std::string& name);
+  // This config with `over`'s keys over its own, map by map (as a file's
+  // keys over its base file's): e.g. one DOE sample's model values. Errors
+  // in `over` name `name`.
+  ConfigNode with(const YAML::Node& over, const std::string& name) const;
+  // A deep copy (base files included) that shares no YAML tree with this
+  // one: yaml-cpp trees are not to be read from two threads.
+  ConfigNode clone() const;
+  // The config with its base files merged, as JSON (scalars as written), for
+  // hashing and for the record of a run.
+  nlohmann::json to_json() const;
 
   const std::string& file() const { return file_; }
   const std::string& path() const { return path_; }

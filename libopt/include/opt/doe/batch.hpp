@@ -1,0 +1,129 @@
+// Batch design of experiments (docs/doe.md): the `doe` study's keys, and the
+// runner that evaluates every sample of a sampler on all cores into one
+// SQLite store, resumes exactly where a killed run stopped, and reports
+// progress. A sample's values depend on (seed, index) only.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "opt/config.hpp"
+#include "opt/doe/sampler.hpp"
+#include "opt/parameters.hpp"
+#include "opt/problem.hpp"
+
+namespace opt::doe {
+
+// A factor with the parameter-table row it sets.
+struct FactorSpec {
+  Factor factor;
+  Parameter parameter;
+  // Set through x when the row may be a design variable (bound once, by
+  // index: the fast path), else in the model, by rebuilding the problem
+  // from the config with the sample's value over it.
+  bool through_x = false;
+};
+
+struct DoeSpec {
+  std::vector<FactorSpec> factors;
+  std::string sampler = "sobol";  // factorial | random | latin_hypercube | sobol | saltelli | list
+  std::int64_t samples = 0;       // random, latin_hypercube, sobol; saltelli: base rows
+  std::optional<std::uint64_t> seed;
+  bool maximin = false;                      // latin_hypercube
+  std::vector<std::vector<double>> rows;     // list: in factor order, SI
+  std::vector<std::string> columns;          // metrics printed in the summary
+  double sample_seconds = 0;                 // per-sample time limit (0: none)
+};
+
+// Makes a problem from a config: problems::make_problem.
+using ProblemFactory = std::function<std::unique_ptr<Problem>(const ConfigNode& root)>;
+
+// Reads `study: {type: doe, sampler, samples, seed, maximin, factors, points,
+// points_file, columns, sample_time_limit}` against the problem's parameter
+// table; every value is checked against its row's domain, with located errors.
+DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem);
+
+// The sampler a spec asks for.
+std::unique_ptr<Sampler> make_sampler(const DoeSpec& spec);
+
+struct Shard {
+  int index = 0, count = 1;  // --shard index/count: samples [index N / count, (index + 1) N / count)
+};
+
+struct Row;  // opt/doe/store.hpp
+
+// The other processes of one run (MPI ranks, docs/doe.md): rank 0 owns the
+// store and hands out chunks of indices; every other rank evaluates the
+// chunks it is given and sends back its rows with its next request.
+class Peers {
+ public:
+  virtual ~Peers() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // The finished-sample bitmap, from rank 0 to all (n bits everywhere).
+  virtual void share(std::vector<bool>& finished) = 0;
+  // Rank 0: serves chunks of [next, hi) to the other ranks (each asks for a
+  // size) until every one has been told to stop; their rows go to `rows`.
+  // Stops handing out work once `stopping()` is true.
+  virtual void serve(std::atomic<std::int64_t>& next, std::int64_t hi,
+                     const std::function<void(std::vector<Row>)>& rows, const std::function<bool()>& stopping) = 0;
+  // Other ranks: asks for chunks, evaluates each with `evaluate(begin, end,
+  // chunk size wanted next)`, until told to stop.
+  virtual void work(const std::function<std::vector<Row>(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) = 0;
+};
+
+// The MPI ranks of this process's run, or nullptr when it was not started
+// by mpirun with more than one rank (or mechopt was built without MPI).
+// Initialises MPI on first use; finalised at exit.
+Peers* mpi_peers();
+// Ends a multi-rank run after an error on one rank (MPI_Abort), else nothing.
+void abort_peers(int code);
+
+struct BatchOptions {
+  std::string output_directory = "results";
+  int threads = 0;                 // 0: every core
+  std::string progress = "auto";   // auto (bar on a terminal, else jsonl) | bar | jsonl | none
+  bool fresh = false;              // --new: move an existing store aside
+  bool force = false;              // --force: allow more than kMaxSamples
+  bool dry_run = false;
+  Shard shard;
+  Peers* peers = nullptr;  // MPI ranks, if any
+};
+
+// More samples than this need --force.
+constexpr std::int64_t kMaxSamples = 10'000'000;
+
+// Makes the problem of a sample whose model values differ from the run's
+// (`over`: {model: {KEY: VALUE}} as a config writes it; `name` for errors).
+// Each thread has its own.
+using SampleMaker = std::function<std::unique_ptr<Problem>(const YAML::Node& over, const std::string& name)>;
+
+// The runner: evaluates every sample of `spec` not yet in DIR/store.sqlite on
+// `problem` (factors through x), or, when model values are factors, on the
+// problem a thread's maker (from `makers`, once per thread) builds per
+// sample; writes result.json; prints a summary to `out` and progress to
+// `err`. `config` is the run's config as written, kept in the store.
+// Returns result.json's content (run_status: complete or interrupted).
+nlohmann::json run_samples(const Problem& problem, const std::function<SampleMaker()>& makers, const DoeSpec& spec,
+                           const BatchOptions& options, const nlohmann::json& config, std::ostream& out,
+                           std::ostream& err);
+
+// run_samples from a config: the factors that may be design variables become
+// variables (the fast path), the others model values of a problem `make`
+// builds per sample from the thread's own copy of the config.
+nlohmann::json run_batch(const ConfigNode& root, const ProblemFactory& make, const DoeSpec& spec,
+                         const BatchOptions& options, std::ostream& out, std::ostream& err);
+
+// What a store's rows depend on, and its hash (FNV-1a 64, hex): the problem,
+// its settings (every model value and numerical setting), the sampler and
+// the factors; not the output directory, the driver or progress settings.
+nlohmann::json canonical_run(const Problem& problem, const DoeSpec& spec, const Sampler& sampler);
+std::string config_hash(const nlohmann::json& canonical);
+
+}  // namespace opt::doe

@@ -1,0 +1,473 @@
+// The batch runner (docs/doe.md): worker threads take chunks of sample
+// indices from one atomic counter, evaluate them on their own workspace and
+// hand rows to one writer thread, which commits them to the store in
+// batched transactions and reports progress. Only samples the store does not
+// hold are evaluated, so running the same command again resumes exactly.
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "opt/doe/batch.hpp"
+#include "opt/doe/store.hpp"
+#include "opt/interrupt.hpp"
+#include "opt/record.hpp"
+
+namespace opt::doe {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// A value of row p as a config writes it: an option name, a whole number, or
+// the SI value (17 digits: exact) with its SI unit.
+YAML::Node value_node(const Parameter& p, double v) {
+  if (!p.choices.empty()) return YAML::Node(p.choices.at(static_cast<size_t>(v)));
+  char text[40];
+  std::snprintf(text, sizeof text, p.integer ? "%.0f" : "%.17g", v);
+  const std::string unit = si_unit(p.dimension);
+  return YAML::Node(unit.empty() ? std::string(text) : std::string(text) + " " + unit);
+}
+
+// Sets SECTION.KEY (a dotted name sits in a section) under `section` of `over`.
+void set_value(YAML::Node over, const std::string& section, const std::string& name, const YAML::Node& v) {
+  const auto dot = name.find('.');
+  if (dot == std::string::npos) over[section][name] = v;
+  else over[section][name.substr(0, dot)][name.substr(dot + 1)] = v;
+}
+
+// The run's config: the factors that can be design variables become
+// variables spanning their range, so that a sample sets them through x.
+ConfigNode run_root(const ConfigNode& root, const DoeSpec& spec) {
+  YAML::Node over(YAML::NodeType::Map);
+  for (const auto& f : spec.factors) {
+    if (!f.through_x) continue;
+    const auto& lv = f.factor.levels;
+    const bool range = f.factor.kind == Factor::Kind::range;
+    const double lo = range ? f.factor.lower : *std::min_element(lv.begin(), lv.end());
+    const double hi = range ? f.factor.upper : *std::max_element(lv.begin(), lv.end());
+    over["variables"][f.factor.name]["min"] = value_node(f.parameter, lo);
+    over["variables"][f.factor.name]["max"] = value_node(f.parameter, hi);
+  }
+  return root.with(over, root.file());
+}
+
+class Evaluator {
+ public:
+  Evaluator(const Problem& base, const DoeSpec& spec, const Sampler& sampler)
+      : base_(base), spec_(spec), sampler_(sampler), metrics_(base.metric_names().size()) {
+    for (const auto& f : spec.factors) {
+      int index = -1;
+      for (size_t v = 0; v < base.variables().size(); ++v)
+        if (f.through_x && base.variables()[v].name == f.factor.name) index = static_cast<int>(v);
+      variable_.push_back(index);
+      model_factors_ = model_factors_ || index < 0;
+    }
+  }
+
+  bool model_factors() const { return model_factors_; }
+
+  // Sample i as a row: a status (never an exception) and every metric.
+  // `maker` builds the sample's problem when model values are factors.
+  Row evaluate(const SampleMaker& maker, std::int64_t i) const {
+    Row r;
+    r.index = i;
+    r.factors.resize(spec_.factors.size());
+    sampler_.point(i, r.factors);
+    r.metrics.assign(metrics_, kNan);
+    const auto t0 = Clock::now();
+    try {
+      const Problem* p = &base_;
+      std::unique_ptr<Problem> own;
+      if (model_factors_) {  // model values change: the problem is built for this sample
+        YAML::Node over(YAML::NodeType::Map);
+        for (size_t j = 0; j < spec_.factors.size(); ++j)
+          if (variable_[j] < 0)
+            set_value(over, "model", spec_.factors[j].factor.name, value_node(spec_.factors[j].parameter, r.factors[j]));
+        own = maker(over, "sample " + std::to_string(i));
+        p = own.get();
+      }
+      Eigen::VectorXd x = p->initial_point(false);
+      for (size_t j = 0; j < variable_.size(); ++j)
+        if (variable_[j] >= 0) x[variable_[j]] = r.factors[j];
+      const Evaluation e = p->evaluate(x, MetricSet::all(), false);
+      r.status = mech::to_string(e.status);
+      r.message = e.message;
+      for (size_t m = 0; m < metrics_; ++m)
+        if (e.has(static_cast<MetricId>(m))) r.metrics[m] = e[static_cast<MetricId>(m)].value;
+    } catch (const ConfigError& e) {  // a factor value the model does not accept
+      r.status = mech::to_string(Status::invalid_parameter);
+      r.message = e.what();
+      std::fill(r.metrics.begin(), r.metrics.end(), kNan);
+    } catch (const std::exception& e) {
+      r.status = mech::to_string(Status::evaluation_error);
+      r.message = e.what();
+      std::fill(r.metrics.begin(), r.metrics.end(), kNan);
+    }
+    r.wall_time = since(t0);
+    return r;
+  }
+
+ private:
+  const Problem& base_;
+  const DoeSpec& spec_;
+  const Sampler& sampler_;
+  size_t metrics_;
+  std::vector<int> variable_;  // per factor: its index in x, or -1 (a model value)
+  bool model_factors_ = false;
+};
+
+// Counts and extremes over the rows committed by this run and earlier ones.
+struct Tally {
+  std::int64_t done = 0;       // in the shard, committed
+  std::int64_t evaluated = 0;  // by this run
+  std::map<std::string, std::int64_t> statuses;  // this run
+  std::int64_t failures() const {
+    std::int64_t n = 0;
+    for (const auto& [s, c] : statuses) n += s == "ok" ? 0 : c;
+    return n;
+  }
+};
+
+class Progress {
+ public:
+  Progress(std::string mode, std::ostream& err, std::int64_t total)
+      : mode_(std::move(mode)), err_(err), total_(total) {}
+  void update(const Tally& t, std::int64_t pending_at_start, bool final) {
+    if (mode_ == "none") return;
+    const double elapsed = since(t0_);
+    if (!final && elapsed - last_ < (mode_ == "bar" ? 0.2 : 2.0)) return;
+    last_ = elapsed;
+    const double rate = elapsed > 0 ? t.evaluated / elapsed : 0;
+    const std::int64_t left = pending_at_start - t.evaluated;
+    const double eta = rate > 0 ? left / rate : 0;
+    if (mode_ == "jsonl") {
+      err_ << nlohmann::json{{"event", final ? "finished" : "progress"}, {"done", t.done}, {"total", total_},
+                             {"evaluated", t.evaluated}, {"rate", rate}, {"eta_s", eta},
+                             {"failures", t.failures()}, {"elapsed_s", elapsed}}
+                  .dump()
+           << "\n"
+           << std::flush;
+      return;
+    }
+    const double f = total_ ? static_cast<double>(t.done) / total_ : 1.0;
+    const int width = 30, filled = static_cast<int>(f * width);
+    char line[200];
+    const long e = std::lround(eta);
+    std::snprintf(line, sizeof line, "\r[%s%s] %5.1f%% %lld/%lld  %.3g/s  ETA %ld:%02ld:%02ld  failures %lld ",
+                  std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), 100 * f,
+                  static_cast<long long>(t.done), static_cast<long long>(total_), rate, e / 3600, e / 60 % 60,
+                  e % 60, static_cast<long long>(t.failures()));
+    err_ << line << (final ? "\n" : "") << std::flush;
+  }
+
+ private:
+  std::string mode_;
+  std::ostream& err_;
+  std::int64_t total_;
+  Clock::time_point t0_ = Clock::now();
+  double last_ = -1e9;
+};
+
+// One writer: rows from the workers go to the store in batched transactions.
+class Writer {
+ public:
+  Writer(Store& store, Tally& tally, Progress& progress, std::int64_t pending)
+      : store_(store), tally_(tally), progress_(progress), pending_(pending), thread_([this] { run(); }) {}
+  ~Writer() { close(); }
+
+  // Blocks while too many rows wait (memory stays constant in N).
+  void push(std::vector<Row> rows) {
+    std::unique_lock lock(m_);
+    room_.wait(lock, [&] { return queued_ < kMaxQueued || failed_; });
+    queued_ += rows.size();
+    queue_.push_back(std::move(rows));
+    ready_.notify_one();
+  }
+
+  // Commits what is queued and stops; rethrows the writer's error, if any.
+  void close() {
+    {
+      std::lock_guard lock(m_);
+      closing_ = true;
+      ready_.notify_one();
+    }
+    if (thread_.joinable()) thread_.join();
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  }
+
+  bool failed() const { return failed_; }
+
+ private:
+  static constexpr size_t kBatchRows = 20000, kMaxQueued = 200000;
+
+  void run() {
+    std::vector<Row> batch;
+    auto last = Clock::now();
+    try {
+      for (;;) {
+        bool closing;
+        {
+          std::unique_lock lock(m_);
+          ready_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !queue_.empty() || closing_; });
+          while (!queue_.empty()) {
+            auto& rows = queue_.front();
+            queued_ -= rows.size();
+            std::move(rows.begin(), rows.end(), std::back_inserter(batch));
+            queue_.pop_front();
+          }
+          closing = closing_;
+          room_.notify_all();
+        }
+        if (!batch.empty() && (closing || batch.size() >= kBatchRows || since(last) >= 0.25)) {
+          store_.append(batch);
+          tally_.done += static_cast<std::int64_t>(batch.size());
+          tally_.evaluated += static_cast<std::int64_t>(batch.size());
+          for (const auto& r : batch) ++tally_.statuses[std::string(r.status)];
+          batch.clear();
+          last = Clock::now();
+        }
+        progress_.update(tally_, pending_, false);
+        if (closing && batch.empty()) return;
+      }
+    } catch (...) {
+      error_ = std::current_exception();
+      std::lock_guard lock(m_);
+      failed_ = true;
+      room_.notify_all();
+    }
+  }
+
+  Store& store_;
+  Tally& tally_;
+  Progress& progress_;
+  std::int64_t pending_;
+  std::mutex m_;
+  std::condition_variable ready_, room_;
+  std::deque<std::vector<Row>> queue_;
+  size_t queued_ = 0;
+  bool closing_ = false;
+  std::atomic<bool> failed_{false};
+  std::exception_ptr error_;
+  std::thread thread_;
+};
+
+// The next chunk's size after `count` samples took `seconds` on `threads`
+// threads: ~50 ms of work, few enough requests to keep the counter (or rank
+// 0) cold, small enough that slow samples do not idle the others.
+std::int64_t next_chunk(double seconds, std::int64_t count, int threads) {
+  const double per = seconds / static_cast<double>(std::max<std::int64_t>(1, count));
+  return std::clamp<std::int64_t>(static_cast<std::int64_t>(0.05 * threads / std::max(per, 1e-9)), 1, 4096);
+}
+
+std::string hex64(std::uint64_t v) {
+  char s[17];
+  std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(v));
+  return s;
+}
+
+std::string now_text() {
+  const std::time_t t = std::time(nullptr);
+  char s[32];
+  std::strftime(s, sizeof s, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return s;
+}
+
+}  // namespace
+
+nlohmann::json canonical_run(const Problem& problem, const DoeSpec& spec, const Sampler& sampler) {
+  nlohmann::json j = problem.settings();
+  if (!j.is_object()) j = {{"settings", j}};
+  j["problem"] = problem.name();
+  j["sampler"] = sampler.describe();
+  j["factors"] = nlohmann::json::array();
+  for (const auto& f : spec.factors) {
+    const Factor& x = f.factor;
+    j["factors"].push_back({{"name", x.name}, {"kind", static_cast<int>(x.kind)}, {"lower", x.lower},
+                            {"upper", x.upper}, {"count", x.count}, {"levels", x.levels}, {"labels", x.labels}});
+  }
+  if (!spec.rows.empty()) j["points"] = spec.rows;
+  return j;
+}
+
+std::string config_hash(const nlohmann::json& canonical) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bits: stable across builds and machines
+  for (const unsigned char c : canonical.dump()) h = (h ^ c) * 1099511628211ull;
+  return hex64(h);
+}
+
+nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker()>& makers, const DoeSpec& spec,
+                           const BatchOptions& o, const nlohmann::json& config, std::ostream& out,
+                           std::ostream& err) {
+  const auto sampler = make_sampler(spec);
+  const std::int64_t n = sampler->size();
+  if (n > kMaxSamples && !o.force)
+    throw ConfigError("study: " + std::to_string(n) + " samples is more than " + std::to_string(kMaxSamples) +
+                      "; run with --force to go ahead");
+  const std::int64_t lo = n * o.shard.index / o.shard.count, hi = n * (o.shard.index + 1) / o.shard.count;
+  // All cores by default; one thread per rank under MPI (ranks fill the cores).
+  const int threads = o.threads > 0 ? o.threads
+                      : o.peers     ? 1
+                                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const std::vector<std::string>& metrics = base.metric_names();
+  const Evaluator evaluator(base, spec, *sampler);
+  auto maker = [&] { return evaluator.model_factors() ? makers() : SampleMaker(); };
+
+  StoreLayout layout;
+  for (const auto& f : spec.factors) {
+    layout.factors.push_back(f.factor.name);
+    layout.labels.push_back(f.factor.labels);
+  }
+  layout.metrics = metrics;
+  const std::string shard = std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count);
+  nlohmann::json j = {{"mechopt_version", MECHOPT_VERSION}, {"problem", base.name()}, {"study", "doe"},
+                      {"sampler", sampler->describe()}, {"samples", n}, {"shard", shard},
+                      {"threads", threads}, {"ranks", o.peers ? o.peers->size() : 1},
+                      {"settings", base.settings()}};
+
+  if (o.peers && o.peers->rank() > 0) {  // an MPI worker: chunks from rank 0, rows back to it
+    std::vector<bool> finished(static_cast<size_t>(n));
+    o.peers->share(finished);
+    std::vector<SampleMaker> makers_of(static_cast<size_t>(threads));
+    for (auto& m : makers_of) m = maker();
+    o.peers->work([&](std::int64_t begin, std::int64_t end, std::int64_t& want) {
+      const auto c0 = Clock::now();
+      std::vector<std::vector<Row>> parts(static_cast<size_t>(threads));
+      auto part = [&](int t) {  // every threads-th index from begin + t
+        for (std::int64_t i = begin + t; i < end && !stop_requested(); i += threads)
+          if (!finished[static_cast<size_t>(i)]) parts[static_cast<size_t>(t)].push_back(evaluator.evaluate(makers_of[static_cast<size_t>(t)], i));
+      };
+      std::vector<std::thread> pool;
+      for (int t = 1; t < threads; ++t) pool.emplace_back(part, t);
+      part(0);
+      for (auto& t : pool) t.join();
+      std::vector<Row> rows;
+      for (auto& p : parts) std::move(p.begin(), p.end(), std::back_inserter(rows));
+      want = next_chunk(since(c0), end - begin, threads);
+      return rows;
+    });
+    j["rank"] = o.peers->rank();
+    return j;
+  }
+
+  if (o.dry_run) {  // a pilot of a few samples, nothing written
+    const SampleMaker m = maker();
+    const std::int64_t pilot = std::min<std::int64_t>(hi - lo, 16);
+    const auto t0 = Clock::now();
+    for (std::int64_t i = lo; i < lo + pilot; ++i) evaluator.evaluate(m, i);
+    const double per = pilot ? since(t0) / pilot : 0;
+    const double bytes = (hi - lo) * (40.0 + 9.0 * (layout.factors.size() + metrics.size()));
+    j["dry_run"] = {{"samples", hi - lo}, {"pilot_samples", pilot}, {"seconds_per_sample", per},
+                    {"estimated_seconds", per * (hi - lo) / threads}, {"estimated_store_bytes", bytes}};
+    out << "dry run: " << hi - lo << " samples" << (o.shard.count > 1 ? " (shard " + shard + ")" : "") << " on "
+        << threads << " threads\n  pilot: " << pilot << " samples, " << per * 1e3 << " ms each\n"
+        << "  estimated time: " << per * (hi - lo) / threads << " s (samples already in a store are skipped)\n"
+        << "  estimated store size: " << bytes / 1e6 << " MB\n";
+    return j;
+  }
+
+  namespace fs = std::filesystem;
+  fs::create_directories(o.output_directory);
+  const std::string dir = o.output_directory + "/";
+  remove_previous_outputs(dir);
+  const nlohmann::json canonical = canonical_run(base, spec, *sampler);
+  const std::map<std::string, std::string> meta = {
+      {"config", config.dump(2)},          {"config_canonical", canonical.dump()},
+      {"config_hash", config_hash(canonical)}, {"problem", base.name()},
+      {"sampler", sampler->describe().dump()}, {"seed", spec.seed ? std::to_string(*spec.seed) : ""},
+      {"samples", std::to_string(n)},          {"mechopt_version", MECHOPT_VERSION},
+      {"shard", shard},                        {"started", now_text()}};
+  Store store(o.output_directory, layout, meta, o.fresh);
+  std::vector<bool> finished = store.finished(n);
+  if (o.peers) o.peers->share(finished);
+  Tally tally;
+  for (std::int64_t i = lo; i < hi; ++i) tally.done += finished[static_cast<size_t>(i)];
+  const std::int64_t pending = hi - lo - tally.done;
+  out << "mechopt " << MECHOPT_VERSION << " — " << base.name() << ", doe (" << spec.sampler << ", " << n
+      << " samples" << (o.shard.count > 1 ? ", shard " + shard : "") << ")\n"
+      << "store: " << store.path() << (tally.done ? " (resuming: " + std::to_string(tally.done) + " done)" : "")
+      << "\n" << pending << " samples to evaluate on " << threads << " threads\n" << std::flush;
+
+  const std::string mode = o.progress != "auto" ? o.progress : isatty(STDERR_FILENO) ? "bar" : "jsonl";
+  Progress progress(mode, err, hi - lo);
+  const auto t0 = Clock::now();
+  {
+    Writer writer(store, tally, progress, pending);
+    std::atomic<std::int64_t> next{lo};
+    std::exception_ptr worker_error;
+    std::mutex error_m;
+    auto work = [&] {
+      try {
+        const SampleMaker m = maker();
+        std::int64_t chunk = 1;
+        while (!stop_requested() && !writer.failed()) {
+          const std::int64_t begin = next.fetch_add(chunk), end = std::min(hi, begin + chunk);
+          if (begin >= hi) return;
+          std::vector<Row> rows;
+          const auto c0 = Clock::now();
+          for (std::int64_t i = begin; i < end && !stop_requested(); ++i)
+            if (!finished[static_cast<size_t>(i)]) rows.push_back(evaluator.evaluate(m, i));
+          chunk = next_chunk(since(c0), end - begin, 1);
+          if (!rows.empty()) writer.push(std::move(rows));
+        }
+      } catch (...) {
+        std::lock_guard lock(error_m);
+        if (!worker_error) worker_error = std::current_exception();
+        request_stop();
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) pool.emplace_back(work);
+    if (o.peers)  // this thread serves the other ranks
+      o.peers->serve(next, hi, [&](std::vector<Row> rows) { writer.push(std::move(rows)); },
+                     [&] { return stop_requested() || writer.failed(); });
+    for (auto& t : pool) t.join();
+    writer.close();
+    if (worker_error) std::rethrow_exception(worker_error);
+  }
+  progress.update(tally, pending, true);
+  const double seconds = since(t0);
+  const bool complete = tally.done == hi - lo;
+  if (complete) store.set_meta("finished", now_text());
+  j["run_status"] = complete ? "complete" : "interrupted";
+  j["store"] = store.path();
+  j["done"] = tally.done;
+  j["evaluated"] = tally.evaluated;
+  j["seconds"] = seconds;
+  j["rate"] = seconds > 0 ? static_cast<double>(tally.evaluated) / seconds : 0.0;
+  j["statuses"] = tally.statuses;
+  out << (complete ? "complete: " : "interrupted: ") << tally.done << "/" << hi - lo << " samples in the store; "
+      << tally.evaluated << " evaluated in " << seconds << " s (" << j["rate"].get<double>() << "/s)\n";
+  for (const auto& [st, c] : tally.statuses) out << "  " << st << ": " << c << "\n";
+  write_file_atomically(dir + "result.json", j.dump(2) + "\n");
+  out << "written: " << dir << "result.json, " << store.path() << "\n";
+  return j;
+}
+
+nlohmann::json run_batch(const ConfigNode& root, const ProblemFactory& make, const DoeSpec& spec,
+                         const BatchOptions& o, std::ostream& out, std::ostream& err) {
+  const ConfigNode run = run_root(root, spec);
+  const std::unique_ptr<Problem> base = make(run);
+  // Each thread reads its own copy of the config (yaml-cpp trees are not
+  // shared between threads).
+  const auto makers = [&]() -> SampleMaker {
+    auto own = std::make_shared<const ConfigNode>(run.clone());
+    return [own, &make](const YAML::Node& over, const std::string& name) { return make(own->with(over, name)); };
+  };
+  return run_samples(*base, makers, spec, o, root.to_json(), out, err);
+}
+
+}  // namespace opt::doe

@@ -1,0 +1,178 @@
+// MPI ranks of one batch (docs/doe.md, "MPI"). Rank 0 owns the store: its
+// main thread serves chunks of sample indices to the other ranks, which ask
+// for a chunk size and send their rows back with the next request. Only the
+// main thread of a process calls MPI (MPI_THREAD_FUNNELED).
+//
+// Messages, all MPI_BYTE on one tag:
+//   rank k -> 0: int64 wanted chunk size (0: stopping), then packed rows
+//   0 -> rank k: int64 begin, int64 end (begin == end: stop)
+// A packed row: int64 index, int32 status, double wall time, uint32 message
+// length and bytes, then the factor and metric values as doubles.
+#include <cstdlib>
+#include <cstring>
+
+#include "opt/doe/batch.hpp"
+#include "opt/doe/store.hpp"
+#include "opt/interrupt.hpp"
+
+#ifdef MECHOPT_MPI
+#include <mpi.h>
+#endif
+
+namespace opt::doe {
+
+#ifdef MECHOPT_MPI
+namespace {
+
+constexpr int kTag = 7;
+
+template <class T>
+void put(std::vector<char>& b, const T& v) {
+  const char* p = reinterpret_cast<const char*>(&v);
+  b.insert(b.end(), p, p + sizeof v);
+}
+
+template <class T>
+T take(const char*& p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  p += sizeof v;
+  return v;
+}
+
+std::vector<char> pack(std::int64_t want, const std::vector<Row>& rows) {
+  std::vector<char> b;
+  put(b, want);
+  for (const auto& r : rows) {
+    put(b, r.index);
+    put(b, static_cast<std::int32_t>(mech::status_from_string(r.status).value_or(Status::evaluation_error)));
+    put(b, r.wall_time);
+    put(b, static_cast<std::uint32_t>(r.message.size()));
+    b.insert(b.end(), r.message.begin(), r.message.end());
+    put(b, static_cast<std::uint32_t>(r.factors.size()));
+    put(b, static_cast<std::uint32_t>(r.metrics.size()));
+    for (double v : r.factors) put(b, v);
+    for (double v : r.metrics) put(b, v);
+  }
+  return b;
+}
+
+std::vector<Row> unpack(const std::vector<char>& b, std::int64_t& want) {
+  const char* p = b.data();
+  const char* end = b.data() + b.size();
+  want = take<std::int64_t>(p);
+  std::vector<Row> rows;
+  while (p < end) {
+    Row r;
+    r.index = take<std::int64_t>(p);
+    r.status = mech::to_string(static_cast<Status>(take<std::int32_t>(p)));
+    r.wall_time = take<double>(p);
+    const auto length = take<std::uint32_t>(p);
+    r.message.assign(p, length);
+    p += length;
+    r.factors.resize(take<std::uint32_t>(p));
+    r.metrics.resize(take<std::uint32_t>(p));
+    for (double& v : r.factors) v = take<double>(p);
+    for (double& v : r.metrics) v = take<double>(p);
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+class MpiPeers final : public Peers {
+ public:
+  MpiPeers() {
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    std::atexit([] {
+      int done = 0;
+      MPI_Finalized(&done);
+      if (!done) MPI_Finalize();
+    });
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+
+  void share(std::vector<bool>& finished) override {
+    std::vector<unsigned char> bytes((finished.size() + 7) / 8);
+    if (rank_ == 0)
+      for (size_t i = 0; i < finished.size(); ++i)
+        if (finished[i]) bytes[i / 8] |= static_cast<unsigned char>(1u << (i % 8));
+    // In pieces: MPI counts are ints.
+    for (size_t at = 0; at < bytes.size(); at += 1 << 30)
+      MPI_Bcast(bytes.data() + at, static_cast<int>(std::min<size_t>(bytes.size() - at, 1 << 30)), MPI_BYTE, 0,
+                MPI_COMM_WORLD);
+    for (size_t i = 0; i < finished.size(); ++i) finished[i] = bytes[i / 8] >> (i % 8) & 1u;
+  }
+
+  void serve(std::atomic<std::int64_t>& next, std::int64_t hi, const std::function<void(std::vector<Row>)>& rows,
+             const std::function<bool()>& stopping) override {
+    for (int active = size_ - 1; active > 0;) {
+      MPI_Status st;
+      MPI_Probe(MPI_ANY_SOURCE, kTag, MPI_COMM_WORLD, &st);
+      int count = 0;
+      MPI_Get_count(&st, MPI_BYTE, &count);
+      std::vector<char> b(static_cast<size_t>(count));
+      MPI_Recv(b.data(), count, MPI_BYTE, st.MPI_SOURCE, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      std::int64_t want = 0;
+      auto received = unpack(b, want);
+      if (!received.empty()) rows(std::move(received));
+      std::int64_t chunk[2] = {0, 0};
+      if (want > 0 && !stopping()) {
+        chunk[0] = next.fetch_add(want);
+        chunk[1] = std::min(hi, chunk[0] + want);
+        if (chunk[0] >= hi) chunk[0] = chunk[1] = 0;
+      }
+      if (chunk[0] == chunk[1]) --active;
+      MPI_Send(chunk, sizeof chunk, MPI_BYTE, st.MPI_SOURCE, kTag, MPI_COMM_WORLD);
+    }
+  }
+
+  void work(const std::function<std::vector<Row>(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) override {
+    std::vector<Row> rows;
+    std::int64_t want = 1;
+    for (;;) {
+      const auto b = pack(stop_requested() ? 0 : want, rows);
+      MPI_Send(b.data(), static_cast<int>(b.size()), MPI_BYTE, 0, kTag, MPI_COMM_WORLD);
+      std::int64_t chunk[2];
+      MPI_Recv(chunk, sizeof chunk, MPI_BYTE, 0, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      if (chunk[0] == chunk[1]) return;
+      rows = evaluate(chunk[0], chunk[1], want);
+    }
+  }
+
+ private:
+  int rank_ = 0, size_ = 1;
+};
+
+// Started by mpirun (Open MPI, or a PMI launcher) with more than one rank.
+bool launched_with_ranks() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+    if (const char* s = std::getenv(v)) return std::atoi(s) > 1;
+  return false;
+}
+
+}  // namespace
+
+Peers* mpi_peers() {
+  static MpiPeers* peers = launched_with_ranks() ? new MpiPeers() : nullptr;  // lives to the end
+  return peers;
+}
+
+void abort_peers(int code) {
+  int initialized = 0, finalized = 0;
+  MPI_Initialized(&initialized);
+  MPI_Finalized(&finalized);
+  if (initialized && !finalized && mpi_peers() && mpi_peers()->size() > 1) MPI_Abort(MPI_COMM_WORLD, code);
+}
+
+#else
+
+Peers* mpi_peers() { return nullptr; }
+void abort_peers(int) {}
+
+#endif
+
+}  // namespace opt::doe

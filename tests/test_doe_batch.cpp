@@ -1,0 +1,284 @@
+// The doe study end to end: factors set through x or in the model, rows
+// checked against closed forms, results independent of the thread count,
+// exact resume after a stop or a SIGKILL, a changed config refused.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#include "cli.hpp"
+#include "opt/doe/batch.hpp"
+#include "opt/doe/store.hpp"
+#include "opt/interrupt.hpp"
+#include "problems/registry.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Rows of `select COLUMNS from samples order by idx`, each cell as text ("" for NULL).
+std::vector<std::vector<std::string>> rows(const std::string& dir, const std::string& columns) {
+  sqlite3* db = nullptr;
+  EXPECT_EQ(sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  const std::string sql = "select " + columns + " from samples order by idx";
+  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+  std::vector<std::vector<std::string>> out;
+  while (st && sqlite3_step(st) == SQLITE_ROW) {
+    std::vector<std::string> r;
+    for (int c = 0; c < sqlite3_column_count(st); ++c) {
+      const auto* t = sqlite3_column_text(st, c);
+      r.push_back(t ? reinterpret_cast<const char*>(t) : "");
+    }
+    out.push_back(std::move(r));
+  }
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return out;
+}
+
+// Rows in the store so far (0 while it is being created), for polling.
+size_t count_rows(const std::string& dir) {
+  sqlite3* db = nullptr;
+  size_t n = 0;
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
+      sqlite3_prepare_v2(db, "select count(*) from samples", -1, &st, nullptr) == SQLITE_OK &&
+      sqlite3_step(st) == SQLITE_ROW)
+    n = static_cast<size_t>(sqlite3_column_int64(st, 0));
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return n;
+}
+
+struct Run {
+  opt::ConfigNode root;
+  std::unique_ptr<opt::Problem> problem;
+  opt::doe::DoeSpec spec;
+};
+
+Run parse(const std::string& yaml) {
+  Run r{opt::ConfigNode::parse(yaml, "<doe>"), nullptr, {}};
+  r.problem = problems::make_problem(r.root);
+  for (const auto& e : problems::registry())
+    if (e.name == r.problem->name()) r.spec = opt::doe::parse_doe(r.root, e.parameters, *r.problem);
+  return r;
+}
+
+nlohmann::json run(const std::string& yaml, const std::string& dir, int threads,
+                   const opt::doe::ProblemFactory& make = problems::make_problem, bool fresh = false) {
+  const Run r = parse(yaml);
+  opt::doe::BatchOptions o;
+  o.output_directory = dir;
+  o.threads = threads;
+  o.progress = "none";
+  o.fresh = fresh;
+  std::ostringstream out, err;
+  return opt::doe::run_batch(r.root, make, r.spec, o, out, err);
+}
+
+// crank_radius and rod_length through x, crank_speed in the model (the
+// problem is rebuilt per sample); the first factor varies slowest.
+const char* kFactorial = R"(problem: slider_crank
+study:
+  type: doe
+  factors:
+    crank_radius: [0.1 m, 0.15 m, 0.2 m]
+    rod_length: {min: 0.8 m, max: 1.2 m, count: 3}
+    crank_speed: [5 rad/s, 10 rad/s]
+)";
+
+// Closed forms of the centred slider-crank (e = 0), r/l <= 1/4: stroke 2r;
+// peak |x''| = r w^2 (1 + r/l), at the crank angle 0; max pressure angle
+// asin(r/l), at 90 degrees.
+TEST(DoeBatch, FactorialRowsMatchClosedForms) {
+  const std::string dir = cli::fresh_dir("doe_factorial");
+  const auto j = run(kFactorial, dir, 2);
+  EXPECT_EQ(j["run_status"], "complete");
+  const auto table = rows(dir, "idx, status, crank_radius, rod_length, crank_speed, stroke, "
+                               "peak_slider_acceleration, max_pressure_angle");
+  ASSERT_EQ(table.size(), 18u);
+  const double radii[] = {0.1, 0.15, 0.2}, rods[] = {0.8, 1.0, 1.2}, speeds[] = {5, 10};
+  for (size_t i = 0; i < table.size(); ++i) {
+    const auto& t = table[i];
+    const double r = radii[i / 6], l = rods[i / 2 % 3], w = speeds[i % 2];
+    EXPECT_EQ(std::stoll(t[0]), static_cast<long long>(i));
+    ASSERT_EQ(t[1], "ok") << i;
+    EXPECT_DOUBLE_EQ(std::stod(t[2]), r);
+    EXPECT_NEAR(std::stod(t[3]), l, 1e-15);
+    EXPECT_DOUBLE_EQ(std::stod(t[4]), w);
+    EXPECT_NEAR(std::stod(t[5]), 2 * r, 1e-12);
+    EXPECT_NEAR(std::stod(t[6]), r * w * w * (1 + r / l), 1e-9 * r * w * w);
+    EXPECT_NEAR(std::stod(t[7]), std::asin(r / l), 1e-12);
+  }
+}
+
+// An infeasible design is a row with its status, never a crash.
+TEST(DoeBatch, InfeasibleDesignsAreRows) {
+  const std::string dir = cli::fresh_dir("doe_infeasible");
+  run(R"(problem: slider_crank
+study: {type: doe, factors: {crank_radius: [0.2 m, 0.9 m], rod_length: [0.8 m, 1 m]}}
+)", dir, 1);
+  const auto table = rows(dir, "status, stroke");
+  ASSERT_EQ(table.size(), 4u);
+  EXPECT_EQ(table[0][0], "ok");
+  EXPECT_EQ(table[2][0], "cannot_assemble") << "r = 0.9 m cannot turn with l = 0.8 m";
+  EXPECT_EQ(table[2][1], "") << "no metric for an infeasible design";
+}
+
+const char* kSobol = R"(problem: slider_crank
+study:
+  type: doe
+  sampler: sobol
+  samples: 512
+  seed: 11
+  factors:
+    crank_radius: {min: 0.05 m, max: 0.25 m}
+    rod_length: {min: 0.6 m, max: 1.4 m}
+    crank_speed: {min: 5 rad/s, max: 15 rad/s}
+)";
+
+const char* kColumns = "idx, status, crank_radius, rod_length, crank_speed, stroke, peak_slider_acceleration";
+
+// A sample's values depend on (seed, index) only: 1 and 3 threads give the
+// same store, row for row, bit for bit.
+TEST(DoeBatch, ThreadCountDoesNotChangeResults) {
+  const std::string one = cli::fresh_dir("doe_threads_1"), three = cli::fresh_dir("doe_threads_3");
+  run(kSobol, one, 1);
+  run(kSobol, three, 3);
+  const auto a = rows(one, kColumns), b = rows(three, kColumns);
+  ASSERT_EQ(a.size(), 512u);
+  EXPECT_EQ(a, b);
+}
+
+// Stopped after some samples, run again: the second run evaluates only the
+// rest, and the store equals an uninterrupted run's.
+TEST(DoeBatch, StoppedRunResumesExactly) {
+  const std::string whole = cli::fresh_dir("doe_whole"), parts = cli::fresh_dir("doe_parts");
+  run(kSobol, whole, 2);
+  std::atomic<int> made{0};
+  const opt::doe::ProblemFactory stop_after_100 = [&](const opt::ConfigNode& root) {
+    if (++made == 100) opt::request_stop();
+    return problems::make_problem(root);
+  };
+  const auto first = run(kSobol, parts, 2, stop_after_100);
+  opt::clear_stop();
+  EXPECT_EQ(first["run_status"], "interrupted");
+  const long done = first["done"].get<long>();
+  EXPECT_GT(done, 50);
+  EXPECT_LT(done, 512);
+  const auto second = run(kSobol, parts, 2);
+  EXPECT_EQ(second["run_status"], "complete");
+  EXPECT_EQ(second["evaluated"].get<long>(), 512 - done) << "finished samples are not evaluated again";
+  EXPECT_EQ(rows(parts, kColumns), rows(whole, kColumns));
+}
+
+// Another config against an existing store is refused, naming what differs;
+// --new moves the old store aside.
+TEST(DoeBatch, ChangedConfigIsRefused) {
+  const std::string dir = cli::fresh_dir("doe_changed");
+  run(kSobol, dir, 1);
+  std::string changed = kSobol;
+  changed.replace(changed.find("seed: 11"), 8, "seed: 12");
+  try {
+    run(changed, dir, 1);
+    ADD_FAILURE() << "no exception";
+  } catch (const opt::doe::StoreMismatch& e) {
+    EXPECT_NE(std::string(e.what()).find("sampler"), std::string::npos) << e.what();
+  }
+  const auto j = run(changed, dir, 1, problems::make_problem, true);
+  EXPECT_EQ(j["evaluated"], 512);
+  bool moved = false;
+  for (const auto& e : fs::directory_iterator(dir)) moved = moved || e.path().filename().string().rfind("store.sqlite.old-", 0) == 0;
+  EXPECT_TRUE(moved);
+}
+
+// Located errors for what a doe study cannot take.
+TEST(DoeBatch, BadStudiesAreLocatedErrors) {
+  auto error = [](const std::string& study) {
+    try {
+      parse("problem: slider_crank\nstudy: " + study + "\n");
+    } catch (const opt::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("{type: doe, factors: {crank_radus: [0.1 m]}}").find("no model value 'crank_radus'"),
+            std::string::npos);
+  EXPECT_NE(error("{type: doe, factors: {kinematics: {min: 0, max: 1}}}").find("expected a list of levels"),
+            std::string::npos);
+  EXPECT_NE(error("{type: doe, sampler: sobol, factors: {crank_radius: {min: 0.1 m, max: 0.2 m}}}")
+                .find("needs samples"),
+            std::string::npos);
+  EXPECT_NE(error("{type: doe, factors: {crank_radius: {min: 0.1 m, max: 0.2 m}}}").find("count or step"),
+            std::string::npos);
+  EXPECT_NE(error("{type: doe, factors: {crank_radius: [-0.1 m]}}").find("<doe>:2:"), std::string::npos)
+      << "outside the row's domain, located";
+  EXPECT_NE(error("{type: doe, sampler: sobol, samples: 8, maximin: true, factors: {crank_radius: {min: 0.1 m, "
+                  "max: 0.2 m}}}")
+                .find("maximin goes with"),
+            std::string::npos);
+}
+
+// Killed with SIGKILL at any moment, the same command again completes the
+// store: every committed row kept, none doubled, the same values as a run
+// that was never killed.
+TEST(DoeBatch, SigkillLosesNothingCommitted) {
+  const std::string dir = cli::fresh_dir("doe_kill"), clean = cli::fresh_dir("doe_kill_clean");
+  fs::create_directories(dir);
+  std::string yaml = kSobol;
+  yaml.replace(yaml.find("samples: 512"), 12, "samples: 20000");
+  std::ofstream(dir + "/config.yaml") << yaml;
+  const pid_t pid = fork();
+  if (pid == 0) {
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execl(MECHOPT_BINARY, "mechopt", "run", (dir + "/config.yaml").c_str(), "--output", (dir + "/out").c_str(),
+          "--progress=none", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline && count_rows(dir + "/out") < 500)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it could be killed";
+  const size_t kept = rows(dir + "/out", "idx").size();
+  EXPECT_GE(kept, 500u);
+  const auto again = cli::run("run " + dir + "/config.yaml --output " + dir + "/out --progress=none");
+  ASSERT_TRUE(again.exited(0)) << again.output;
+  EXPECT_NE(again.output.find("resuming: " + std::to_string(kept) + " done"), std::string::npos) << again.output;
+  const auto resumed = rows(dir + "/out", kColumns);
+  ASSERT_EQ(resumed.size(), 20000u);
+  const auto ok = cli::run("run " + dir + "/config.yaml --output " + clean + " --progress=none");
+  ASSERT_TRUE(ok.exited(0)) << ok.output;
+  EXPECT_EQ(resumed, rows(clean, kColumns));
+}
+
+// Progress as JSON lines for scripts; the last line says finished.
+TEST(DoeBatch, ProgressAsJsonLines) {
+  const std::string dir = cli::fresh_dir("doe_progress");
+  fs::create_directories(dir);
+  std::ofstream(dir + "/config.yaml") << kSobol;
+  const auto o = cli::run("run " + dir + "/config.yaml --output " + dir + "/out --progress=jsonl --threads 2");
+  ASSERT_TRUE(o.exited(0)) << o.output;
+  nlohmann::json last;
+  std::istringstream lines(o.output);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty() && line[0] == '{') last = nlohmann::json::parse(line);
+  EXPECT_EQ(last["event"], "finished");
+  EXPECT_EQ(last["done"], 512);
+  EXPECT_EQ(last["failures"], 0);
+}
+
+}  // namespace
