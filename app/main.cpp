@@ -63,7 +63,9 @@ opt::doe::Shard parse_shard(const std::string& text) {
     const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
     const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
     if (!id || !count) usage_error("--shard auto needs SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT");
-    t = std::string(id) + "/" + count;
+    // An array may start anywhere (--array=1-8): shard 0 is its first task.
+    const char* first = std::getenv("SLURM_ARRAY_TASK_MIN");
+    t = std::to_string(std::atol(id) - (first ? std::atol(first) : 0)) + "/" + count;
   }
   opt::doe::Shard s;
   char tail = 0;

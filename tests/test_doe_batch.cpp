@@ -75,9 +75,11 @@ Run parse(const std::string& yaml) {
 }
 
 nlohmann::json run(const std::string& yaml, const std::string& dir, int threads,
-                   const opt::doe::ProblemFactory& make = problems::make_problem, bool fresh = false) {
+                   const opt::doe::ProblemFactory& make = problems::make_problem, bool fresh = false,
+                   opt::doe::Shard shard = {}) {
   const Run r = parse(yaml);
   opt::doe::BatchOptions o;
+  o.shard = shard;
   o.output_directory = dir;
   o.threads = threads;
   o.progress = "none";
@@ -200,6 +202,38 @@ TEST(DoeBatch, ChangedConfigIsRefused) {
   bool moved = false;
   for (const auto& e : fs::directory_iterator(dir)) moved = moved || e.path().filename().string().rfind("store.sqlite.old-", 0) == 0;
   EXPECT_TRUE(moved);
+}
+
+// Shards of a job array: each writes its own store; merged, they equal one
+// run; `--shard auto` reads Slurm's array variables.
+TEST(DoeBatch, ShardsMergeIntoOneRun) {
+  const std::string whole = cli::fresh_dir("doe_shard_whole"), a = cli::fresh_dir("doe_shard_a"),
+                    b = cli::fresh_dir("doe_shard_b"), merged = cli::fresh_dir("doe_shard_merged");
+  run(kSobol, whole, 2);
+  EXPECT_EQ(run(kSobol, a, 1, problems::make_problem, false, {0, 2})["done"], 256);
+  fs::create_directories(b);
+  std::ofstream(b + "/config.yaml") << kSobol;
+  const auto o = cli::run("run " + b + "/config.yaml --output " + b + " --progress=none --shard auto",
+                          120);
+  EXPECT_FALSE(o.exited(0)) << "no Slurm variables: refused";
+  EXPECT_NE(o.output.find("SLURM_ARRAY_TASK_ID"), std::string::npos) << o.output;
+  setenv("SLURM_ARRAY_TASK_ID", "8", 1);  // --array=7-8: the second of two tasks
+  setenv("SLURM_ARRAY_TASK_MIN", "7", 1);
+  setenv("SLURM_ARRAY_TASK_COUNT", "2", 1);
+  const auto s = cli::run("run " + b + "/config.yaml --output " + b + " --progress=none --shard auto");
+  for (const char* v : {"SLURM_ARRAY_TASK_ID", "SLURM_ARRAY_TASK_MIN", "SLURM_ARRAY_TASK_COUNT"}) unsetenv(v);
+  ASSERT_TRUE(s.exited(0)) << s.output;
+  EXPECT_NE(s.output.find("shard 1/2"), std::string::npos) << s.output;
+  try {
+    opt::doe::merge_stores(merged, {a});
+    ADD_FAILURE() << "a missing half is not refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("missing"), std::string::npos) << e.what();
+  }
+  fs::remove_all(merged);
+  const auto report = opt::doe::merge_stores(merged, {a, b});
+  EXPECT_EQ(report.rows, 512);
+  EXPECT_EQ(rows(merged, kColumns), rows(whole, kColumns));
 }
 
 // Located errors for what a doe study cannot take.
