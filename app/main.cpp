@@ -235,14 +235,13 @@ int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& prob
   const problems::Entry* entry = nullptr;
   for (const auto& e : problems::registry())
     if (e.name == problem.name()) entry = &e;
-  const opt::doe::DoeSpec spec = opt::doe::parse_doe(root, entry->parameters, problem);
-  if (root.has("output")) root.at("output").allow_only({"directory"});
+  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, entry->parameters, problem);
+  const opt::RunSpec run = opt::parse_run(root, problem);  // objective, constraints, output
+  spec.objective = run.objective;
+  spec.constraints = run.constraints;
   opt::doe::BatchOptions o = a.batch;
   o.peers = opt::doe::mpi_peers();
-  o.output_directory = !a.output.empty() ? a.output
-                       : root.has("output") && root.at("output").has("directory")
-                           ? root.at("output").at("directory").text()
-                           : "results";
+  o.output_directory = !a.output.empty() ? a.output : run.output_directory;
   opt::doe::run_batch(root, problems::make_problem, spec, o, std::cout, std::cerr);
   return stopped(o.output_directory + "/store.sqlite");
 }

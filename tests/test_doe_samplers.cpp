@@ -350,11 +350,12 @@ TEST(DoeSobol, DimensionLimits) {
 
 // ---- Saltelli ------------------------------------------------------------------------------
 
-// A and B from scipy 1.10.1: (qmc.Sobol(4, scramble=False).random(8) * 8).astype(int),
-// A = columns 0, 1 and B = columns 2, 3.
+// A and B from scipy 1.10.1: (qmc.Sobol(4, scramble=False).random(16)[1:9] * 16).astype(int),
+// A = columns 0, 1 and B = columns 2, 3; row r is Sobol' point r + 1 (point
+// 0, all zeros, would make A = B in the first row; SALib skips it too).
 TEST(DoeSaltelli, BlocksInterleavedByRow) {
-  constexpr int kSobolD4[8][4] = {{0, 0, 0, 0}, {4, 4, 4, 4}, {6, 2, 2, 2}, {2, 6, 6, 6},
-                                  {3, 3, 5, 7}, {7, 7, 1, 3}, {5, 1, 7, 5}, {1, 5, 3, 1}};
+  constexpr int kSobolD4[8][4] = {{8, 8, 8, 8},   {12, 4, 4, 4}, {4, 12, 12, 12}, {6, 6, 10, 14},
+                                  {14, 14, 2, 6}, {10, 2, 14, 10}, {2, 10, 6, 2}, {3, 5, 15, 7}};
   const auto s = opt::doe::saltelli(unit_factors(2), 8, std::nullopt);
   ASSERT_EQ(s->size(), 8 * 4);
   std::vector<double> p(2);
@@ -369,8 +370,8 @@ TEST(DoeSaltelli, BlocksInterleavedByRow) {
       EXPECT_EQ(opt::doe::saltelli_index(i, 2).row, row);
       EXPECT_EQ(opt::doe::saltelli_index(i, 2).block, b);
       s->point(i, p);
-      EXPECT_EQ(p[0] * 8, blocks[b][0]) << "row " << row << " block " << b;
-      EXPECT_EQ(p[1] * 8, blocks[b][1]) << "row " << row << " block " << b;
+      EXPECT_EQ(p[0] * 16, blocks[b][0]) << "row " << row << " block " << b;
+      EXPECT_EQ(p[1] * 16, blocks[b][1]) << "row " << row << " block " << b;
     }
   }
   EXPECT_EQ(s->describe()["base"], 8);

@@ -152,43 +152,47 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
   }
   if (root.has("study")) {
     const ConfigNode st = root.at("study");
-    st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points"});
-    s.type = st.at("type").choice({"optimize", "sweep", "pareto", "evaluate"});
-    if (s.type == "pareto") {
-      const ConfigNode ob = st.at("objectives");
-      for (const auto& item : ob.items()) {
-        s.objectives.push_back(metric(item, p, item.text()));
+    if (st.has("type") && st.at("type").text() == "doe") {
+      s.type = "doe";  // its own keys: opt::doe::parse_doe
+    } else {
+      st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points"});
+      s.type = st.at("type").choice({"optimize", "sweep", "pareto", "evaluate"});
+      if (s.type == "pareto") {
+        const ConfigNode ob = st.at("objectives");
+        for (const auto& item : ob.items()) {
+          s.objectives.push_back(metric(item, p, item.text()));
+        }
+        if (s.objectives.size() != 2 || s.objectives[0] == s.objectives[1])
+          ob.fail("expected two different metrics, both minimised: [f1, f2]");
+        if (st.has("points")) s.points = st.at("points").integer(3, 1000);
+        if (root.has("objective")) root.at("objective").fail("a pareto study takes study.objectives instead");
+        s.objective = {s.objectives[0], false};
+      } else if (st.has("objectives") || st.has("points")) {
+        st.fail("'objectives' and 'points' go with type: pareto");
       }
-      if (s.objectives.size() != 2 || s.objectives[0] == s.objectives[1])
-        ob.fail("expected two different metrics, both minimised: [f1, f2]");
-      if (st.has("points")) s.points = st.at("points").integer(3, 1000);
-      if (root.has("objective")) root.at("objective").fail("a pareto study takes study.objectives instead");
-      s.objective = {s.objectives[0], false};
-    } else if (st.has("objectives") || st.has("points")) {
-      st.fail("'objectives' and 'points' go with type: pareto");
+      if (st.has("driver")) s.driver = parse_driver(st.at("driver"));
+      if (st.has("optimize")) s.optimize = st.at("optimize").boolean();
+      if (s.type == "sweep") {
+        const ConfigNode g = st.at("grid");
+        double points = 1;
+        for (const auto& name : g.keys()) {
+          const int i = variable_index(p, name);
+          if (i < 0) g.fail("grid variable '" + name + "' is not among the config's variables");
+          s.grid.push_back({name, i, parse_values(g.at(name), p.variables()[i])});
+          points *= static_cast<double>(s.grid.back().values.size());
+        }
+        if (s.grid.empty() || s.grid.size() > 2) g.fail("expected one or two grid variables");
+        if (s.grid.size() != p.variables().size())
+          g.fail("a sweep needs a grid for every variable in 'variables'");
+        if (points > kMaxGridPoints)
+          g.fail("the grid would have " + fmt(points, 3) + " points in all; the limit is " +
+                 fmt(kMaxGridPoints));
+      }
+      if (st.has("columns"))
+        for (const auto& c : st.at("columns").items()) {
+          s.columns.push_back(metric(c, p, c.text()));
+        }
     }
-    if (st.has("driver")) s.driver = parse_driver(st.at("driver"));
-    if (st.has("optimize")) s.optimize = st.at("optimize").boolean();
-    if (s.type == "sweep") {
-      const ConfigNode g = st.at("grid");
-      double points = 1;
-      for (const auto& name : g.keys()) {
-        const int i = variable_index(p, name);
-        if (i < 0) g.fail("grid variable '" + name + "' is not among the config's variables");
-        s.grid.push_back({name, i, parse_values(g.at(name), p.variables()[i])});
-        points *= static_cast<double>(s.grid.back().values.size());
-      }
-      if (s.grid.empty() || s.grid.size() > 2) g.fail("expected one or two grid variables");
-      if (s.grid.size() != p.variables().size())
-        g.fail("a sweep needs a grid for every variable in 'variables'");
-      if (points > kMaxGridPoints)
-        g.fail("the grid would have " + fmt(points, 3) + " points in all; the limit is " +
-               fmt(kMaxGridPoints));
-    }
-    if (st.has("columns"))
-      for (const auto& c : st.at("columns").items()) {
-        s.columns.push_back(metric(c, p, c.text()));
-      }
   }
   // Nothing to optimise and no study: every metric at the model values.
   if (!root.has("study") && !root.has("objective") && !root.has("variables")) s.type = "evaluate";
@@ -204,7 +208,7 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
     const bool written = root.has("study") && root.at("study").has("driver");
     if (!why.empty()) (written ? root.at("study").at("driver") : root).fail(why);
   }
-  if (s.columns.empty()) {
+  if (s.columns.empty() && s.type != "doe") {
     s.columns.push_back(s.objective.metric);
     for (const auto& c : s.constraints) s.columns.push_back(c.metric);
   }

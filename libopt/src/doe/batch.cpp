@@ -451,9 +451,21 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   j["statuses"] = tally.statuses;
   out << (complete ? "complete: " : "interrupted: ") << tally.done << "/" << hi - lo << " samples in the store; "
       << tally.evaluated << " evaluated in " << seconds << " s (" << j["rate"].get<double>() << "/s)\n";
-  for (const auto& [st, c] : tally.statuses) out << "  " << st << ": " << c << "\n";
+  // The summary covers every row in the store, this run's and earlier ones'.
+  std::vector<std::string> summarised = spec.columns;
+  if (summarised.empty() && !spec.objective.metric.empty()) summarised.push_back(spec.objective.metric);
+  if (spec.columns.empty())
+    for (const auto& c : spec.constraints)
+      if (std::find(summarised.begin(), summarised.end(), c.metric) == summarised.end()) summarised.push_back(c.metric);
+  if (summarised.empty()) summarised = metrics;
+  std::vector<std::string> units, charts;
+  for (const auto& m : summarised) units.push_back(base.metric_unit(m));
+  j["summary"] = summarize(store.path(), spec, summarised, units, dir, out, charts);
+  j["charts"] = charts;
   write_file_atomically(dir + "result.json", j.dump(2) + "\n");
-  out << "written: " << dir << "result.json, " << store.path() << "\n";
+  out << "written: " << dir << "result.json, " << store.path();
+  for (const auto& c : charts) out << ", " << std::filesystem::path(c).filename().string();
+  out << "\n";
   return j;
 }
 

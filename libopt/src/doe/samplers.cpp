@@ -444,7 +444,8 @@ class Saltelli final : public Sampler {
     const SaltelliIndex at = saltelli_index(i, d);
     for (int j = 0; j < d; ++j) {
       const bool from_b = at.block == 1 || at.block == 2 + j;
-      const double u = sequence_.unit(static_cast<std::uint64_t>(at.row), from_b ? d + j : j);
+      // Row r is Sobol' point r + 1: point 0 (all zeros unscrambled) would make A = B.
+      const double u = sequence_.unit(static_cast<std::uint64_t>(at.row) + 1, from_b ? d + j : j);
       out[static_cast<std::size_t>(j)] = from_unit(factors_[static_cast<std::size_t>(j)], u);
     }
   }

@@ -37,7 +37,9 @@ struct DoeSpec {
   std::optional<std::uint64_t> seed;
   bool maximin = false;                      // latin_hypercube
   std::vector<std::vector<double>> rows;     // list: in factor order, SI
-  std::vector<std::string> columns;          // metrics printed in the summary
+  std::vector<std::string> columns;          // metrics summarised (default: objective and constraints, else all)
+  Objective objective;                       // optional: the best feasible sample is reported
+  std::vector<Constraint> constraints;       // feasible: status ok and these met
   double sample_seconds = 0;                 // per-sample time limit (0: none)
 };
 
@@ -119,6 +121,14 @@ nlohmann::json run_samples(const Problem& problem, const std::function<SampleMak
 // builds per sample from the thread's own copy of the config.
 nlohmann::json run_batch(const ConfigNode& root, const ProblemFactory& make, const DoeSpec& spec,
                          const BatchOptions& options, std::ostream& out, std::ostream& err);
+
+// Summaries of a store: failures by status, the best feasible sample per
+// objective (or per metric), main effects of each factor on each metric,
+// Sobol' indices for a saltelli design; printed, written to the store's
+// `summary` table and charted (main_effects_METRIC.svg, appended to `charts`).
+nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, const std::vector<std::string>& metrics,
+                         const std::vector<std::string>& units, const std::string& dir, std::ostream& out,
+                         std::vector<std::string>& charts);
 
 // What a store's rows depend on, and its hash (FNV-1a 64, hex): the problem,
 // its settings (every model value and numerical setting), the sampler and

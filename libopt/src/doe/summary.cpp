@@ -1,0 +1,289 @@
+// Summaries of a store (docs/doe.md, "Summaries"): failures by status, the
+// best feasible sample per objective, main effects of each factor on each
+// summarised metric, and Sobol' indices for a saltelli design. SQLite does
+// the counting and averaging in one pass per factor, so memory does not grow
+// with the store; the Sobol' indices hold one metric's values at a time.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <ostream>
+
+#include "doe/sqlite.hpp"
+#include "opt/chart.hpp"
+#include "opt/doe/batch.hpp"
+#include "opt/doe/random.hpp"
+
+namespace opt::doe {
+namespace {
+
+using sql::identifier;
+using sql::Statement;
+
+constexpr int kBins = 10;          // a continuous factor's main effect: means over 10 equal bins
+constexpr int kMaxLevels = 50;     // more levels than this are binned too
+constexpr int kBootstrap = 200;    // resamples for the Sobol' indices' 95% intervals
+
+std::string sql_number(double v) {
+  char s[40];
+  std::snprintf(s, sizeof s, "%.17g", v);
+  return s;
+}
+
+// `where` for a feasible sample: ok, with the constraints met.
+std::string feasible(const std::vector<Constraint>& cs) {
+  std::string w = "status = 'ok'";
+  for (const auto& c : cs) {
+    const std::string m = identifier(c.metric), b = sql_number(c.bound);
+    w += c.equal ? " and abs(" + m + " - " + b + ") <= 1e-6 * max(1, abs(" + b + "))"
+                 : " and " + m + (c.upper ? " <= " : " >= ") + b;
+  }
+  return w;
+}
+
+// A factor's groups for its main effect: its values (levels, options), or
+// bins of its range.
+std::string group_expression(const Factor& f) {
+  const std::string c = identifier(f.name);
+  const bool binned = f.kind == Factor::Kind::range && (f.count == 0 || f.count > kMaxLevels);
+  if (!binned) return c;
+  return "min(" + std::to_string(kBins - 1) + ", max(0, cast((" + c + " - " + sql_number(f.lower) + ") / " +
+         sql_number((f.upper - f.lower) / kBins) + " as integer)))";
+}
+
+struct Effect {
+  std::vector<std::string> groups;          // level, option or bin [lo, hi)
+  std::vector<double> position;             // for charts: the group's place in the factor's range, 0..1
+  std::vector<std::int64_t> counts;
+  std::vector<std::vector<double>> means;   // [metric][group]
+};
+
+Effect main_effect(const sql::Db& db, const Factor& f, const std::vector<std::string>& metrics,
+                   const std::string& where) {
+  std::string q = "select " + group_expression(f) + ", count(*)";
+  for (const auto& m : metrics) q += ", avg(" + identifier(m) + ")";
+  q += " from samples where " + where + " group by 1 order by 1";
+  Statement st(db, q);
+  Effect e;
+  e.means.resize(metrics.size());
+  const bool binned = group_expression(f) != identifier(f.name);
+  while (st.step()) {
+    if (binned) {
+      const double b = st.real(0), w = (f.upper - f.lower) / kBins;
+      e.groups.push_back("[" + sql_number(f.lower + b * w).substr(0, 8) + ", " +
+                         sql_number(f.lower + (b + 1) * w).substr(0, 8) + ")");
+      e.position.push_back((b + 0.5) / kBins);
+    } else {
+      e.groups.push_back(st.text(0).value_or(""));
+      e.position.push_back(0);  // set below, by rank
+    }
+    e.counts.push_back(st.int64(1));
+    for (size_t m = 0; m < metrics.size(); ++m) e.means[m].push_back(st.real(static_cast<int>(m) + 2));
+  }
+  if (!binned)
+    for (size_t g = 0; g < e.groups.size(); ++g)
+      e.position[g] = e.groups.size() > 1 ? static_cast<double>(g) / static_cast<double>(e.groups.size() - 1) : 0.5;
+  return e;
+}
+
+struct Indices {
+  double first = NAN, total = NAN, first_low = NAN, first_high = NAN, total_low = NAN, total_high = NAN;
+};
+
+// First-order (Saltelli 2010) and total (Jansen 1999) indices from rows of
+// f_A, f_B, f_ABj, with percentile bootstrap intervals over the rows.
+std::vector<Indices> sobol_indices(const std::vector<std::vector<double>>& rows, int d, std::uint64_t seed) {
+  auto estimate = [&](const std::vector<size_t>& pick, int j, double& s1, double& st) {
+    double mean = 0, sq = 0, a1 = 0, at = 0;
+    for (size_t r : pick) {
+      const auto& y = rows[r];
+      mean += y[0] + y[1];
+      sq += y[0] * y[0] + y[1] * y[1];
+      a1 += y[1] * (y[2 + j] - y[0]);
+      at += (y[0] - y[2 + j]) * (y[0] - y[2 + j]);
+    }
+    const double n = static_cast<double>(pick.size());
+    const double var = sq / (2 * n) - (mean / (2 * n)) * (mean / (2 * n));
+    s1 = a1 / n / var;
+    st = at / (2 * n) / var;
+  };
+  std::vector<size_t> all(rows.size());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<Indices> out(static_cast<size_t>(d));
+  if (rows.size() < 2) return out;
+  for (int j = 0; j < d; ++j) estimate(all, j, out[j].first, out[j].total);
+  std::vector<std::vector<double>> s1(static_cast<size_t>(d)), st(static_cast<size_t>(d));
+  std::vector<size_t> pick(rows.size());
+  for (int b = 0; b < kBootstrap; ++b) {
+    for (size_t r = 0; r < rows.size(); ++r)
+      pick[r] = static_cast<size_t>(uniform(seed, static_cast<std::uint64_t>(b), static_cast<std::uint32_t>(r)) *
+                                    static_cast<double>(rows.size()));
+    for (int j = 0; j < d; ++j) {
+      double a, t;
+      estimate(pick, j, a, t);
+      s1[j].push_back(a);
+      st[j].push_back(t);
+    }
+  }
+  auto percentile = [](std::vector<double> v, double p) {
+    std::sort(v.begin(), v.end());
+    return v[static_cast<size_t>(p * static_cast<double>(v.size() - 1) + 0.5)];
+  };
+  for (int j = 0; j < d; ++j) {
+    out[j].first_low = percentile(s1[j], 0.025), out[j].first_high = percentile(s1[j], 0.975);
+    out[j].total_low = percentile(st[j], 0.025), out[j].total_high = percentile(st[j], 0.975);
+  }
+  return out;
+}
+
+// Rows of (f_A, f_B, f_AB1..f_ABd) of `metric` for the saltelli rows whose
+// d + 2 samples are all feasible.
+std::vector<std::vector<double>> saltelli_rows(const sql::Db& db, const std::string& metric, int d,
+                                               const std::string& where) {
+  Statement st(db, "select idx, " + identifier(metric) + " from samples where " + where + " and " +
+                       identifier(metric) + " is not null order by idx");
+  std::vector<std::vector<double>> rows;
+  std::vector<double> row(static_cast<size_t>(d + 2));
+  std::int64_t current = -1;
+  int filled = 0;
+  while (st.step()) {
+    const SaltelliIndex at = saltelli_index(st.int64(0), d);
+    if (at.row != current) current = at.row, filled = 0;
+    if (filled != at.block) continue;  // a block missing: the row is incomplete
+    row[static_cast<size_t>(at.block)] = st.real(1);
+    if (++filled == d + 2) rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace
+
+nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, const std::vector<std::string>& metrics,
+                         const std::vector<std::string>& units, const std::string& dir, std::ostream& out,
+                         std::vector<std::string>& charts) {
+  sql::Db db(store_file, SQLITE_OPEN_READWRITE);
+  nlohmann::json j;
+  const std::string where = feasible(spec.constraints);
+
+  // Failures by status, with one message each.
+  Statement failures(db, "select status, count(*), min(message) from samples where status != 'ok' group by status "
+                         "order by count(*) desc");
+  j["failures"] = nlohmann::json::object();
+  while (failures.step()) {
+    const std::string s = failures.text(0).value_or("");
+    j["failures"][s] = {{"count", failures.int64(1)}, {"example", failures.text(2).value_or("")}};
+  }
+  Statement feasible_count(db, "select count(*) from samples where " + where);
+  feasible_count.step();
+  j["feasible"] = feasible_count.int64(0);
+
+  // The best feasible sample per objective (or, without one, per metric summarised, minimised).
+  std::vector<std::pair<std::string, bool>> goals;  // metric, maximise
+  if (!spec.objective.metric.empty()) goals.push_back({spec.objective.metric, spec.objective.maximize});
+  else
+    for (const auto& m : metrics) goals.push_back({m, false});
+  std::string factor_columns;
+  for (const auto& f : spec.factors) factor_columns += ", " + identifier(f.factor.name);
+  for (const auto& [m, maximize] : goals) {
+    Statement best(db, "select idx" + factor_columns + ", " + identifier(m) + " from samples where " + where +
+                           " and " + identifier(m) + " is not null order by " + identifier(m) +
+                           (maximize ? " desc" : " asc") + " limit 1");
+    if (!best.step()) continue;
+    nlohmann::json b = {{"metric", m}, {"maximize", maximize}, {"index", best.int64(0)}};
+    for (size_t f = 0; f < spec.factors.size(); ++f) {
+      const int col = static_cast<int>(f) + 1;
+      b["factors"][spec.factors[f].factor.name] =
+          spec.factors[f].factor.labels.empty() ? nlohmann::json(best.real(col)) : nlohmann::json(*best.text(col));
+    }
+    b["value"] = best.real(static_cast<int>(spec.factors.size()) + 1);
+    j["best"].push_back(b);
+  }
+
+  // Main effects: the mean of each metric per level (or bin) of each factor.
+  for (const auto& fs : spec.factors) {
+    const Effect e = main_effect(db, fs.factor, metrics, where);
+    for (size_t m = 0; m < metrics.size(); ++m) {
+      const auto [lo, hi] = std::minmax_element(e.means[m].begin(), e.means[m].end());
+      j["main_effects"][fs.factor.name][metrics[m]] = {
+          {"groups", e.groups}, {"positions", e.position}, {"counts", e.counts}, {"means", e.means[m]},
+          {"range", e.means[m].empty() ? 0.0 : *hi - *lo}};
+    }
+  }
+
+  // Sobol' indices of a saltelli design.
+  if (spec.sampler == "saltelli") {
+    const int d = static_cast<int>(spec.factors.size());
+    for (const auto& m : metrics) {
+      const auto rows = saltelli_rows(db, m, d, where);
+      const auto idx = sobol_indices(rows, d, spec.seed.value_or(0));
+      for (int f = 0; f < d; ++f)
+        j["sobol"][m][spec.factors[static_cast<size_t>(f)].factor.name] = {
+            {"first", idx[f].first}, {"first_95", {idx[f].first_low, idx[f].first_high}},
+            {"total", idx[f].total}, {"total_95", {idx[f].total_low, idx[f].total_high}},
+            {"rows", rows.size()}};
+    }
+  }
+
+  // Printed.
+  out << "summary: " << j["feasible"].get<std::int64_t>() << " feasible samples\n";
+  for (const auto& [s, v] : j["failures"].items())
+    out << "  " << s << ": " << v["count"].get<std::int64_t>() << " (e.g. " << v["example"].get<std::string>() << ")\n";
+  if (j.contains("best"))
+    for (const auto& b : j["best"]) {
+      out << "  best " << b["metric"].get<std::string>() << " = " << b["value"].get<double>() << " at sample "
+          << b["index"].get<std::int64_t>() << ":";
+      for (const auto& [f, v] : b["factors"].items()) out << " " << f << " = " << (v.is_string() ? v.get<std::string>() : sql_number(v.get<double>()).substr(0, 10));
+      out << "\n";
+    }
+  if (!metrics.empty()) {
+    out << "main effects (max - min of the metric's mean over a factor's levels or 10 bins):\n  " << std::string(24, ' ');
+    for (const auto& m : metrics) out << " " << m.substr(0, 18) << std::string(18 - std::min<size_t>(18, m.size()), ' ');
+    out << "\n";
+    for (const auto& fs : spec.factors) {
+      const std::string& f = fs.factor.name;
+      out << "  " << f << std::string(24 - std::min<size_t>(24, f.size()), ' ');
+      for (const auto& m : metrics) {
+        char cell[32];
+        std::snprintf(cell, sizeof cell, " %-18.6g", j["main_effects"][f][m]["range"].get<double>());
+        out << cell;
+      }
+      out << "\n";
+    }
+  }
+  if (j.contains("sobol")) {
+    out << "Sobol' indices (first order, total; 95% bootstrap intervals):\n";
+    for (const auto& [m, fs] : j["sobol"].items())
+      for (const auto& [f, v] : fs.items()) {
+        char line[200];
+        std::snprintf(line, sizeof line, "  %-24s %-20s S1 %7.4f [%7.4f, %7.4f]  ST %7.4f [%7.4f, %7.4f]\n",
+                      m.c_str(), f.c_str(), v["first"].get<double>(), v["first_95"][0].get<double>(),
+                      v["first_95"][1].get<double>(), v["total"].get<double>(), v["total_95"][0].get<double>(),
+                      v["total_95"][1].get<double>());
+        out << line;
+      }
+  }
+
+  // Charts: per metric, its mean against each factor's position in its range.
+  for (size_t k = 0; k < metrics.size(); ++k) {
+    const std::string& m = metrics[k];
+    Chart c{"main effects on " + m, "factor position: its lowest level or value (0) to its highest (1)",
+            m + (units[k].empty() ? "" : " [" + units[k] + "]"), {}};
+    for (const auto& fs : spec.factors) {
+      const auto& me = j["main_effects"][fs.factor.name][m];
+      Series s{fs.factor.name, me["positions"].get<std::vector<double>>(), me["means"].get<std::vector<double>>(),
+               Series::Style::line};
+      c.series.push_back(std::move(s));
+    }
+    const std::string file = dir + "main_effects_" + m + ".svg";
+    if (write_svg(c, file)) charts.push_back(file);
+  }
+
+  // Into the store, for scripts: one JSON document.
+  db.exec("create table if not exists summary(key TEXT PRIMARY KEY, value TEXT)");
+  Statement put(db, "insert or replace into summary(key, value) values ('summary', ?)");
+  put.bind(1, j.dump());
+  put.step();
+  return j;
+}
+
+}  // namespace opt::doe
