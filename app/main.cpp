@@ -46,6 +46,7 @@ struct Args {
   std::vector<std::pair<std::string, std::string>> sets;
   opt::doe::BatchOptions batch;
   bool batch_flags = false;  // any of the doe flags given
+  bool doe_only_flags = false;  // --progress, --shard, --new, --dry-run (a sweep takes --threads, --force)
   std::string export_format;               // export: csv | json
   std::vector<std::string> stores;         // export, merge
 };
@@ -101,13 +102,14 @@ Args parse_args(int argc, char** argv) {
       a.batch.progress = value();
       if (a.batch.progress != "bar" && a.batch.progress != "jsonl" && a.batch.progress != "none")
         usage_error("--progress expects bar, jsonl or none, got '" + a.batch.progress + "'");
-      a.batch_flags = true;
+      a.batch_flags = a.doe_only_flags = true;
     } else if (v[i] == "--shard") {
       a.batch.shard = parse_shard(value());
-      a.batch_flags = true;
+      a.batch_flags = a.doe_only_flags = true;
     } else if (v[i] == "--new" || v[i] == "--force" || v[i] == "--dry-run") {
       (v[i] == "--new" ? a.batch.fresh : v[i] == "--force" ? a.batch.force : a.batch.dry_run) = true;
       a.batch_flags = true;
+      a.doe_only_flags = a.doe_only_flags || v[i] != "--force";
     } else if ((v[i] == "--csv" || v[i] == "--json") && a.command == "export") {
       a.export_format = v[i].substr(2);
     } else if ((a.command == "export" || a.command == "merge") && v[i][0] != '-') {
@@ -263,11 +265,14 @@ int run(const Args& a) {
   }
   if (a.command == "check-derivatives") return check(*problem);
   const bool doe = root.has("study") && root.at("study").has("type") && root.at("study").at("type").text() == "doe";
-  if (a.batch_flags && !doe) usage_error("--threads, --progress, --shard, --new, --force and --dry-run go with a doe study");
+  if (a.doe_only_flags && !doe) usage_error("--progress, --shard, --new and --dry-run go with a doe study");
   opt::install_stop_handlers();
   if (doe) return run_doe(a, root, *problem);
-  opt::RunSpec spec = opt::parse_run(root, *problem);
+  opt::RunSpec spec = opt::parse_run(root, *problem, a.batch.force);
+  if (a.batch_flags && spec.type != "sweep") usage_error("--threads and --force go with a doe or sweep study");
   if (!a.output.empty()) spec.output_directory = a.output;
+  spec.threads = a.batch.threads;
+  spec.force = a.batch.force;
   opt::run_study(*problem, spec, std::cout);
   return stopped(spec.output_directory + "/result.json");
 }

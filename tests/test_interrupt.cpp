@@ -2,6 +2,7 @@
 // row done so far is written, result.json says "interrupted", the exit code
 // is 128 + the signal, and no partial file or earlier run's result remains.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <chrono>
 #include <csignal>
@@ -16,11 +17,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A sweep of 100 000 rod lengths: long enough (seconds) to be stopped midway.
+// A sweep of 20 000 rod lengths at 20 000 cycle points each: long enough
+// (seconds) to be stopped midway.
 const char* kLongSweep = R"(problem: recuperative_drive
+model: {cycle_points: 20000}
 variables: {rod_length: {min: 0.5 m, max: 1.5 m}}
 objective: {minimize: k1}
-study: {type: sweep, grid: {rod_length: {from: 0.5 m, to: 1.49999 m, step: 1e-5 m}}}
+study: {type: sweep, grid: {rod_length: {from: 0.5 m, to: 1.49999 m, step: 5e-5 m}}}
 )";
 
 long lines_in(const std::string& file) {
@@ -30,8 +33,22 @@ long lines_in(const std::string& file) {
   return n;
 }
 
-// Runs the sweep, sends `sig` once sweep.csv.partial has some rows, and
-// returns the exit code.
+// Rows committed to the sweep's store so far (0 while it is created).
+long stored_rows(const std::string& dir) {
+  sqlite3* db = nullptr;
+  sqlite3_stmt* st = nullptr;
+  long n = 0;
+  if (sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
+      sqlite3_prepare_v2(db, "select count(*) from samples", -1, &st, nullptr) == SQLITE_OK &&
+      sqlite3_step(st) == SQLITE_ROW)
+    n = static_cast<long>(sqlite3_column_int64(st, 0));
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return n;
+}
+
+// Runs the sweep, sends `sig` once its store has some rows, and returns the
+// exit code.
 int interrupted_run(const std::string& dir, int sig) {
   fs::create_directories(dir);
   std::ofstream(dir + "/config.yaml") << kLongSweep;
@@ -46,7 +63,7 @@ int interrupted_run(const std::string& dir, int sig) {
     _exit(127);
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (lines_in(dir + "/out/sweep.csv.partial") < 50 && std::chrono::steady_clock::now() < deadline)
+  while (stored_rows(dir + "/out") < 50 && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   kill(pid, sig);
   int status = 0;

@@ -77,13 +77,13 @@ TEST(Repro, CartMassZeroIsADomainError) {
 
 TEST(Repro, TinyGridStepNamesThePointCount) {
   expect_located_error("grid_step_tiny.yaml", 4, "study.grid.rod_length",
-                       "the grid would have 1e+12 points; the limit is 100000");
+                       "the grid would have 1e+12 points; the limit is 1e+07");
 }
 
 // Each axis is under the limit; their product (about 1e10) is not.
 TEST(Repro, GridLimitAppliesToThePointsInAll) {
   expect_located_error("grid_2d_too_many_points.yaml", 4, "study.grid",
-                       "the grid would have 1e+10 points in all; the limit is 100000");
+                       "the grid would have 1e+10 points in all; the limit is 1e+07 (run with --force");
 }
 
 TEST(Repro, VariableBoundsMeetTheModelValuesDomain) {

@@ -46,12 +46,15 @@ struct RunSpec {
   int points = 11;                   // pareto: points on the front
   Reference reference;
   std::string output_directory = "results";
+  int threads = 0;     // sweeps: --threads (0: every core)
+  bool force = false;  // sweeps: --force
   bool chart = true;
 };
 
 // Reads objective, constraints, study, output and reference (keys checked
 // against the problem's variables and metrics).
-RunSpec parse_run(const ConfigNode& root, const Problem& problem);
+// `force`: a sweep may have more than doe::kMaxSamples points in all.
+RunSpec parse_run(const ConfigNode& root, const Problem& problem, bool force = false);
 
 // Runs the study, prints a readable summary to `out`, writes the files, and
 // returns result.json's content.

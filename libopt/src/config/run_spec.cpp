@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "opt/doe/batch.hpp"
 #include "opt/study.hpp"
 #include "report/report.hpp"
 
@@ -24,8 +25,9 @@ const Variable* find_variable(const Problem& p, const std::string& name) {
   return i < 0 ? nullptr : &p.variables()[i];
 }
 
-// Points a sweep may have in all (the product over its axes).
-constexpr double kMaxGridPoints = 100000;
+// Points a sweep may have (on an axis always; in all without --force):
+// a sweep is a factorial design, with the batch's limit.
+constexpr double kMaxGridPoints = doe::kMaxSamples;
 
 std::vector<double> parse_values(const ConfigNode& n, const Variable& v) {
   std::vector<double> out;
@@ -41,7 +43,7 @@ std::vector<double> parse_values(const ConfigNode& n, const Variable& v) {
     const double count = std::floor((to - from) / step + 1e-9) + 1;
     if (!(count <= kMaxGridPoints))
       n.fail("the grid would have " + fmt(count, 3) + " points; the limit is " +
-             fmt(kMaxGridPoints) + " (a larger step, or fewer values)");
+             fmt(kMaxGridPoints, 3) + " (a larger step, or fewer values)");
     for (int i = 0; i < static_cast<int>(count); ++i) out.push_back(from + i * step);
   }
   if (out.empty()) n.fail("expected at least one value");
@@ -123,7 +125,7 @@ std::vector<Variable> parse_variables(const ConfigNode& root, const std::vector<
   return out;
 }
 
-RunSpec parse_run(const ConfigNode& root, const Problem& p) {
+RunSpec parse_run(const ConfigNode& root, const Problem& p, bool force) {
   RunSpec s;
   if (root.has("objective")) {
     const ConfigNode o = root.at("objective");
@@ -184,9 +186,9 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p) {
         if (s.grid.empty() || s.grid.size() > 2) g.fail("expected one or two grid variables");
         if (s.grid.size() != p.variables().size())
           g.fail("a sweep needs a grid for every variable in 'variables'");
-        if (points > kMaxGridPoints)
+        if (points > kMaxGridPoints && !force)
           g.fail("the grid would have " + fmt(points, 3) + " points in all; the limit is " +
-                 fmt(kMaxGridPoints));
+                 fmt(kMaxGridPoints, 3) + " (run with --force to go beyond)");
       }
       if (st.has("columns"))
         for (const auto& c : st.at("columns").items()) {

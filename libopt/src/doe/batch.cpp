@@ -310,8 +310,10 @@ std::string config_hash(const nlohmann::json& canonical) {
 }
 
 nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker()>& makers, const DoeSpec& spec,
-                           const BatchOptions& o, const nlohmann::json& config, std::ostream& out,
+                           const BatchOptions& o, const nlohmann::json& config, std::ostream& printed,
                            std::ostream& err) {
+  std::ostream none(nullptr);  // discards what a quiet run would print
+  std::ostream& out = o.quiet ? none : printed;
   const auto sampler = make_sampler(spec);
   const std::int64_t n = sampler->size();
   if (n > kMaxSamples && !o.force)
@@ -451,6 +453,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   j["statuses"] = tally.statuses;
   out << (complete ? "complete: " : "interrupted: ") << tally.done << "/" << hi - lo << " samples in the store; "
       << tally.evaluated << " evaluated in " << seconds << " s (" << j["rate"].get<double>() << "/s)\n";
+  if (o.quiet) return j;
   // The summary covers every row in the store, this run's and earlier ones'.
   std::vector<std::string> summarised = spec.columns;
   if (summarised.empty() && !spec.objective.metric.empty()) summarised.push_back(spec.objective.metric);

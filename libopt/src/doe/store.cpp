@@ -6,6 +6,7 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -14,6 +15,7 @@
 #include <ostream>
 
 #include "doe/sqlite.hpp"
+#include "mech/status.hpp"
 
 namespace opt::doe {
 namespace {
@@ -386,6 +388,34 @@ void export_csv(const std::string& store_file, std::ostream& out) {
     out << '\n';
   }
   check_written(out, store_file);
+}
+
+void read_rows(const std::string& store_file, const std::function<void(const Row&)>& f) {
+  const Db db = open_to_read(store_file);
+  const StoreLayout l = layout_from_json(store_file, find(read_meta(db), "layout"));
+  Statement s(db, "SELECT * FROM samples ORDER BY idx");
+  Row r;
+  r.factors.resize(l.factors.size());
+  r.metrics.resize(l.metrics.size());
+  while (s.step()) {
+    r.index = s.int64(0);
+    // The status as its static name (Row holds a view).
+    r.status = mech::to_string(mech::status_from_string(s.text(1).value_or("")).value_or(mech::Status::evaluation_error));
+    r.wall_time = s.real(2);
+    r.message = s.text(3).value_or("");
+    for (std::size_t j = 0; j < l.factors.size(); ++j) {
+      const int c = 4 + static_cast<int>(j);
+      const auto& labels = l.labels.empty() ? std::vector<std::string>() : l.labels[j];
+      if (labels.empty()) {
+        r.factors[j] = s.real(c);
+      } else {
+        const auto at = std::find(labels.begin(), labels.end(), s.text(c).value_or(""));
+        r.factors[j] = at == labels.end() ? std::nan("") : static_cast<double>(at - labels.begin());
+      }
+    }
+    for (std::size_t m = 0; m < l.metrics.size(); ++m) r.metrics[m] = s.real(4 + static_cast<int>(l.factors.size() + m));
+    f(r);
+  }
 }
 
 void export_json(const std::string& store_file, std::ostream& out) {

@@ -2,6 +2,10 @@
 #include <iostream>
 #include <limits>
 
+#include <unistd.h>
+
+#include "opt/doe/batch.hpp"
+#include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/record.hpp"
 #include "report/report.hpp"
@@ -42,9 +46,34 @@ void print_reference_differences(std::ostream& out, const RunSpec& s, const std:
 
 SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const std::string& dir) {
   SweepOutcome o;
-  // Cartesian product of the axes, first axis slowest.
-  const size_t n0 = s.grid[0].values.size(), n1 = s.grid.size() > 1 ? s.grid[1].values.size() : 1;
-  o.total = static_cast<long>(n0 * n1);
+  // A sweep is a factorial design over its grid (first axis slowest), run by
+  // the batch runner into DIR/store.sqlite: all cores, and a run stopped
+  // midway resumes (docs/doe.md).
+  doe::DoeSpec spec;
+  spec.sampler = "factorial";
+  for (const auto& a : s.grid) {
+    doe::FactorSpec f;
+    f.factor.name = a.variable;
+    f.factor.kind = doe::Factor::Kind::levels;
+    f.factor.levels = a.values;
+    f.through_x = true;
+    spec.factors.push_back(f);
+  }
+  doe::BatchOptions batch;
+  batch.output_directory = dir;
+  batch.quiet = true;
+  batch.threads = s.threads;
+  batch.force = s.force;
+  batch.progress = isatty(STDERR_FILENO) ? "bar" : "none";
+  const nlohmann::json config = {{"study", "sweep"}};
+  try {
+    doe::run_samples(p, nullptr, spec, batch, config, out, std::cerr);
+  } catch (const doe::StoreMismatch&) {  // another grid or model: a sweep starts afresh
+    out << "(the store in " << dir << " holds another sweep: moved aside)\n";
+    batch.fresh = true;
+    doe::run_samples(p, nullptr, spec, batch, config, out, std::cerr);
+  }
+
   const std::vector<std::string>& names = p.metric_names();
   std::vector<MetricId> printed_ids;
   for (const auto& c : s.columns) printed_ids.push_back(p.metric_id(c));
@@ -55,22 +84,25 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
   for (const auto& a : s.grid) head.push_back(a.variable);
   for (const auto& c : s.columns) head.push_back(c);
   head.push_back("          status");  // wide enough for "synthesis_failed"
+  o.total = 1;
+  for (const auto& a : s.grid) o.total *= static_cast<long>(a.values.size());
   out << "sweep over " << o.total << " points (values in SI):\n";
   print_row(out, head, head);
   std::vector<std::vector<double>> printed(s.columns.size());
-  std::vector<double> values(names.size());
   const double nan = std::numeric_limits<double>::quiet_NaN();
   int infeasible = 0;
-  for (long point = 0; point < o.total && !stop_requested(); ++point) {
+  doe::read_rows(dir + "store.sqlite", [&](const doe::Row& r) {
     // x in the variables' order, whatever order the grid keys were written in.
-    const size_t i = point / n1, k = point % n1;
     Eigen::VectorXd x(s.grid.size());
-    x[s.grid[0].index] = s.grid[0].values[i];
-    if (s.grid.size() > 1) x[s.grid[1].index] = s.grid[1].values[k];
-    const Evaluation e = p.evaluate(x, MetricSet::all(), false);
+    for (size_t a = 0; a < s.grid.size(); ++a) x[s.grid[a].index] = r.factors[a];
+    Evaluation e;
+    e.status = mech::status_from_string(r.status).value_or(Status::evaluation_error);
+    e.message = r.message;
+    e.names = &names;
+    for (size_t m = 0; m < names.size(); ++m)
+      if (!std::isnan(r.metrics[m])) e.set(static_cast<MetricId>(m), {r.metrics[m], {}});
     infeasible += !e.ok();
-    for (size_t m = 0; m < names.size(); ++m) values[m] = e.has(static_cast<MetricId>(m)) ? e[static_cast<MetricId>(m)].value : nan;
-    csv.record({point, x, mech::to_string(e.status), values});
+    csv.record({r.index, x, r.status, r.metrics});
     std::vector<std::string> row;
     for (const auto& a : s.grid) row.push_back(fmt(x[a.index]));
     for (size_t c = 0; c < s.columns.size(); ++c) {
@@ -81,8 +113,8 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
     row.push_back(std::string(mech::to_string(e.status)));
     print_row(out, row, head);
     o.x.push_back(x);
-    o.e.push_back(e);
-  }
+    o.e.push_back(std::move(e));
+  });
   const bool complete = static_cast<long>(o.x.size()) == o.total;
   csv.close(complete);
   if (complete) print_reference_differences(out, s, head, printed);

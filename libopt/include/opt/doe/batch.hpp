@@ -96,6 +96,7 @@ struct BatchOptions {
   bool dry_run = false;
   Shard shard;
   Peers* peers = nullptr;  // MPI ranks, if any
+  bool quiet = false;      // the caller reports: no printed lines, summary or result.json (sweeps)
 };
 
 // More samples than this need --force.

@@ -5,6 +5,7 @@
 // the store holds, and a duplicate index is impossible.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <map>
 #include <memory>
@@ -74,6 +75,8 @@ class Store {
 // Readers of any store file (`mechopt export`): rows ordered by idx.
 // CSV: a header row, numbers with 17 significant digits, NULL as an empty cell.
 void export_csv(const std::string& store_file, std::ostream& out);
+// Every row, ordered by idx (a categorical factor as its option index).
+void read_rows(const std::string& store_file, const std::function<void(const Row&)>& f);
 // JSON: {"meta": {...}, "samples": [{column: value or null}, ...]}, streamed
 // row by row (one sample a line), so memory does not grow with the store.
 void export_json(const std::string& store_file, std::ostream& out);
