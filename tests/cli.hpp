@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <sqlite3.h>
 #include <sys/wait.h>
 
 namespace cli {
@@ -62,6 +63,21 @@ inline std::uintmax_t directory_bytes(const std::string& dir) {
   for (const auto& e : std::filesystem::recursive_directory_iterator(dir, ec))
     if (e.is_regular_file()) total += e.file_size();
   return total;
+}
+
+// Rows in DIR/store.sqlite so far (0 while it is being created), for polling
+// a running batch.
+inline long stored_rows(const std::string& dir) {
+  sqlite3* db = nullptr;
+  sqlite3_stmt* st = nullptr;
+  long n = 0;
+  if (sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
+      sqlite3_prepare_v2(db, "select count(*) from samples", -1, &st, nullptr) == SQLITE_OK &&
+      sqlite3_step(st) == SQLITE_ROW)
+    n = static_cast<long>(sqlite3_column_int64(st, 0));
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return n;
 }
 
 }  // namespace cli

@@ -46,19 +46,6 @@ std::vector<std::vector<std::string>> rows(const std::string& dir, const std::st
   return out;
 }
 
-// Rows in the store so far (0 while it is being created), for polling.
-size_t count_rows(const std::string& dir) {
-  sqlite3* db = nullptr;
-  size_t n = 0;
-  sqlite3_stmt* st = nullptr;
-  if (sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
-      sqlite3_prepare_v2(db, "select count(*) from samples", -1, &st, nullptr) == SQLITE_OK &&
-      sqlite3_step(st) == SQLITE_ROW)
-    n = static_cast<size_t>(sqlite3_column_int64(st, 0));
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return n;
-}
 
 struct Run {
   opt::ConfigNode root;
@@ -281,7 +268,7 @@ TEST(DoeBatch, SigkillLosesNothingCommitted) {
     _exit(127);
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < deadline && count_rows(dir + "/out") < 500)
+  while (std::chrono::steady_clock::now() < deadline && cli::stored_rows(dir + "/out") < 500)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   kill(pid, SIGKILL);
   int status = 0;

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include "cli.hpp"
+
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -33,19 +35,6 @@ long lines_in(const std::string& file) {
   return n;
 }
 
-// Rows committed to the sweep's store so far (0 while it is created).
-long stored_rows(const std::string& dir) {
-  sqlite3* db = nullptr;
-  sqlite3_stmt* st = nullptr;
-  long n = 0;
-  if (sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
-      sqlite3_prepare_v2(db, "select count(*) from samples", -1, &st, nullptr) == SQLITE_OK &&
-      sqlite3_step(st) == SQLITE_ROW)
-    n = static_cast<long>(sqlite3_column_int64(st, 0));
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return n;
-}
 
 // Runs the sweep, sends `sig` once its store has some rows, and returns the
 // exit code.
@@ -63,7 +52,7 @@ int interrupted_run(const std::string& dir, int sig) {
     _exit(127);
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (stored_rows(dir + "/out") < 50 && std::chrono::steady_clock::now() < deadline)
+  while (cli::stored_rows(dir + "/out") < 50 && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   kill(pid, sig);
   int status = 0;
