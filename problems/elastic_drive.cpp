@@ -176,6 +176,7 @@ class ElasticDriveProblem : public TabledProblem {
     const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
     if (s.status != mech::Status::ok) {
       e.status = s.status;
+      e.message = s.message;
       return std::move(out.result);
     }
     const double side = m_.motor_side ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
@@ -200,6 +201,7 @@ class ElasticDriveProblem : public TabledProblem {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
       if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
         e.status = st.status;
+        e.message = st.message;
         return std::move(out.result);
       }
       put(M::peak_startup_coupling_torque, st.peak_coupling * side);

@@ -223,6 +223,33 @@ TEST(DoeBatch, ShardsMergeIntoOneRun) {
   EXPECT_EQ(rows(merged, kColumns), rows(whole, kColumns));
 }
 
+// A sample past the per-sample time limit is a row with status timed_out
+// (the drive's integration checks the clock in its callbacks); the batch
+// goes on. 1 us is far below one steady cycle's integration (~1 ms).
+TEST(DoeBatch, SamplePastItsTimeLimitIsARow) {
+  const std::string config = R"(problem: elastic_drive
+model: {ode: {method: erk, rtol: 1e-8}}
+study:
+  type: doe
+  factors: {stiffness: [60000 N m/rad, 110000 N m/rad]}
+  sample_time_limit: LIMIT
+)";
+  auto with = [&](const std::string& limit) {
+    std::string c = config;
+    return c.replace(c.find("LIMIT"), 5, limit);
+  };
+  const std::string dir = cli::fresh_dir("doe_time_limit"), fine = cli::fresh_dir("doe_time_fine");
+  const auto j = run(with("1 us"), dir, 2);
+  EXPECT_EQ(j["run_status"], "complete");
+  EXPECT_EQ(j["statuses"]["timed_out"], 2);
+  const auto table = rows(dir, "status, message, peak_coupling_torque");
+  ASSERT_EQ(table.size(), 2u);
+  EXPECT_EQ(table[0][0], "timed_out");
+  EXPECT_NE(table[0][1].find("time limit"), std::string::npos);
+  EXPECT_EQ(table[0][2], "");
+  EXPECT_EQ(run(with("60 s"), fine, 2)["statuses"]["ok"], 2) << "a generous limit changes nothing";
+}
+
 // Located errors for what a doe study cannot take.
 TEST(DoeBatch, BadStudiesAreLocatedErrors) {
   auto error = [](const std::string& study) {

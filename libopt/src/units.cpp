@@ -23,7 +23,7 @@ const Unit kUnits[] = {
     {"t", Dimension::mass, 1e3},            {"kg/m", Dimension::linear_density, 1.0},
     {"N", Dimension::force, 1.0},           {"kN", Dimension::force, 1e3},
     {"MN", Dimension::force, 1e6},          {"tf", Dimension::force, 9806.65},  // tonne-force
-    {"s", Dimension::time, 1.0},            {"ms", Dimension::time, 1e-3},
+    {"s", Dimension::time, 1.0},            {"ms", Dimension::time, 1e-3}, {"us", Dimension::time, 1e-6},
     {"N m", Dimension::torque, 1.0},        {"kN m", Dimension::torque, 1e3},
     {"J", Dimension::energy, 1.0},          {"kJ", Dimension::energy, 1e3},
     {"N m/rad", Dimension::rotational_stiffness, 1.0},

@@ -21,6 +21,7 @@ enum class Status {
   integration_failed,  // drive: error test or corrector failures in the integrator
   not_converged,       // drive: no periodic orbit (shooting or revolutions did not settle)
   non_finite,          // a metric came out NaN or infinite
+  timed_out,           // the evaluation ran past its time limit (a batch's sample_time_limit)
   evaluation_error,    // an unexpected failure inside one evaluation, recorded with the design
 };
 
@@ -28,7 +29,7 @@ enum class Status {
 inline constexpr std::string_view kStatusNames[] = {
     "ok", "cannot_assemble", "invalid_parameter", "not_grashof", "toggle_in_cycle",
     "synthesis_failed", "stalled", "too_many_steps", "integration_failed", "not_converged",
-    "non_finite", "evaluation_error"};
+    "non_finite", "timed_out", "evaluation_error"};
 static_assert(std::size(kStatusNames) == static_cast<std::size_t>(Status::evaluation_error) + 1);
 
 inline std::string_view to_string(Status s) {

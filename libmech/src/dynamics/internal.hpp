@@ -17,6 +17,7 @@
 #include <string>
 #include <type_traits>
 
+#include "mech/deadline.hpp"
 #include "mech/drive_dynamics.hpp"
 
 namespace mech::dynamics {
@@ -50,6 +51,7 @@ template <class F>
 int guarded(const char* callback, std::exception_ptr& error, F&& body) noexcept {
   try {
     if (callback_hook) callback_hook(callback);
+    check_deadline();
     return body();
   } catch (...) {
     error = std::current_exception();
@@ -75,6 +77,10 @@ Result entry_point(const ElasticDrive& d, const OdeOptions& o, std::initializer_
   try {
     r.status = check_run(d, o, settings, r.message);
     return r.status == Status::ok ? body() : r;
+  } catch (const TimedOut& e) {
+    r.message = e.what();
+    r.status = Status::timed_out;
+    return r;
   } catch (const std::exception& e) {
     r.message = e.what();
   } catch (...) {

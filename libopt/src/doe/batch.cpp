@@ -19,6 +19,7 @@
 #include <mutex>
 #include <thread>
 
+#include "mech/deadline.hpp"
 #include "opt/doe/batch.hpp"
 #include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
@@ -89,6 +90,7 @@ class Evaluator {
     sampler_.point(i, r.factors);
     r.metrics.assign(metrics_, kNan);
     const auto t0 = Clock::now();
+    mech::set_deadline(spec_.sample_seconds);  // checked inside long computations
     try {
       const Problem* p = &base_;
       std::unique_ptr<Problem> own;
@@ -108,6 +110,10 @@ class Evaluator {
       r.message = e.message;
       for (size_t m = 0; m < metrics_; ++m)
         if (e.has(static_cast<MetricId>(m))) r.metrics[m] = e[static_cast<MetricId>(m)].value;
+    } catch (const mech::TimedOut& e) {
+      r.status = mech::to_string(Status::timed_out);
+      r.message = e.what();
+      std::fill(r.metrics.begin(), r.metrics.end(), kNan);
     } catch (const ConfigError& e) {  // a factor value the model does not accept
       r.status = mech::to_string(Status::invalid_parameter);
       r.message = e.what();
@@ -117,6 +123,7 @@ class Evaluator {
       r.message = e.what();
       std::fill(r.metrics.begin(), r.metrics.end(), kNan);
     }
+    mech::set_deadline(0);
     r.wall_time = since(t0);
     return r;
   }

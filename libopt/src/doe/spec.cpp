@@ -175,7 +175,12 @@ void factors_from_rows(DoeSpec& s) {
 DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem) {
   DoeSpec s;
   const ConfigNode st = root.at("study");
-  st.allow_only({"type", "sampler", "samples", "seed", "maximin", "factors", "points", "points_file", "columns"});
+  st.allow_only({"type", "sampler", "samples", "seed", "maximin", "factors", "points", "points_file", "columns",
+                 "sample_time_limit"});
+  if (st.has("sample_time_limit")) {
+    s.sample_seconds = st.at("sample_time_limit").quantity(Dimension::time);
+    if (!(s.sample_seconds > 0)) st.at("sample_time_limit").fail("expected a time > 0, e.g. 10 s");
+  }
   s.sampler = st.has("sampler") ? st.at("sampler").choice({"factorial", "random", "latin_hypercube", "sobol",
                                                             "saltelli", "list"})
               : st.has("points") || st.has("points_file") ? "list"
