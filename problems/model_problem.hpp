@@ -76,11 +76,13 @@ class TabledProblem : public opt::Problem {
         throw std::logic_error(name_ + ": metric " + metrics_[i].name + " is not at its enum's position");
       names_.push_back(metrics_[i].name);
     }
+    shared_names_ = std::make_shared<const std::vector<std::string>>(names_);
   }
 
   std::string name() const override { return name_; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
   const std::vector<std::string>& metric_names() const override { return names_; }
+  std::shared_ptr<const std::vector<std::string>> shared_metric_names() const override { return shared_names_; }
   std::string renamed_metric(const std::string& old) const override {
     for (const auto& m : metrics_)
       if (!old.empty() && m.formerly == old) return m.name;
@@ -96,6 +98,7 @@ class TabledProblem : public opt::Problem {
   std::string name_;
   std::vector<MetricSpec> metrics_;
   std::vector<std::string> names_;
+  std::shared_ptr<const std::vector<std::string>> shared_names_;
   std::vector<opt::Variable> vars_;
 };
 

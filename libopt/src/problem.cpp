@@ -19,7 +19,7 @@ double Evaluation::at(const std::string& name) const {
 
 Evaluation Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient) const {
   Evaluation e = evaluate_model_at(x, wanted, gradient);
-  e.names = &metric_names();
+  e.names = shared_metric_names();
   for (MetricId i = 0; i < static_cast<MetricId>(e.values.size()); ++i) {
     if (!e.has(i)) continue;
     const MetricValue& m = e[i];

@@ -6,6 +6,7 @@
 #include <bitset>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -60,7 +61,8 @@ struct Evaluation {
   std::string message;               // why, when the status alone does not say
   std::vector<MetricValue> values;   // by MetricId; meaningful where computed
   MetricSet computed;
-  const std::vector<std::string>* names = nullptr;  // the problem's metric names
+  // The problem's metric names, shared: an evaluation may outlive its problem.
+  std::shared_ptr<const std::vector<std::string>> names;
 
   bool ok() const { return status == Status::ok; }
   bool has(MetricId i) const { return i >= 0 && computed.contains(i); }
@@ -115,6 +117,10 @@ class Problem {
   // Every metric this problem can compute, objectives and constraints alike;
   // a metric's MetricId is its position here.
   virtual const std::vector<std::string>& metric_names() const = 0;
+  // The same, shared with the evaluations (a copy unless a problem keeps one).
+  virtual std::shared_ptr<const std::vector<std::string>> shared_metric_names() const {
+    return std::make_shared<const std::vector<std::string>>(metric_names());
+  }
   // The current name of a metric once called `old`, or "" (configs written
   // with the old name still run, with a notice).
   virtual std::string renamed_metric(const std::string& old) const {

@@ -75,6 +75,7 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
   }
 
   const std::vector<std::string>& names = p.metric_names();
+  const auto shared_names = p.shared_metric_names();
   std::vector<MetricId> printed_ids;
   for (const auto& c : s.columns) printed_ids.push_back(p.metric_id(c));
   RecordLayout layout{"point", {}, names};
@@ -98,7 +99,7 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
     Evaluation e;
     e.status = mech::status_from_string(r.status).value_or(Status::evaluation_error);
     e.message = r.message;
-    e.names = &names;
+    e.names = shared_names;
     for (size_t m = 0; m < names.size(); ++m)
       if (!std::isnan(r.metrics[m])) e.set(static_cast<MetricId>(m), {r.metrics[m], {}});
     infeasible += !e.ok();
