@@ -400,7 +400,9 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
       {"samples", std::to_string(n)},          {"mechopt_version", MECHOPT_VERSION},
       {"shard", shard},                        {"started", now_text()}};
   Store store(o.output_directory, layout, meta, o.fresh);
+  const auto index_t0 = Clock::now();
   std::vector<bool> finished = store.finished(n);
+  j["index_seconds"] = since(index_t0);  // reading which samples are done
   if (o.peers) o.peers->share(finished);
   Tally tally;
   for (std::int64_t i = lo; i < hi; ++i) tally.done += finished[static_cast<size_t>(i)];

@@ -227,7 +227,11 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
   // Printed.
   out << "summary: " << j["feasible"].get<std::int64_t>() << " feasible samples\n";
   for (const auto& [s, v] : j["failures"].items())
-    out << "  " << s << ": " << v["count"].get<std::int64_t>() << " (e.g. " << v["example"].get<std::string>() << ")\n";
+  {
+    const std::string example = v["example"].get<std::string>();
+    out << "  " << s << ": " << v["count"].get<std::int64_t>() << (example.empty() ? "" : " (e.g. " + example + ")")
+        << "\n";
+  }
   if (j.contains("best"))
     for (const auto& b : j["best"]) {
       out << "  best " << b["metric"].get<std::string>() << " = " << b["value"].get<double>() << " at sample "
