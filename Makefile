@@ -41,7 +41,8 @@ test: build
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
 
-# ASan + UBSan build in its own directory (-O1, no debug info, no benchmarks),
+# ASan + UBSan build in its own directory (-O1, no debug info, no benchmarks,
+# no MPI: the MPI test runs in `make test` only),
 # linked with the same SUNDIALS build, then the whole test suite with every
 # finding fatal: abort_on_error turns a report into SIGABRT, which the CLI
 # tests see as a signal. Leak suppressions: tools/lsan.supp (docs/testing.md).
@@ -52,12 +53,12 @@ SAN_ENV = ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1:strict_st
 sanitize: deps
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
 	@mkdir -p $(ASAN_BUILD) && echo '*' > $(ASAN_BUILD)/.gitignore  # git ignores the whole dir
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Release -DMECHOPT_SANITIZE=ON -DMECHOPT_BENCH=OFF \
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Release -DMECHOPT_SANITIZE=ON -DMECHOPT_BENCH=OFF -DMECHOPT_MPI=OFF \
 	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
 	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials)
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
-	cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS)
+	cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -E '^DoeMpi\.'
 
 # Config fuzzer on the Release binary: N mutants of configs/**/*.yaml from SEED
 # (tools/fuzz_configs.py; failing mutants kept in FUZZ_OUT).

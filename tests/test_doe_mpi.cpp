@@ -47,11 +47,6 @@ study:
     crank_radius: {min: 0.05 m, max: 0.25 m}
     crank_speed: {min: 5 rad/s, max: 15 rad/s}
 )";
-  // Under AddressSanitizer, leak checks stay off for the ranks: Open MPI's
-  // own allocations outlive MPI_Finalize (the same code is leak-checked in
-  // the single-process tests).
-  if (const char* asan = std::getenv("ASAN_OPTIONS"))
-    setenv("ASAN_OPTIONS", (std::string(asan) + ":detect_leaks=0").c_str(), 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   const std::string mpirun = "mpirun -n 2 --oversubscribe " + std::string(MECHOPT_BINARY);
