@@ -8,7 +8,9 @@
 //   0 -> rank k: int64 begin, int64 end (begin == end: stop)
 // A packed row: int64 index, int32 status, double wall time, uint32 message
 // length and bytes, then the factor and metric values as doubles.
+#include <chrono>
 #include <cstdlib>
+#include <thread>
 #include <cstring>
 
 #include "opt/doe/batch.hpp"
@@ -110,8 +112,15 @@ class MpiPeers final : public Peers {
   void serve(std::atomic<std::int64_t>& next, std::int64_t hi, const std::function<void(std::vector<Row>)>& rows,
              const std::function<bool()>& stopping) override {
     for (int active = size_ - 1; active > 0;) {
+      // Polled with a pause, not MPI_Probe: Open MPI's blocking calls spin,
+      // and this thread would take a core from the evaluating ones.
       MPI_Status st;
-      MPI_Probe(MPI_ANY_SOURCE, kTag, MPI_COMM_WORLD, &st);
+      int arrived = 0;
+      for (;;) {
+        MPI_Iprobe(MPI_ANY_SOURCE, kTag, MPI_COMM_WORLD, &arrived, &st);
+        if (arrived) break;
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
       int count = 0;
       MPI_Get_count(&st, MPI_BYTE, &count);
       std::vector<char> b(static_cast<size_t>(count));
