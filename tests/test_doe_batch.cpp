@@ -10,6 +10,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <sys/wait.h>
 #include <thread>
@@ -277,37 +278,48 @@ TEST(DoeBatch, BadStudiesAreLocatedErrors) {
             std::string::npos);
 }
 
-// Killed with SIGKILL at any moment, the same command again completes the
-// store: every committed row kept, none doubled, the same values as a run
-// that was never killed.
-TEST(DoeBatch, SigkillLosesNothingCommitted) {
+// Killed with SIGKILL at 20 moments drawn from a fixed seed, each after
+// this round committed something and before the whole design was (the test
+// checks both), resumed each time: the final store equals a run that was
+// never killed, every index once.
+TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
   const std::string dir = cli::fresh_dir("doe_kill"), clean = cli::fresh_dir("doe_kill_clean");
   fs::create_directories(dir);
+  constexpr long kSamples = 200000;  // a round commits <= ~0.3 s of one thread's work
   std::string yaml = kSobol;
-  yaml.replace(yaml.find("samples: 512"), 12, "samples: 20000");
+  yaml.replace(yaml.find("samples: 512"), 12, "samples: " + std::to_string(kSamples));
   std::ofstream(dir + "/config.yaml") << yaml;
-  const pid_t pid = fork();
-  if (pid == 0) {
-    freopen("/dev/null", "w", stdout);
-    freopen("/dev/null", "w", stderr);
-    execl(MECHOPT_BINARY, "mechopt", "run", (dir + "/config.yaml").c_str(), "--output", (dir + "/out").c_str(),
-          "--progress=none", static_cast<char*>(nullptr));
-    _exit(127);
+  std::mt19937 moments(20261123);
+  long kept = 0;
+  for (int k = 0; k < 20; ++k) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      freopen("/dev/null", "w", stdout);
+      freopen("/dev/null", "w", stderr);
+      execl(MECHOPT_BINARY, "mechopt", "run", (dir + "/config.yaml").c_str(), "--output",
+            (dir + "/out").c_str(), "--progress=none", "--threads", "1", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    // After a commit of this round, then 0-50 ms more: mid-batch or mid-commit.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline && cli::stored_rows(dir + "/out") <= kept)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 50)(moments)));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "round " << k << ": the run ended before it was killed";
+    const long now = cli::stored_rows(dir + "/out");
+    EXPECT_GT(now, kept) << "round " << k << ": killed before anything was committed";
+    ASSERT_LT(now, kSamples) << "round " << k << ": killed after everything was committed";
+    kept = now;
   }
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < deadline && cli::stored_rows(dir + "/out") < 500)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  kill(pid, SIGKILL);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it could be killed";
-  const size_t kept = rows(dir + "/out", "idx").size();
-  EXPECT_GE(kept, 500u);
   const auto again = cli::run("run " + dir + "/config.yaml --output " + dir + "/out --progress=none");
   ASSERT_TRUE(again.exited(0)) << again.output;
   EXPECT_NE(again.output.find("resuming: " + std::to_string(kept) + " done"), std::string::npos) << again.output;
   const auto resumed = rows(dir + "/out", kColumns);
-  ASSERT_EQ(resumed.size(), 20000u);
+  ASSERT_EQ(resumed.size(), static_cast<size_t>(kSamples));
+  for (long i = 0; i < kSamples; ++i) ASSERT_EQ(resumed[static_cast<size_t>(i)][0], std::to_string(i));
   const auto ok = cli::run("run " + dir + "/config.yaml --output " + clean + " --progress=none");
   ASSERT_TRUE(ok.exited(0)) << ok.output;
   EXPECT_EQ(resumed, rows(clean, kColumns));
