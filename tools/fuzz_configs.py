@@ -33,7 +33,9 @@ import time
 import yaml
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-FILE_CAP = 4 << 20    # an output file larger than this fails the mutant
+FILE_CAP = 4 << 20    # an output file larger than this fails the mutant ...
+ROW_BYTES = 1024      # ... except a file of rows (sweep.csv, history.csv, the store), which may add this per row
+ROW_FILES = ("sweep.csv", "history.csv", "store.sqlite", "store.sqlite-wal")
 FSIZE_LIMIT = 64 << 20  # RLIMIT_FSIZE: any write beyond it is SIGXFSZ (stdout included)
 MEMORY_LIMIT = 2 << 30  # RLIMIT_AS
 KEEP_BYTES = 64 << 10   # of stdout/stderr kept for a failing mutant
@@ -493,12 +495,23 @@ def run_mutant(job):
                         fails.append(("eval: non-finite metric with status ok", ", ".join(bad)))
             except ValueError as err:
                 fails.append(("eval: output not JSON", str(err)[:200]))
+        # Rows the run reports (a sweep's or a batch's): files of rows grow with them.
+        rows = 0
+        for dirpath, _, files in os.walk(work):
+            if "result.json" in files:
+                try:
+                    res = json.loads(read(os.path.join(dirpath, "result.json"), FSIZE_LIMIT))
+                    rows = max(rows, int((res.get("sweep") or {}).get("evaluated", 0)), int(res.get("done", 0) or 0),
+                               int(res.get("evaluations", 0) or 0))
+                except (ValueError, TypeError, AttributeError):
+                    pass
         for dirpath, _, files in os.walk(work):
             for fn in files:
                 path = os.path.join(dirpath, fn)
                 size = os.path.getsize(path)
-                if size > FILE_CAP and fn not in ("run.out", "run.err", "eval.out", "eval.err"):
-                    fails.append((f"run: output file over {FILE_CAP >> 20} MB",
+                cap = FILE_CAP + (ROW_BYTES * rows if fn in ROW_FILES else 0)
+                if size > cap and fn not in ("run.out", "run.err", "eval.out", "eval.err"):
+                    fails.append((f"run: output file over {FILE_CAP >> 20} MB (+{ROW_BYTES} bytes a row for files of rows)",
                                   f"{os.path.relpath(path, work)}: {size} bytes"))
         reached = r[0] == 0 or (r[0] == 1 and bool(HEADER.search(read(os.path.join(work, "run.out"), 4096))))
         if fails and keep:
