@@ -137,7 +137,7 @@ class Evaluator {
   bool model_factors_ = false;
 };
 
-// Counts and extremes over the rows committed by this run and earlier ones.
+// Counts of the rows committed: in the shard (this run and earlier ones) and by this run.
 struct Tally {
   std::int64_t done = 0;       // in the shard, committed
   std::int64_t evaluated = 0;  // by this run
