@@ -24,7 +24,9 @@ usage:
                                           DIR/sweep.csv (sweeps) and DIR/chart.svg
       a doe study (docs/doe.md) writes DIR/store.sqlite and resumes it when run again:
       [--threads N] [--progress bar|jsonl|none] [--new] [--force] [--dry-run] [--shard I/N|auto]
-  mechopt export STORE --csv|--json       a results store's rows on stdout
+  mechopt export STORE --csv|--json|--canonical
+                                          a results store's rows on stdout (--canonical: the
+                                          CSV without wall times, equal for equal results)
   mechopt merge OUT STORE...              shard stores into OUT/store.sqlite, checking that
                                           their configs agree and no sample is missing or doubled
   mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON;
@@ -47,7 +49,7 @@ struct Args {
   opt::doe::BatchOptions batch;
   bool batch_flags = false;  // any of the doe flags given
   bool doe_only_flags = false;  // --progress, --shard, --new, --dry-run (a sweep takes --threads, --force)
-  std::string export_format;               // export: csv | json
+  std::string export_format;               // export: csv | json | canonical
   std::vector<std::string> stores;         // export, merge
 };
 
@@ -110,7 +112,7 @@ Args parse_args(int argc, char** argv) {
       (v[i] == "--new" ? a.batch.fresh : v[i] == "--force" ? a.batch.force : a.batch.dry_run) = true;
       a.batch_flags = true;
       a.doe_only_flags = a.doe_only_flags || v[i] != "--force";
-    } else if ((v[i] == "--csv" || v[i] == "--json") && a.command == "export") {
+    } else if ((v[i] == "--csv" || v[i] == "--json" || v[i] == "--canonical") && a.command == "export") {
       a.export_format = v[i].substr(2);
     } else if ((a.command == "export" || a.command == "merge") && v[i][0] != '-') {
       a.stores.push_back(v[i]);
@@ -140,7 +142,7 @@ Args parse_args(int argc, char** argv) {
   if (!a.output.empty() && a.command != "run") usage_error("--output goes with run");
   if (a.batch_flags && a.command != "run") usage_error("--threads, --progress, --shard, --new, --force and --dry-run go with run");
   if (a.command == "export" && (a.stores.size() != 1 || a.export_format.empty()))
-    usage_error("export expects one STORE and --csv or --json");
+    usage_error("export expects one STORE and --csv, --json or --canonical");
   if (a.command == "merge" && a.stores.size() < 2) usage_error("merge expects OUT and at least one STORE");
   return a;
 }
@@ -296,8 +298,8 @@ int main(int argc, char** argv) {
     }
     if (a.command == "run" || a.command == "eval" || a.command == "check-derivatives") return run(a);
     if (a.command == "export") {
-      if (a.export_format == "csv") opt::doe::export_csv(a.stores[0], std::cout);
-      else opt::doe::export_json(a.stores[0], std::cout);
+      if (a.export_format == "json") opt::doe::export_json(a.stores[0], std::cout);
+      else opt::doe::export_csv(a.stores[0], std::cout, a.export_format == "csv");
       return 0;
     }
     if (a.command == "merge") {

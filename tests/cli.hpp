@@ -80,4 +80,12 @@ inline long stored_rows(const std::string& dir) {
   return n;
 }
 
+// `mechopt export DIR/store.sqlite --canonical`: the store's rows by index,
+// every double as %.17g, no wall times. Equal results give equal bytes.
+inline std::string canonical_dump(const std::string& dir) {
+  const Outcome o = run("export " + dir + "/store.sqlite --canonical");
+  EXPECT_TRUE(o.exited(0)) << o.output;
+  return o.output;
+}
+
 }  // namespace cli

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -263,7 +264,7 @@ void three_rows(const std::string& dir) {
 }
 
 // What `write` (export_csv, export_json) makes of the three-row store.
-std::string exported(void (*write)(const std::string&, std::ostream&), const std::string& name) {
+std::string exported(const std::function<void(const std::string&, std::ostream&)>& write, const std::string& name) {
   TempDir dir(name);
   three_rows(dir.path);
   std::ostringstream out;
@@ -271,14 +272,24 @@ std::string exported(void (*write)(const std::string&, std::ostream&), const std
   return out.str();
 }
 
+
 TEST(DoeStore, ExportCsv) {
-  EXPECT_EQ(exported(opt::doe::export_csv, "csv"),
+  EXPECT_EQ(exported([](const std::string& f, std::ostream& o) { opt::doe::export_csv(f, o); }, "csv"),
             "idx,status,wall_time,message,rod_length,fidelity.rod,k1,peak_torque\n"
             "0,ok,0.5,,0.10000000000000001,rigid,1.5,2.25\n"
             "1,cannot_assemble,0.25,\"rod, too \"\"short\"\"\",0.20000000000000001,elastic,,\n"
             "2,ok,1,,0.33333333333333331,elastic,-2.9999999999999999e-07,100\n");
   std::ostringstream out;
   EXPECT_THROW(opt::doe::export_csv("/nonexistent/store.sqlite", out), std::runtime_error);
+}
+
+// The canonical dump: the CSV without the wall times, nothing else changed.
+TEST(DoeStore, ExportCanonical) {
+  EXPECT_EQ(exported([](const std::string& f, std::ostream& o) { opt::doe::export_csv(f, o, false); }, "canonical"),
+            "idx,status,message,rod_length,fidelity.rod,k1,peak_torque\n"
+            "0,ok,,0.10000000000000001,rigid,1.5,2.25\n"
+            "1,cannot_assemble,\"rod, too \"\"short\"\"\",0.20000000000000001,elastic,,\n"
+            "2,ok,,0.33333333333333331,elastic,-2.9999999999999999e-07,100\n");
 }
 
 TEST(DoeStore, ExportJson) {

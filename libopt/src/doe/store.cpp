@@ -362,11 +362,14 @@ void check_written(const std::ostream& out, const std::string& file) {
 
 }  // namespace
 
-void export_csv(const std::string& store_file, std::ostream& out) {
+void export_csv(const std::string& store_file, std::ostream& out, bool wall_time) {
   const Db db = open_to_read(store_file);
   Statement s(db, "SELECT * FROM samples ORDER BY idx");
   const int n = sqlite3_column_count(s.get());
+  constexpr int kWallTime = 2;  // idx, status, wall_time, ...
+  auto skip = [&](int c) { return !wall_time && c == kWallTime; };
   for (int c = 0; c < n; ++c) {
+    if (skip(c)) continue;
     if (c) out << ',';
     csv_text(out, sqlite3_column_name(s.get(), c));
   }
@@ -374,6 +377,7 @@ void export_csv(const std::string& store_file, std::ostream& out) {
   char number[32];
   while (s.step()) {
     for (int c = 0; c < n; ++c) {
+      if (skip(c)) continue;
       if (c) out << ',';
       switch (sqlite3_column_type(s.get(), c)) {
         case SQLITE_NULL: break;

@@ -73,8 +73,12 @@ class Store {
 };
 
 // Readers of any store file (`mechopt export`): rows ordered by idx.
-// CSV: a header row, numbers with 17 significant digits, NULL as an empty cell.
-void export_csv(const std::string& store_file, std::ostream& out);
+// CSV: a header row, numbers with 17 significant digits (%.17g: every double
+// exactly), NULL as an empty cell. Without wall_time it is the canonical dump
+// (`mechopt export --canonical`): rows by index and nothing of the run itself,
+// so two stores of the same results give the same bytes whatever threads,
+// ranks or shards made them.
+void export_csv(const std::string& store_file, std::ostream& out, bool wall_time = true);
 // Every row, ordered by idx (a categorical factor as its option index).
 void read_rows(const std::string& store_file, const std::function<void(const Row&)>& f);
 // JSON: {"meta": {...}, "samples": [{column: value or null}, ...]}, streamed
