@@ -239,7 +239,8 @@ int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& prob
   const problems::Entry* entry = nullptr;
   for (const auto& e : problems::registry())
     if (e.name == problem.name()) entry = &e;
-  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, entry->parameters, problem);
+  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, entry->parameters, problem,
+                                                      a.batch.force || a.batch.dry_run);
   const opt::RunSpec run = opt::parse_run(root, problem);  // objective, constraints, output
   spec.objective = run.objective;
   spec.constraints = run.constraints;
@@ -248,6 +249,13 @@ int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& prob
   o.output_directory = !a.output.empty() ? a.output : run.output_directory;
   opt::doe::run_batch(root, problems::make_problem, spec, o, std::cout, std::cerr);
   return stopped(o.output_directory + "/store.sqlite");
+}
+
+// Exit 2: the config (or the store it meets) is wrong, with the message that says where.
+int bad_input(const std::exception& e) {
+  std::cerr << "mechopt: error: " << e.what() << "\n";
+  opt::doe::abort_peers(2);  // the other MPI ranks, if any, would wait forever
+  return 2;
 }
 
 int run(const Args& a) {
@@ -310,9 +318,9 @@ int main(int argc, char** argv) {
     }
     usage_error("unknown command '" + a.command + "'");
   } catch (const opt::ConfigError& e) {
-    std::cerr << "mechopt: error: " << e.what() << "\n";
-    opt::doe::abort_peers(2);  // the other MPI ranks, if any, would wait forever
-    return 2;
+    return bad_input(e);
+  } catch (const opt::doe::StoreMismatch& e) {  // a store of another config: the input is wrong, not the run
+    return bad_input(e);
   } catch (const std::exception& e) {
     std::cerr << "mechopt: failed: " << e.what() << "\n";
     opt::doe::abort_peers(1);

@@ -286,6 +286,48 @@ TEST(DoeBatch, BadStudiesAreLocatedErrors) {
             std::string::npos);
 }
 
+// --dry-run writes nothing and says what the store already holds, the time
+// and the size; a run over the limit needs --force after it; a store of
+// another config is bad input (exit 2) for a run and a dry run alike.
+TEST(DoeBatch, DryRunShowsTheCostFirst) {
+  const std::string dir = cli::fresh_dir("doe_dry");
+  fs::create_directories(dir);
+  std::string big = kSobol;
+  big.replace(big.find("samples: 512"), 12, "samples: 2e7");
+  std::ofstream(dir + "/big.yaml") << big;
+  std::ofstream(dir + "/small.yaml") << kSobol;
+  std::string other = kSobol;
+  other.replace(other.find("seed: 11"), 8, "seed: 12");
+  std::ofstream(dir + "/other.yaml") << other;
+
+  auto o = cli::run("run " + dir + "/big.yaml --output " + dir + "/big");
+  EXPECT_TRUE(o.exited(2)) << o.output;
+  EXPECT_NE(o.output.find("big.yaml:5:12: key 'study.samples': 20000000 samples is more than 10000000: --dry-run"),
+            std::string::npos) << o.output;
+  o = cli::run("run " + dir + "/big.yaml --output " + dir + "/big --dry-run");
+  EXPECT_TRUE(o.exited(0)) << o.output;
+  for (const char* line : {"dry run: 20000000 samples, 0 already in", "20000000 to evaluate", "estimated time:",
+                           "estimated store size:", "more than 10000000 samples: run with --force to go ahead"})
+    EXPECT_NE(o.output.find(line), std::string::npos) << line << "\n" << o.output;
+  EXPECT_FALSE(fs::exists(dir + "/big")) << "a dry run writes nothing";
+
+  o = cli::run("run " + dir + "/small.yaml --output " + dir + "/out --shard 0/2 --progress=none");
+  ASSERT_TRUE(o.exited(0)) << o.output;
+  o = cli::run("run " + dir + "/small.yaml --output " + dir + "/out --dry-run");
+  EXPECT_NE(o.output.find("dry run: 512 samples, 256 already in " + dir + "/out/store.sqlite, 256 to evaluate"),
+            std::string::npos) << o.output;
+  o = cli::run("run " + dir + "/small.yaml --output " + dir + "/out --dry-run --new");
+  EXPECT_NE(o.output.find("512 samples, 0 already in"), std::string::npos) << "--new would move the store aside\n"
+                                                                              << o.output;
+  EXPECT_EQ(cli::stored_rows(dir + "/out"), 256) << "the dry run moved nothing";
+  for (const std::string flags : {"", " --dry-run"}) {
+    o = cli::run("run " + dir + "/other.yaml --output " + dir + "/out --progress=none" + flags);
+    EXPECT_TRUE(o.exited(2)) << flags << "\n" << o.output;
+    EXPECT_NE(o.output.find("mechopt: error: " + dir + "/out/store.sqlite: written by another configuration"),
+              std::string::npos) << o.output;
+  }
+}
+
 // Killed with SIGKILL at 20 moments drawn from a fixed seed, each after
 // this round committed something and before the whole design was (the test
 // checks both), resumed each time: the final store equals a run that was

@@ -316,6 +316,52 @@ std::string config_hash(const nlohmann::json& canonical) {
   return hex64(h);
 }
 
+// "42 s", "13.5 min", "2.25 h".
+std::string duration_text(double seconds) {
+  char text[32];
+  if (seconds < 120) std::snprintf(text, sizeof text, "%.3g s", seconds);
+  else if (seconds < 7200) std::snprintf(text, sizeof text, "%.3g min", seconds / 60);
+  else std::snprintf(text, sizeof text, "%.3g h", seconds / 3600);
+  return text;
+}
+
+// --dry-run: the samples the store already holds (read only; a store of
+// another config is refused as a real run would refuse it), the time a pilot
+// of a few samples predicts for the rest, and the store's size from the
+// pilot rows' record sizes. Nothing is written.
+nlohmann::json dry_run(const Evaluator& evaluator, const SampleMaker& maker, const StoreLayout& layout,
+                       const std::map<std::string, std::string>& meta, std::int64_t lo, std::int64_t hi, int threads,
+                       const BatchOptions& o, std::ostream& out) {
+  const std::int64_t total = std::stoll(meta.at("samples"));
+  std::int64_t stored = 0;
+  if (!o.fresh)
+    if (const auto done = Store::peek(o.output_directory, layout, meta, total))
+      for (std::int64_t i = lo; i < hi; ++i) stored += (*done)[static_cast<std::size_t>(i)];
+  // The pilot: the first samples of the range for up to 0.2 s (at most
+  // 4096), after one untimed sample that pays for first-use costs.
+  const std::int64_t rest = hi - lo - stored;
+  double bytes_per_row = 0;
+  std::int64_t pilot = 0;
+  if (hi > lo) bytes_per_row += row_bytes(evaluator.evaluate(maker, lo), layout);
+  const auto t0 = Clock::now();
+  while (lo + 1 + pilot < hi && pilot < 4096 && since(t0) < 0.2)
+    bytes_per_row += row_bytes(evaluator.evaluate(maker, lo + 1 + pilot++), layout);
+  const double per = pilot ? since(t0) / static_cast<double>(pilot) : 0;
+  bytes_per_row /= static_cast<double>(std::max<std::int64_t>(1, std::min(hi - lo, pilot + 1)));
+  const double seconds = per * static_cast<double>(rest) / threads, bytes = bytes_per_row * static_cast<double>(hi - lo);
+  const bool needs_force = total > kMaxSamples && !o.force;
+  const std::string shard = meta.at("shard");
+  out << "dry run: " << hi - lo << " samples" << (o.shard.count > 1 ? " (shard " + shard + ")" : "") << ", "
+      << stored << " already in " << o.output_directory << "/store.sqlite, " << rest << " to evaluate on " << threads
+      << " threads\n  pilot: " << pilot << " samples, " << per * 1e6 << " us each\n  estimated time: "
+      << duration_text(seconds) << "\n  estimated store size: " << bytes / 1e6 << " MB (" << bytes_per_row
+      << " bytes a row)\n";
+  if (needs_force) out << "  more than " << kMaxSamples << " samples: run with --force to go ahead\n";
+  return {{"samples", hi - lo}, {"stored", stored}, {"to_evaluate", rest}, {"pilot_samples", pilot},
+          {"seconds_per_sample", per}, {"estimated_seconds", seconds}, {"estimated_store_bytes", bytes},
+          {"bytes_per_row", bytes_per_row}, {"needs_force", needs_force}};
+}
+
 nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker()>& makers, const DoeSpec& spec,
                            const BatchOptions& o, const nlohmann::json& config, std::ostream& printed,
                            std::ostream& err) {
@@ -323,7 +369,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   std::ostream& out = o.quiet ? none : printed;
   const auto sampler = make_sampler(spec);
   const std::int64_t n = sampler->size();
-  if (n > kMaxSamples && !o.force)
+  if (n > kMaxSamples && !o.force && !o.dry_run)  // parse_doe says where (this guards other callers)
     throw ConfigError("study: " + std::to_string(n) + " samples is more than " + std::to_string(kMaxSamples) +
                       "; run with --force to go ahead");
   const std::int64_t lo = n * o.shard.index / o.shard.count, hi = n * (o.shard.index + 1) / o.shard.count;
@@ -347,6 +393,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
                       {"threads", threads}, {"ranks", o.peers ? o.peers->size() : 1},
                       {"settings", base.settings()}};
 
+  if (o.dry_run && o.peers && o.peers->rank() > 0) return j;  // rank 0 says what the run would take
   if (o.peers && o.peers->rank() > 0) {  // an MPI worker: chunks from rank 0, rows back to it
     std::vector<bool> finished(static_cast<size_t>(n));
     o.peers->share(finished);
@@ -372,26 +419,6 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     return j;
   }
 
-  if (o.dry_run) {  // a pilot of a few samples, nothing written
-    const SampleMaker m = maker();
-    const std::int64_t pilot = std::min<std::int64_t>(hi - lo, 16);
-    const auto t0 = Clock::now();
-    for (std::int64_t i = lo; i < lo + pilot; ++i) evaluator.evaluate(m, i);
-    const double per = pilot ? since(t0) / pilot : 0;
-    const double bytes = (hi - lo) * (40.0 + 9.0 * (layout.factors.size() + metrics.size()));
-    j["dry_run"] = {{"samples", hi - lo}, {"pilot_samples", pilot}, {"seconds_per_sample", per},
-                    {"estimated_seconds", per * (hi - lo) / threads}, {"estimated_store_bytes", bytes}};
-    out << "dry run: " << hi - lo << " samples" << (o.shard.count > 1 ? " (shard " + shard + ")" : "") << " on "
-        << threads << " threads\n  pilot: " << pilot << " samples, " << per * 1e3 << " ms each\n"
-        << "  estimated time: " << per * (hi - lo) / threads << " s (samples already in a store are skipped)\n"
-        << "  estimated store size: " << bytes / 1e6 << " MB\n";
-    return j;
-  }
-
-  namespace fs = std::filesystem;
-  fs::create_directories(o.output_directory);
-  const std::string dir = o.output_directory + "/";
-  remove_previous_outputs(dir);
   const nlohmann::json canonical = canonical_run(base, spec, *sampler);
   const std::map<std::string, std::string> meta = {
       {"config", config.dump(2)},          {"config_canonical", canonical.dump()},
@@ -399,6 +426,15 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
       {"sampler", sampler->describe().dump()}, {"seed", spec.seed ? std::to_string(*spec.seed) : ""},
       {"samples", std::to_string(n)},          {"mechopt_version", MECHOPT_VERSION},
       {"shard", shard},                        {"started", now_text()}};
+  if (o.dry_run) {
+    j["dry_run"] = dry_run(evaluator, maker(), layout, meta, lo, hi, threads, o, out);
+    return j;
+  }
+
+  namespace fs = std::filesystem;
+  fs::create_directories(o.output_directory);
+  const std::string dir = o.output_directory + "/";
+  remove_previous_outputs(dir);
   Store store(o.output_directory, layout, meta, o.fresh);
   const auto index_t0 = Clock::now();
   std::vector<bool> finished = store.finished(n);

@@ -172,7 +172,8 @@ void factors_from_rows(DoeSpec& s) {
 
 }  // namespace
 
-DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem) {
+DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem,
+                  bool beyond_limit) {
   DoeSpec s;
   const ConfigNode st = root.at("study");
   st.allow_only({"type", "sampler", "samples", "seed", "maximin", "factors", "points", "points_file", "columns",
@@ -239,11 +240,20 @@ DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, c
       s.columns.push_back(c.text());
     }
   }
+  std::int64_t n = 0;
   try {
-    make_sampler(s);  // sampler-specific limits (e.g. maximin's N), located at the study
+    n = make_sampler(s)->size();  // sampler-specific limits (e.g. maximin's N), located at the study
   } catch (const std::invalid_argument& e) {
     st.fail(e.what());
   }
+  const ConfigNode where = st.has("samples") ? st.at("samples") : st.has("factors") ? st.at("factors") : st;
+  const std::string count = std::to_string(n) + " samples";
+  if (n > kHardMaxSamples)
+    where.fail(count + " is more than one store indexes (" + std::to_string(kHardMaxSamples) +
+               "): split the study into several");
+  if (n > kMaxSamples && !beyond_limit)
+    where.fail(count + " is more than " + std::to_string(kMaxSamples) +
+               ": --dry-run shows the time and store size it would take; --force goes ahead");
   return s;
 }
 

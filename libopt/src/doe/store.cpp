@@ -188,6 +188,36 @@ Db open_to_read(const std::string& file) {
   return Db(file, SQLITE_OPEN_READONLY);
 }
 
+// An existing store must hold this run's samples: the same config_hash and
+// columns; else StoreMismatch names what differs.
+void check_same_run(const std::string& file, const std::map<std::string, std::string>& stored,
+                    const std::map<std::string, std::string>& meta, const StoreLayout& l) {
+  const auto stored_hash = find(stored, "config_hash"), hash = find(meta, "config_hash");
+  if (stored_hash != hash)
+    throw StoreMismatch(
+        file + ": written by another configuration (config_hash " + stored_hash.value_or("none") + ", this run " +
+        hash.value_or("none") + "); " +
+        config_difference(find(stored, "config_canonical"), find(meta, "config_canonical"), "the store", "this run") +
+        ". Start afresh (--new) to move it aside.");
+  const StoreLayout old = layout_from_json(file, find(stored, "layout"));
+  if (layout_json(old) != layout_json(l))
+    throw StoreMismatch(file + ": written with other columns; " + columns_difference(old, l, "the store", "this run") +
+                        ". Start afresh (--new) to move it aside.");
+}
+
+// The indices in [0, total) of the rows of `s` (SELECT idx ...) as bits.
+std::vector<bool> index_bitmap(Statement& s, const std::string& file, std::int64_t total) {
+  std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
+  while (s.step()) {
+    const std::int64_t i = s.int64(0);
+    if (i < 0 || i >= total)
+      throw std::runtime_error(file + ": holds sample " + std::to_string(i) + ", outside this run's [0, " +
+                               std::to_string(total) + ")");
+    done[std::size_t(i)] = true;
+  }
+  return done;
+}
+
 }  // namespace
 
 // ---- Store --------------------------------------------------------------
@@ -233,19 +263,7 @@ Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<s
   if (!has_table(db, "samples")) {
     create_schema(db, l, all);
   } else {
-    const auto stored = read_meta(db);
-    const auto stored_hash = find(stored, "config_hash");
-    if (stored_hash != hash)
-      throw StoreMismatch(
-          file + ": written by another configuration (config_hash " + stored_hash.value_or("none") + ", this run " +
-          *hash + "); " +
-          config_difference(find(stored, "config_canonical"), find(meta, "config_canonical"), "the store", "this run") +
-          ". Start afresh (--new) to move it aside.");
-    const StoreLayout old = layout_from_json(file, find(stored, "layout"));
-    if (layout_json(old) != layout_json(l))
-      throw StoreMismatch(file + ": written with other columns; " +
-                          columns_difference(old, l, "the store", "this run") +
-                          ". Start afresh (--new) to move it aside.");
+    check_same_run(file, read_meta(db), meta, l);
     add_meta(db, all);
   }
   t.commit();
@@ -259,16 +277,19 @@ Store& Store::operator=(Store&&) noexcept = default;
 const std::string& Store::path() const { return impl_->db.file(); }
 
 std::vector<bool> Store::finished(std::int64_t total) const {
-  std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
   Statement s(impl_->db, "SELECT idx FROM samples");
-  while (s.step()) {
-    const std::int64_t i = s.int64(0);
-    if (i < 0 || i >= total)
-      throw std::runtime_error(path() + ": holds sample " + std::to_string(i) + ", outside this run's [0, " +
-                               std::to_string(total) + ")");
-    done[std::size_t(i)] = true;
-  }
-  return done;
+  return index_bitmap(s, path(), total);
+}
+
+std::optional<std::vector<bool>> Store::peek(const std::string& dir, const StoreLayout& layout,
+                                             const std::map<std::string, std::string>& meta, std::int64_t total) {
+  const std::string file = (fs::path(dir) / "store.sqlite").string();
+  if (!fs::exists(file)) return std::nullopt;
+  const Db db = open_to_read(file);
+  if (!has_table(db, "samples")) return std::nullopt;  // created, killed before its schema
+  check_same_run(file, read_meta(db), meta, normalized(layout));
+  Statement s(db, "SELECT idx FROM samples");
+  return index_bitmap(s, file, total);
 }
 
 std::int64_t Store::count() const {
@@ -337,6 +358,31 @@ std::optional<std::string> Store::meta(const std::string& key) const {
   Statement s(impl_->db, "SELECT value FROM meta WHERE key = ?");
   s.bind(1, std::string_view(key));
   return s.step() ? s.text(0) : std::nullopt;
+}
+
+// Bytes a row takes in the file, by SQLite's record format (sqlite.org/fileformat2.html,
+// "Record Format" and "B-tree Pages"): a header of one varint per column,
+// the values (REAL 8 bytes, TEXT its length, NULL nothing; idx is the rowid),
+// the cell's size and rowid varints and its 2-byte pointer, over a leaf fill
+// of 94% (measured: 10^6 rows of 16 columns, 155 bytes a row against 146 by
+// the record format alone).
+double row_bytes(const Row& r, const StoreLayout& layout) {
+  auto varint = [](std::uint64_t v) { int n = 1; while (v >>= 7) ++n; return n; };
+  std::size_t header = 1, body = 0;  // idx: a NULL in the record (1 header byte)
+  auto text = [&](std::size_t length) { header += varint(13 + 2 * length); body += length; };
+  text(r.status.size());
+  header += 1, body += 8;  // wall_time
+  if (r.message.empty()) header += 1; else text(r.message.size());
+  for (std::size_t j = 0; j < r.factors.size(); ++j) {
+    const bool labelled = j < layout.labels.size() && !layout.labels[j].empty();
+    const auto v = r.factors[j];
+    if (!labelled) header += 1, body += 8;
+    else text(v >= 0 && v < double(layout.labels[j].size()) ? layout.labels[j][std::size_t(v)].size() : 0);
+  }
+  for (const double v : r.metrics) header += 1, body += std::isnan(v) ? 0 : 8;
+  const std::size_t payload = varint(header + 1) + header + body;
+  const std::size_t cell = varint(payload) + varint(std::uint64_t(std::max<std::int64_t>(r.index, 0))) + payload + 2;
+  return double(cell) / 0.94;
 }
 
 // ---- export -------------------------------------------------------------

@@ -46,10 +46,19 @@ struct DoeSpec {
 // Makes a problem from a config: problems::make_problem.
 using ProblemFactory = std::function<std::unique_ptr<Problem>(const ConfigNode& root)>;
 
+// More samples than this need --force (--dry-run shows what they would take).
+constexpr std::int64_t kMaxSamples = 10'000'000;
+// More than this, never: the finished-sample bitmap alone would take 1.25 GB,
+// the store ~1.5 TB.
+constexpr std::int64_t kHardMaxSamples = 10'000'000'000;
+
 // Reads `study: {type: doe, sampler, samples, seed, maximin, factors, points,
 // points_file, columns, sample_time_limit}` against the problem's parameter
-// table; every value is checked against its row's domain, with located errors.
-DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem);
+// table; every value is checked against its row's domain, with located
+// errors. More than kMaxSamples samples only when `beyond_limit` (--force,
+// or --dry-run, which only estimates).
+DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem,
+                  bool beyond_limit = false);
 
 // The sampler a spec asks for.
 std::unique_ptr<Sampler> make_sampler(const DoeSpec& spec);
@@ -98,9 +107,6 @@ struct BatchOptions {
   Peers* peers = nullptr;  // MPI ranks, if any
   bool quiet = false;      // the caller reports: no printed lines, summary or result.json (sweeps)
 };
-
-// More samples than this need --force.
-constexpr std::int64_t kMaxSamples = 10'000'000;
 
 // Makes the problem of a sample whose model values differ from the run's
 // (`over`: {model: {KEY: VALUE}} as a config writes it; `name` for errors).

@@ -60,6 +60,10 @@ class Store {
   // The indices in the store as `total` bits (bit i: sample i done). An index
   // outside [0, total) means the store is not this run's: runtime_error.
   std::vector<bool> finished(std::int64_t total) const;
+  // For a dry run, reading only: nullopt when DIR holds no store; else its
+  // finished() bitmap, after the checks the constructor makes (StoreMismatch).
+  static std::optional<std::vector<bool>> peek(const std::string& dir, const StoreLayout& layout,
+                                               const std::map<std::string, std::string>& meta, std::int64_t total);
   std::int64_t count() const;
   // All rows in one transaction: all committed or none. A duplicate index (in
   // the store or the batch) is a bug of the caller: std::logic_error naming it.
@@ -71,6 +75,10 @@ class Store {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The bytes `row` will take in a store file (its record, cell and share of a
+// page), for --dry-run's size estimate.
+double row_bytes(const Row& row, const StoreLayout& layout);
 
 // Readers of any store file (`mechopt export`): rows ordered by idx.
 // CSV: a header row, numbers with 17 significant digits (%.17g: every double
