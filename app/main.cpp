@@ -241,9 +241,7 @@ int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& prob
     if (e.name == problem.name()) entry = &e;
   opt::doe::DoeSpec spec = opt::doe::parse_doe(root, entry->parameters, problem,
                                                       a.batch.force || a.batch.dry_run);
-  const opt::RunSpec run = opt::parse_run(root, problem);  // objective, constraints, output
-  spec.objective = run.objective;
-  spec.constraints = run.constraints;
+  const opt::RunSpec run = opt::parse_run(root, problem);  // output
   opt::doe::BatchOptions o = a.batch;
   o.peers = opt::doe::mpi_peers();
   o.output_directory = !a.output.empty() ? a.output : run.output_directory;

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <sys/wait.h>
 #include <thread>
+#include <tuple>
 #include <unistd.h>
 
 #include "cli.hpp"
@@ -326,6 +327,77 @@ TEST(DoeBatch, DryRunShowsTheCostFirst) {
     EXPECT_NE(o.output.find("mechopt: error: " + dir + "/out/store.sqlite: written by another configuration"),
               std::string::npos) << o.output;
   }
+}
+
+// refine: local optimisations from the best feasible samples, recorded in
+// the store's `refined` table. Reference: the seed-000 rod-length optimum
+// l* = 0.60864008996547893 m with T_cp = 2390.1336147556022 J at 100 rpm
+// (tools/reference_seed000.json, mpmath). T scales as w^2, so l* is the same
+// at 200 rpm and T_cp four times larger: the crank speed, a model-value
+// factor, must stay at each start's own value.
+TEST(DoeBatch, RefineFromTheBestSamples) {
+  const std::string dir = cli::fresh_dir("doe_refine");
+  const std::string yaml = R"(problem: recuperative_drive
+model: {crank_radius: 0.2 m, cart_mass: 1000 kg, rod_mass_per_length: 80 kg/m, efficiency: 0.9,
+        cart_resistance: 3562 N, phase_shift: 90 deg, layout: opposed}
+objective: {minimize: mean_kinetic_energy}
+study:
+  type: doe
+  sampler: sobol
+  samples: 64
+  factors:
+    rod_length: {min: 0.5 m, max: 1.5 m}
+    crank_speed: [100 rpm, 200 rpm]
+  refine: {best: 40, driver: {algorithm: LD_SLSQP, xtol_rel: 1e-12}}
+)";
+  auto refined = [&](const nlohmann::json& j) {
+    std::vector<std::tuple<long, double, double, double, double>> out;  // start, speed, l, T_cp, seconds
+    sqlite3* db = nullptr;
+    sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
+    sqlite3_stmt* st = nullptr;
+    sqlite3_prepare_v2(db, "select start, crank_speed, rod_length, value, seconds from refined order by rank", -1, &st,
+                       nullptr);
+    while (st && sqlite3_step(st) == SQLITE_ROW)
+      out.emplace_back(sqlite3_column_int64(st, 0), sqlite3_column_double(st, 1),
+                       sqlite3_column_double(st, 2), sqlite3_column_double(st, 3), sqlite3_column_double(st, 4));
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    EXPECT_EQ(j["refine"]["runs"].size(), out.size());
+    return out;
+  };
+  const auto first = refined(run(yaml, dir, 2));
+  ASSERT_EQ(first.size(), 40u) << "64 samples, all feasible";
+  const double w100 = 100 * M_PI / 30;
+  int fast = 0;
+  for (const auto& [start, w, l, value, seconds] : first) {
+    EXPECT_NEAR(l, 0.60864008996547893, 1e-7) << "start " << start;
+    fast += std::abs(w - 2 * w100) < 1e-9;
+    EXPECT_TRUE(std::abs(w - w100) < 1e-9 || std::abs(w - 2 * w100) < 1e-9) << w;
+    EXPECT_NEAR(value, 2390.1336147556022 * (w / w100) * (w / w100), 1e-9 * value) << "start " << start;
+  }
+  EXPECT_GE(fast, 8) << "40 of 64 starts reach into the 200 rpm half";
+  EXPECT_EQ(refined(run(yaml, dir, 2)), first) << "a rerun redoes no recorded run (same seconds)";
+  std::string cobyla = yaml;
+  cobyla.replace(cobyla.find("LD_SLSQP"), 8, "LN_COBYLA");
+  const auto second = refined(run(cobyla, dir, 2));
+  ASSERT_EQ(second.size(), 40u);
+  EXPECT_NE(std::get<4>(second[0]), std::get<4>(first[0])) << "other refine settings: the runs are made afresh";
+
+  auto error = [](const std::string& text) {
+    try {
+      parse(text);
+    } catch (const opt::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string no_objective = yaml;
+  no_objective.erase(no_objective.find("objective:"), no_objective.find("study:") - no_objective.find("objective:"));
+  EXPECT_NE(error(no_objective).find("key 'study.refine': refine optimises the objective"), std::string::npos)
+      << error(no_objective);
+  std::string only_levels = yaml;
+  only_levels.replace(only_levels.find("    rod_length: {min: 0.5 m, max: 1.5 m}\n"), 41, "");
+  EXPECT_NE(error(only_levels).find("this study has none"), std::string::npos) << error(only_levels);
 }
 
 // Killed with SIGKILL at 20 moments drawn from a fixed seed, each after

@@ -48,40 +48,49 @@ TWO_PI = 2 * math.pi
 
 
 def drive(c, s, r, l, e, cd, sd):
-    """T, dT/dphi and the resistance moment F/eta (|dx1| + |dx2|) at crank angle
-    phi (c = cos phi, s = sin phi), seed 000 eqs (1)-(11), (16)-(21); broadcasts
-    over designs x angles, and takes complex angles (then |dx| -> sign(Re dx) dx
-    so that the complex step differentiates it)."""
-    mv2 = mva = stat = 0
+    """T, dT/dphi and the slider velocities dx1, dx2 (per radian) at crank angle
+    phi (c = cos phi, s = sin phi), seed 000 eqs (1)-(11), (18)-(20); the
+    moment of eq. (21) is M = dT/dphi + F/eta (|dx1| + |dx2|) (resistance
+    opposing the motion). Broadcasts over designs x angles; takes complex
+    angles for the complex step."""
+    mv2 = mva = 0
+    dx = []
     for sg, cc, ss in ((1.0, c, s), (-1.0, c * cd - s * sd, s * cd + c * sd)):  # slider 2 mirrored
         h = r * ss + e                    # rod's vertical extent
         dh = r * cc
         k = 1 / np.sqrt(l * l - h * h)    # 1 / horizontal extent
         g = h * dh * k
-        dx = -r * ss - sg * g             # slider d/dphi
-        ddx = -r * cc - sg * (dh * dh - h * r * ss + g * g) * k
-        dxs, ddxs = 0.5 * (dx - r * ss), 0.5 * (ddx - r * cc)  # rod centre
-        mv2 = mv2 + MASS * dx * dx + Q * l * (dxs * dxs + 0.25 * dh * dh)
-        mva = mva + MASS * dx * ddx + Q * l * (dxs * ddxs - 0.25 * dh * r * ss)
-        stat = stat + (np.sign(dx.real) * dx if np.iscomplexobj(dx) else np.abs(dx))
-    return 0.5 * W * W * mv2, W * W * mva, FORCE * stat
+        v = -r * ss - sg * g              # slider d/dphi
+        dv = -r * cc - sg * (dh * dh - h * r * ss + g * g) * k
+        vs, dvs = 0.5 * (v - r * ss), 0.5 * (dv - r * cc)  # rod centre, horizontal
+        mv2 = mv2 + MASS * v * v + Q * l * (vs * vs + 0.25 * dh * dh)
+        mva = mva + MASS * v * dv + Q * l * (vs * dvs - 0.25 * dh * r * ss)
+        dx.append(v)
+    return 0.5 * W * W * mv2, W * W * mva, dx[0], dx[1]
+
+
+def energy_and_moment(phi, p):
+    T, Ti, dx1, dx2 = drive(np.cos(phi), np.sin(phi), *p[:5])
+    return T, Ti + FORCE * (np.abs(dx1) + np.abs(dx2))
 
 
 def energy_slope(phi, p):
-    return drive(np.cos(phi), np.sin(phi), *p)[1]
+    return drive(np.cos(phi), np.sin(phi), *p[:5])[1]
 
 
 def abs_moment_slope(phi, p, step=1e-30):
-    """d|M|/dphi by complex step (exact to roundoff, kinks on either side)."""
+    """d|M|/dphi by complex step, |dx_i| taken as p[5+i] dx_i (the signs on
+    the arc between dead centres being searched: one-sided at its ends)."""
     z = phi + 1j * step
-    T, Mi, Ms = drive(np.cos(z), np.sin(z), *p)
-    M = Mi + Ms
+    _, Ti, dx1, dx2 = drive(np.cos(z), np.sin(z), *p[:5])
+    M = Ti + FORCE * (p[5] * dx1 + p[6] * dx2)
     return np.sign(M.real) * M.imag / step
 
 
-def bracketed_root(g, a, b, ga, gb, p, tol=4e-15, max_iter=200):
+def bracketed_root(g, a, b, ga, gb, p, tol=1e-9, max_iter=100):
     """Roots of g in [a, b] (ga > 0 > gb), vectorised: Illinois regula falsi,
-    bisecting whenever the bracket has not halved in two steps."""
+    bisecting whenever the bracket has not halved in two steps. The roots are
+    smooth maxima: an angle within tol puts f within f'' tol^2 / 2 of them."""
     x = 0.5 * (a + b)
     live = np.arange(a.size)
     side = np.zeros(a.size)
@@ -106,29 +115,46 @@ def bracketed_root(g, a, b, ga, gb, p, tol=4e-15, max_iter=200):
     return x
 
 
-def candidates(v, n):
-    """Grid local maxima that could be the highest (mechopt's global_max_angle:
-    within a quarter of the largest second difference of the grid maximum;
-    a flat top counts once): (row, grid index)."""
+def candidates(phi, v, curv, also):
+    """Samples v (rows at sorted angles phi over one revolution) next to which
+    a maximum could be the highest (a maximum in [phi_k, phi_k+1] lies within
+    h^2 |f''| / 8 of v_k or v_k+1; curv = largest |second difference| on the
+    uniform grid estimates h^2 |f''|, doubled as in mechopt's global_max_angle):
+    local maxima (a flat top counts once), and where `also` if a neighbour is
+    high enough. Returns (row, angle, angle before, angle after, value,
+    value before, value after)."""
     prev, nxt = np.roll(v, 1, axis=1), np.roll(v, -1, axis=1)
-    curv = np.abs(nxt - 2 * v + prev).max(axis=1, keepdims=True)
-    top = (v >= prev) & (v >= nxt) & (v >= v.max(axis=1, keepdims=True) - 0.25 * curv)
+    low = v.max(axis=1, keepdims=True) - 0.25 * curv
+    top = (v >= prev) & (v >= nxt) & (v >= low)
     top[:, :-1] &= nxt[:, :-1] != v[:, :-1]
-    return np.nonzero(top)
+    i, k = np.nonzero(top | also & (np.maximum(prev, nxt) >= low))
+    n = phi.shape[1]
+    before = phi[i, k - 1] - np.where(k == 0, TWO_PI, 0)
+    after = phi[i, (k + 1) % n] + np.where(k == n - 1, TWO_PI, 0)
+    return i, phi[i, k], before, after, v[i, k], v[i, k - 1], v[i, (k + 1) % n]
 
 
-def refine_max(g, phi, h, p):
-    """mechopt's refine_max on many grid maxima: the root of the slope g in
-    [phi - h, phi] or [phi, phi + h], or phi when neither brackets one."""
-    gk = g(phi, p)
-    right = gk > 0
-    other = g(np.where(right, phi + h, phi - h), p)
-    a, b = np.where(right, phi, phi - h), np.where(right, phi + h, phi)
-    ga, gb = np.where(right, gk, other), np.where(right, other, gk)
-    ok = (ga > 0) & (gb < 0)
-    out = phi.copy()
-    out[ok] = bracketed_root(g, a[ok], b[ok], ga[ok], gb[ok], tuple(q[ok] for q in p))
-    return out
+def refine_max(f, slope, phi, before, after, value, fbefore, fafter, p):
+    """Largest of f at phi and at its maxima in [before, phi] and [phi, after]
+    (f smooth inside each): roots of the slope where it changes from + to -."""
+    best = value.copy()
+    for a, b, fa, fb in ((before, phi, fbefore, value), (phi, after, value, fafter)):
+        a, b = a.copy(), b.copy()
+        pa = p[:5] + tuple(np.sign(drive(np.cos(0.5 * (a + b)), np.sin(0.5 * (a + b)), *p[:5])[2:]))
+        ga, gb = slope(a, pa), slope(b, pa)
+        # Same slope sign at both ends, yet f turned: two extrema within the
+        # interval (a grid too coarse there); bracket the best of 32 sub-steps.
+        hid = np.flatnonzero((ga > 0) & (gb > 0) & (fb < fa) | (ga < 0) & (gb < 0) & (fb > fa))
+        if hid.size:
+            ph = tuple(q[hid] for q in pa)
+            sub = a[hid, None] + (b - a)[hid, None] * np.linspace(0, 1, 33)
+            k = np.clip(f(sub, tuple(q[:, None] for q in ph)).argmax(axis=1), 1, 31)
+            a[hid], b[hid] = sub[np.arange(hid.size), k - 1], sub[np.arange(hid.size), k + 1]
+            ga[hid], gb[hid] = slope(a[hid], ph), slope(b[hid], ph)
+        ok = (ga > 0) & (gb < 0)
+        x = bracketed_root(slope, a[ok], b[ok], ga[ok], gb[ok], tuple(q[ok] for q in pa))
+        best[ok] = np.maximum(best[ok], f(x, tuple(q[ok] for q in p)))
+    return best
 
 
 def group_max(des, val):
@@ -149,7 +175,7 @@ GRIDS, RULES = {}, {}
 def grid(n):
     if n not in GRIDS:
         phi = TWO_PI * np.arange(n) / n
-        GRIDS[n] = np.cos(phi), np.sin(phi)
+        GRIDS[n] = phi, np.cos(phi), np.sin(phi)
     return GRIDS[n]
 
 
@@ -159,7 +185,18 @@ def rule(m):
     return RULES[m]
 
 
-def compute(x, gl_cap):
+def dead_centres(r, l, e, cd, sd):
+    """Crank angles in [0, 2 pi) where a slider stops (crank and rod collinear:
+    sin psi = -e/(l+r) stretched, e/(l-r) folded; slider 2 runs at
+    psi = phi + dphi and is mirrored), sorted: (designs, 4)."""
+    ends = []
+    for sg, shift in ((1.0, 0.0), (-1.0, np.arctan2(sd, cd))):
+        for sn, cs in ((-e / (l + r), sg), (e / (l - r), -sg)):
+            ends.append(np.arctan2(sn, cs * np.sqrt(1 - sn * sn)) - shift)
+    return np.sort(np.mod(np.stack(ends, axis=1), TWO_PI), axis=1)
+
+
+def compute(x):
     """All metrics (columns in METRICS order, NaN where cannot_assemble) for
     factor rows x, and the assembly mask."""
     l, dphi, r, e = x.T
@@ -170,43 +207,46 @@ def compute(x, gl_cap):
     least = 4 * MASS * r * r * W * W / math.pi**2
     out[ok, 2] = least[ok]
     j = np.flatnonzero(ok)
-    l, r, e, cd, sd = l[j], r[j], e[j], np.cos(dphi[j]), np.sin(dphi[j])
+    p = r[j], l[j], e[j], np.cos(dphi[j]), np.sin(dphi[j])
     n = np.clip(4 * np.ceil(45 / np.arccosh(1 / ratio[j]) / 4), 16, 4096).astype(int)
+    ends = dead_centres(*p)
+    # Uniform grid (designs grouped by n rounded up): the mean of T, and the
+    # candidate maxima of T and |M| on the grid merged with the dead centres.
+    # |M| has kinks there, which may hide a maximum between a dead centre and
+    # its neighbours: each dead centre is a candidate too.
     nb = round_up(n)
     meanT = np.empty(j.size)
-    cand = {"T": [], "M": []}             # (design, grid angle, spacing) per candidate
+    cand = {"T": [], "M": []}
     for size in np.unique(nb):
         rows = np.flatnonzero(nb == size)
-        c, s = grid(size)
-        p = tuple(q[rows, None] for q in (r, l, e, cd, sd))
-        T, Mi, Ms = drive(c, s, *p)
+        phi, c, s = grid(size)
+        pr = tuple(q[rows, None] for q in p)
+        T, Ti, dx1, dx2 = drive(c, s, *pr)
+        M = np.abs(Ti + FORCE * (np.abs(dx1) + np.abs(dx2)))
         meanT[rows] = T.mean(axis=1)
-        for key, v in (("T", T), ("M", np.abs(Mi + Ms))):
-            i, k = candidates(v, size)
-            cand[key].append((rows[i], TWO_PI / size * k, np.full(k.size, TWO_PI / size)))
-    p = (r, l, e, cd, sd)
+        Te, Me = energy_and_moment(ends[rows], pr)
+        angles = np.concatenate([np.broadcast_to(phi, T.shape), ends[rows]], axis=1)
+        order = np.argsort(angles, axis=1, kind="stable")
+        angles = np.take_along_axis(angles, order, axis=1)
+        for key, v, ve in (("T", T, Te), ("M", M, np.abs(Me))):
+            curv = np.abs(np.roll(v, 1, axis=1) - 2 * v + np.roll(v, -1, axis=1)).max(axis=1, keepdims=True)
+            merged = np.take_along_axis(np.concatenate([v, ve], axis=1), order, axis=1)
+            i, *rest = candidates(angles, merged, curv, (order >= size) & (key == "M"))
+            cand[key].append((rows[i], *rest))
     peak = {}
     for key, slope in (("T", energy_slope), ("M", abs_moment_slope)):
-        des, phi, h = (np.concatenate(q) for q in zip(*cand[key]))
-        pk = tuple(q[des] for q in p)
-        phi = refine_max(slope, phi, h, pk)
-        T, Mi, Ms = drive(np.cos(phi), np.sin(phi), *pk)
+        des, *c = (np.concatenate(q) for q in zip(*cand[key]))
+        f = (lambda x, q: energy_and_moment(x, q)[0]) if key == "T" else \
+            (lambda x, q: np.abs(energy_and_moment(x, q)[1]))
+        value = refine_max(f, slope, *c, tuple(q[des] for q in p))
         peak[key] = np.empty(j.size)
-        first, peak[key][first] = group_max(des, T if key == "T" else np.abs(Mi + Ms))
-    # Dead centres (crank and rod collinear): sin psi = -e/(l+r) stretched,
-    # e/(l-r) folded; slider 2 runs at psi = phi + dphi and is mirrored.
-    ends = []
-    for sg, shift in ((1.0, 0.0), (-1.0, np.arctan2(sd, cd))):
-        for sn, cs in ((-e / (l + r), sg), (e / (l - r), -sg)):
-            ends.append(np.arctan2(sn, cs * np.sqrt(1 - sn * sn)) - shift)
-    ends = np.sort(np.mod(np.stack(ends, axis=1), TWO_PI), axis=1)
+        first, peak[key][first] = group_max(des, value)
+    # Means of M and M^2: Gauss-Legendre on the arcs between dead centres,
+    # max(12, 2 n L / 2 pi) nodes an arc (panels of at most 64 nodes).
     start = ends.ravel()
     length = (np.roll(ends, -1, axis=1) - ends + np.array([0, 0, 0, TWO_PI])).ravel()
     des = np.repeat(np.arange(j.size), 4)
     m = np.maximum(12, np.ceil(2 * np.repeat(n, 4) * length / TWO_PI)).astype(int)
-    if gl_cap:
-        m = np.minimum(m, gl_cap)
-    # An arc needing more than 64 nodes is split into equal panels of 64.
     panels = -(-m // 64)
     des, start, length = (np.repeat(q, panels) for q in (des, start, length / panels))
     start += length * (np.arange(des.size) - np.repeat(np.cumsum(panels) - panels, panels))
@@ -216,11 +256,9 @@ def compute(x, gl_cap):
         arcs = np.flatnonzero(m == size)
         node, weight = rule(size)
         half = 0.5 * length[arcs, None]
-        phi = start[arcs, None] + half * (1 + node)
-        T, Mi, Ms = drive(np.cos(phi), np.sin(phi), *(q[des[arcs], None] for q in p))
-        M = (Mi + Ms) * half
-        sumM += np.bincount(des[arcs], M @ weight, j.size)
-        sumM2 += np.bincount(des[arcs], (M * (Mi + Ms)) @ weight, j.size)
+        M = energy_and_moment(start[arcs, None] + half * (1 + node), tuple(q[des[arcs], None] for q in p))[1]
+        sumM += np.bincount(des[arcs], (M * half) @ weight, j.size)
+        sumM2 += np.bincount(des[arcs], (M * M * half) @ weight, j.size)
     out[j, 0] = peak["T"]
     out[j, 1] = meanT
     out[j, 3] = peak["T"] / meanT
@@ -250,8 +288,6 @@ def main():
     ap.add_argument("--chunk", type=int, default=65536)
     ap.add_argument("--store", help="SQLite file to write (default: a temporary file, removed)")
     ap.add_argument("--check", help="mechopt's store of the same study: report max relative differences")
-    ap.add_argument("--gl-cap", type=int, default=0,
-                    help="cap Gauss-Legendre nodes per arc as mechopt does (128); default: no cap")
     args = ap.parse_args()
     tmp = None if args.store else tempfile.mkdtemp()
     path = args.store or os.path.join(tmp, "store.sqlite")
@@ -264,7 +300,7 @@ def main():
     for lo in range(0, args.samples, args.chunk):
         t0 = time.perf_counter()
         x = LO + sobol.random(min(args.chunk, args.samples - lo)) * (HI - LO)
-        vals, ok = compute(x, args.gl_cap)
+        vals, ok = compute(x)
         t1 = time.perf_counter()
         status = np.where(ok, "ok", "cannot_assemble").tolist()
         cols = [range(lo, lo + len(x)), status, *x.T.tolist(), *vals.T.tolist()]  # NaN binds as NULL

@@ -51,6 +51,9 @@ struct RunSpec {
   bool chart = true;
 };
 
+// Reads a `driver:` map (library, algorithm, tolerances, limits, polish).
+DriverOptions parse_driver(const ConfigNode& n);
+
 // Reads objective, constraints, study, output and reference (keys checked
 // against the problem's variables and metrics).
 // `force`: a sweep may have more than doe::kMaxSamples points in all.

@@ -50,6 +50,19 @@ std::vector<double> parse_values(const ConfigNode& n, const Variable& v) {
   return out;
 }
 
+// The metric named `name` at node n: a metric of p, or one renamed since
+// (with a notice on stderr); anything else is an error listing the metrics.
+std::string metric(const ConfigNode& n, const Problem& p, const std::string& name) {
+  if (p.has_metric(name)) return name;
+  const std::string now = p.renamed_metric(name);
+  if (now.empty()) n.fail("unknown metric '" + name + "'; expected one of: " + join(p.metric_names()));
+  std::cerr << "mechopt: note: " << n.where() << ": metric '" << name << "' is now called '" << now
+            << "'; the old name will go\n";
+  return now;
+}
+
+}  // namespace
+
 DriverOptions parse_driver(const ConfigNode& n) {
   DriverOptions o;
   if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt"});
@@ -90,19 +103,6 @@ DriverOptions parse_driver(const ConfigNode& n) {
     n.fail("tolerances must be >= 0 and max_seconds > 0");
   return o;
 }
-
-// The metric named `name` at node n: a metric of p, or one renamed since
-// (with a notice on stderr); anything else is an error listing the metrics.
-std::string metric(const ConfigNode& n, const Problem& p, const std::string& name) {
-  if (p.has_metric(name)) return name;
-  const std::string now = p.renamed_metric(name);
-  if (now.empty()) n.fail("unknown metric '" + name + "'; expected one of: " + join(p.metric_names()));
-  std::cerr << "mechopt: note: " << n.where() << ": metric '" << name << "' is now called '" << now
-            << "'; the old name will go\n";
-  return now;
-}
-
-}  // namespace
 
 std::vector<Variable> parse_variables(const ConfigNode& root, const std::vector<Parameter>& parameters) {
   std::vector<Variable> out;

@@ -24,118 +24,10 @@
 #include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/record.hpp"
+#include "doe/evaluator.hpp"
 
 namespace opt::doe {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-// A value of row p as a config writes it: an option name, a whole number, or
-// the SI value (17 digits: exact) with its SI unit.
-YAML::Node value_node(const Parameter& p, double v) {
-  if (!p.choices.empty()) return YAML::Node(p.choices.at(static_cast<size_t>(v)));
-  char text[40];
-  std::snprintf(text, sizeof text, p.integer ? "%.0f" : "%.17g", v);
-  const std::string unit = si_unit(p.dimension);
-  return YAML::Node(unit.empty() ? std::string(text) : std::string(text) + " " + unit);
-}
-
-// Sets SECTION.KEY (a dotted name sits in a section) under `section` of `over`.
-void set_value(YAML::Node over, const std::string& section, const std::string& name, const YAML::Node& v) {
-  const auto dot = name.find('.');
-  if (dot == std::string::npos) over[section][name] = v;
-  else over[section][name.substr(0, dot)][name.substr(dot + 1)] = v;
-}
-
-// The run's config: the factors that can be design variables become
-// variables spanning their range, so that a sample sets them through x.
-ConfigNode run_root(const ConfigNode& root, const DoeSpec& spec) {
-  YAML::Node over(YAML::NodeType::Map);
-  for (const auto& f : spec.factors) {
-    if (!f.through_x) continue;
-    const auto& lv = f.factor.levels;
-    const bool range = f.factor.kind == Factor::Kind::range;
-    const double lo = range ? f.factor.lower : *std::min_element(lv.begin(), lv.end());
-    const double hi = range ? f.factor.upper : *std::max_element(lv.begin(), lv.end());
-    over["variables"][f.factor.name]["min"] = value_node(f.parameter, lo);
-    over["variables"][f.factor.name]["max"] = value_node(f.parameter, hi);
-  }
-  return root.with(over, root.file());
-}
-
-class Evaluator {
- public:
-  Evaluator(const Problem& base, const DoeSpec& spec, const Sampler& sampler)
-      : base_(base), spec_(spec), sampler_(sampler), metrics_(base.metric_names().size()) {
-    for (const auto& f : spec.factors) {
-      int index = -1;
-      for (size_t v = 0; v < base.variables().size(); ++v)
-        if (f.through_x && base.variables()[v].name == f.factor.name) index = static_cast<int>(v);
-      variable_.push_back(index);
-      model_factors_ = model_factors_ || index < 0;
-    }
-  }
-
-  bool model_factors() const { return model_factors_; }
-
-  // Sample i as a row: a status (never an exception) and every metric.
-  // `maker` builds the sample's problem when model values are factors.
-  Row evaluate(const SampleMaker& maker, std::int64_t i) const {
-    Row r;
-    r.index = i;
-    r.factors.resize(spec_.factors.size());
-    sampler_.point(i, r.factors);
-    r.metrics.assign(metrics_, kNan);
-    const auto t0 = Clock::now();
-    mech::set_deadline(spec_.sample_seconds);  // checked inside long computations
-    try {
-      const Problem* p = &base_;
-      std::unique_ptr<Problem> own;
-      if (model_factors_) {  // model values change: the problem is built for this sample
-        YAML::Node over(YAML::NodeType::Map);
-        for (size_t j = 0; j < spec_.factors.size(); ++j)
-          if (variable_[j] < 0)
-            set_value(over, "model", spec_.factors[j].factor.name, value_node(spec_.factors[j].parameter, r.factors[j]));
-        own = maker(over, "sample " + std::to_string(i));
-        p = own.get();
-      }
-      Eigen::VectorXd x = p->initial_point(false);
-      for (size_t j = 0; j < variable_.size(); ++j)
-        if (variable_[j] >= 0) x[variable_[j]] = r.factors[j];
-      const Evaluation e = p->evaluate(x, MetricSet::all(), false);
-      r.status = mech::to_string(e.status);
-      r.message = e.message;
-      for (size_t m = 0; m < metrics_; ++m)
-        if (e.has(static_cast<MetricId>(m))) r.metrics[m] = e[static_cast<MetricId>(m)].value;
-    } catch (const mech::TimedOut& e) {
-      r.status = mech::to_string(Status::timed_out);
-      r.message = e.what();
-      std::fill(r.metrics.begin(), r.metrics.end(), kNan);
-    } catch (const ConfigError& e) {  // a factor value the model does not accept
-      r.status = mech::to_string(Status::invalid_parameter);
-      r.message = e.what();
-      std::fill(r.metrics.begin(), r.metrics.end(), kNan);
-    } catch (const std::exception& e) {
-      r.status = mech::to_string(Status::evaluation_error);
-      r.message = e.what();
-      std::fill(r.metrics.begin(), r.metrics.end(), kNan);
-    }
-    mech::set_deadline(0);
-    r.wall_time = since(t0);
-    return r;
-  }
-
- private:
-  const Problem& base_;
-  const DoeSpec& spec_;
-  const Sampler& sampler_;
-  size_t metrics_;
-  std::vector<int> variable_;  // per factor: its index in x, or -1 (a model value)
-  bool model_factors_ = false;
-};
 
 // Counts of the rows committed: in the shard (this run and earlier ones) and by this run.
 struct Tally {
@@ -510,6 +402,11 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   for (const auto& m : summarised) units.push_back(base.metric_unit(m));
   j["summary"] = summarize(store.path(), spec, summarised, units, dir, out, charts);
   j["charts"] = charts;
+  if (spec.refine_best > 0 && complete && o.shard.count == 1)
+    j["refine"] = refine(evaluator, maker(), spec, store.path(), out);
+  else if (spec.refine_best > 0)
+    out << "refine: not yet: " << (complete ? "a shard refines nothing; run the config on the merged store"
+                                            : "the samples are not all done") << "\n";
   write_file_atomically(dir + "result.json", j.dump(2) + "\n");
   out << "written: " << dir << "result.json, " << store.path();
   for (const auto& c : charts) out << ", " << std::filesystem::path(c).filename().string();
@@ -521,6 +418,11 @@ nlohmann::json run_batch(const ConfigNode& root, const ProblemFactory& make, con
                          const BatchOptions& o, std::ostream& out, std::ostream& err) {
   const ConfigNode run = run_root(root, spec);
   const std::unique_ptr<Problem> base = make(run);
+  if (spec.refine_best > 0) {  // the driver takes the problem, or the run stops before any sample
+    const std::string why = driver_incompatibility(spec.refine_driver, *base, spec.objective, spec.constraints);
+    const ConfigNode r = root.at("study").at("refine");
+    if (!why.empty()) (r.has("driver") ? r.at("driver") : r).fail(why);
+  }
   // Each thread reads its own copy of the config (yaml-cpp trees are not
   // shared between threads).
   const auto makers = [&]() -> SampleMaker {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "opt/doe/batch.hpp"
+#include "opt/study.hpp"
 #include "opt/units.hpp"
 
 namespace opt::doe {
@@ -170,6 +171,22 @@ void factors_from_rows(DoeSpec& s) {
   }
 }
 
+// refine: {best: K, driver: {...}} (the driver: as `study.driver` of an
+// optimize study; default: the problem's default algorithm).
+void parse_refine(const ConfigNode& n, DoeSpec& s) {
+  n.allow_only({"best", "driver"});
+  s.refine_best = static_cast<int>(n.at("best").integer(1, 10000));
+  if (n.has("driver")) s.refine_driver = parse_driver(n.at("driver"));
+  if (s.objective.metric.empty()) n.fail("refine optimises the objective: add objective: {minimize: METRIC}");
+  if (std::none_of(s.factors.begin(), s.factors.end(), [](const FactorSpec& f) { return f.through_x; }))
+    n.fail("refine varies the factors that are design variables (with a range), and this study has none");
+  nlohmann::json cons = nlohmann::json::array();
+  for (const auto& c : s.constraints) cons.push_back({c.metric, c.relation(), c.bound});
+  s.refine_settings = {{"driver", n.has("driver") ? n.at("driver").to_json() : nlohmann::json()},
+                       {"objective", {s.objective.metric, s.objective.maximize ? "maximize" : "minimize"}},
+                       {"constraints", cons}};
+}
+
 }  // namespace
 
 DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem,
@@ -177,7 +194,12 @@ DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, c
   DoeSpec s;
   const ConfigNode st = root.at("study");
   st.allow_only({"type", "sampler", "samples", "seed", "maximin", "factors", "points", "points_file", "columns",
-                 "sample_time_limit"});
+                 "sample_time_limit", "refine"});
+  {
+    const RunSpec run = parse_run(root, problem);  // objective and constraints (optional for a doe)
+    s.objective = run.objective;
+    s.constraints = run.constraints;
+  }
   if (st.has("sample_time_limit")) {
     s.sample_seconds = st.at("sample_time_limit").quantity(Dimension::time);
     if (!(s.sample_seconds > 0)) st.at("sample_time_limit").fail("expected a time > 0, e.g. 10 s");
@@ -240,6 +262,7 @@ DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, c
       s.columns.push_back(c.text());
     }
   }
+  if (st.has("refine")) parse_refine(st.at("refine"), s);
   std::int64_t n = 0;
   try {
     n = make_sampler(s)->size();  // sampler-specific limits (e.g. maximin's N), located at the study

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <ostream>
 
+#include "doe/evaluator.hpp"
 #include "doe/sqlite.hpp"
 #include "opt/chart.hpp"
 #include "opt/doe/batch.hpp"
@@ -30,8 +31,9 @@ std::string sql_number(double v) {
   return s;
 }
 
-// `where` for a feasible sample: ok, with the constraints met.
-std::string feasible(const std::vector<Constraint>& cs) {
+}  // namespace
+
+std::string feasible_where(const std::vector<Constraint>& cs) {
   std::string w = "status = 'ok'";
   for (const auto& c : cs) {
     const std::string m = identifier(c.metric), b = sql_number(c.bound);
@@ -40,6 +42,8 @@ std::string feasible(const std::vector<Constraint>& cs) {
   }
   return w;
 }
+
+namespace {
 
 // A factor's groups for its main effect: its values (levels, options), or
 // bins of its range.
@@ -163,7 +167,7 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
                          std::vector<std::string>& charts) {
   sql::Db db(store_file, SQLITE_OPEN_READWRITE);
   nlohmann::json j;
-  const std::string where = feasible(spec.constraints);
+  const std::string where = feasible_where(spec.constraints);
 
   // Failures by status, with one message each.
   Statement failures(db, "select status, count(*), min(message) from samples where status != 'ok' group by status "

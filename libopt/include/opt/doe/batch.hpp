@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "opt/config.hpp"
+#include "opt/driver.hpp"
 #include "opt/doe/sampler.hpp"
 #include "opt/parameters.hpp"
 #include "opt/problem.hpp"
@@ -41,6 +42,12 @@ struct DoeSpec {
   Objective objective;                       // optional: the best feasible sample is reported
   std::vector<Constraint> constraints;       // feasible: status ok and these met
   double sample_seconds = 0;                 // per-sample time limit (0: none)
+  // refine: {best: K, driver: {...}}: a local optimisation of the objective
+  // from each of the K best feasible samples, over the factors that are
+  // design variables (within their ranges); K = 0: none.
+  int refine_best = 0;
+  DriverOptions refine_driver;
+  nlohmann::json refine_settings;  // what the refined rows depend on besides the samples (resume key)
 };
 
 // Makes a problem from a config: problems::make_problem.
@@ -53,7 +60,8 @@ constexpr std::int64_t kMaxSamples = 10'000'000;
 constexpr std::int64_t kHardMaxSamples = 10'000'000'000;
 
 // Reads `study: {type: doe, sampler, samples, seed, maximin, factors, points,
-// points_file, columns, sample_time_limit}` against the problem's parameter
+// points_file, columns, sample_time_limit, refine}` and the top-level
+// objective and constraints against the problem's parameter
 // table; every value is checked against its row's domain, with located
 // errors. More than kMaxSamples samples only when `beyond_limit` (--force,
 // or --dry-run, which only estimates).

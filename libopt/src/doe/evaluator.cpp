@@ -1,0 +1,110 @@
+// How a sample index becomes a problem, x and a row (evaluator.hpp).
+#include "doe/evaluator.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+#include "mech/deadline.hpp"
+
+namespace opt::doe {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// A value of row p as a config writes it: an option name, a whole number, or
+// the SI value (17 digits: exact) with its SI unit.
+YAML::Node value_node(const Parameter& p, double v) {
+  if (!p.choices.empty()) return YAML::Node(p.choices.at(static_cast<size_t>(v)));
+  char text[40];
+  std::snprintf(text, sizeof text, p.integer ? "%.0f" : "%.17g", v);
+  const std::string unit = si_unit(p.dimension);
+  return YAML::Node(unit.empty() ? std::string(text) : std::string(text) + " " + unit);
+}
+
+// Sets SECTION.KEY (a dotted name sits in a section) under `section` of `over`.
+void set_value(YAML::Node over, const std::string& section, const std::string& name, const YAML::Node& v) {
+  const auto dot = name.find('.');
+  if (dot == std::string::npos) over[section][name] = v;
+  else over[section][name.substr(0, dot)][name.substr(dot + 1)] = v;
+}
+
+}  // namespace
+
+ConfigNode run_root(const ConfigNode& root, const DoeSpec& spec) {
+  YAML::Node over(YAML::NodeType::Map);
+  for (const auto& f : spec.factors) {
+    if (!f.through_x) continue;
+    const auto& lv = f.factor.levels;
+    const bool range = f.factor.kind == Factor::Kind::range;
+    const double lo = range ? f.factor.lower : *std::min_element(lv.begin(), lv.end());
+    const double hi = range ? f.factor.upper : *std::max_element(lv.begin(), lv.end());
+    over["variables"][f.factor.name]["min"] = value_node(f.parameter, lo);
+    over["variables"][f.factor.name]["max"] = value_node(f.parameter, hi);
+  }
+  return root.with(over, root.file());
+}
+
+Evaluator::Evaluator(const Problem& base, const DoeSpec& spec, const Sampler& sampler)
+    : base_(base), spec_(spec), sampler_(sampler), metrics_(base.metric_names().size()) {
+  for (const auto& f : spec.factors) {
+    int index = -1;
+    for (size_t v = 0; v < base.variables().size(); ++v)
+      if (f.through_x && base.variables()[v].name == f.factor.name) index = static_cast<int>(v);
+    variable_.push_back(index);
+    model_factors_ = model_factors_ || index < 0;
+  }
+}
+
+Evaluator::Sample Evaluator::sample(const SampleMaker& maker, std::int64_t index,
+                                    const std::vector<double>& factors) const {
+  Sample s;
+  s.problem = &base_;
+  if (model_factors_) {  // model values change: the problem is built for this sample
+    YAML::Node over(YAML::NodeType::Map);
+    for (size_t j = 0; j < spec_.factors.size(); ++j)
+      if (variable_[j] < 0)
+        set_value(over, "model", spec_.factors[j].factor.name, value_node(spec_.factors[j].parameter, factors[j]));
+    s.own = maker(over, "sample " + std::to_string(index));
+    s.problem = s.own.get();
+  }
+  s.x = s.problem->initial_point(false);
+  for (size_t j = 0; j < variable_.size(); ++j)
+    if (variable_[j] >= 0) s.x[variable_[j]] = factors[j];
+  return s;
+}
+
+Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
+  Row r;
+  r.index = i;
+  r.factors.resize(spec_.factors.size());
+  sampler_.point(i, r.factors);
+  r.metrics.assign(metrics_, kNan);
+  const auto t0 = Clock::now();
+  mech::set_deadline(spec_.sample_seconds);  // checked inside long computations
+  try {
+    const Sample s = sample(maker, i, r.factors);
+    const Evaluation e = s.problem->evaluate(s.x, MetricSet::all(), false);
+    r.status = mech::to_string(e.status);
+    r.message = e.message;
+    for (size_t m = 0; m < metrics_; ++m)
+      if (e.has(static_cast<MetricId>(m))) r.metrics[m] = e[static_cast<MetricId>(m)].value;
+  } catch (const mech::TimedOut& e) {
+    r.status = mech::to_string(Status::timed_out);
+    r.message = e.what();
+    std::fill(r.metrics.begin(), r.metrics.end(), kNan);
+  } catch (const ConfigError& e) {  // a factor value the model does not accept
+    r.status = mech::to_string(Status::invalid_parameter);
+    r.message = e.what();
+    std::fill(r.metrics.begin(), r.metrics.end(), kNan);
+  } catch (const std::exception& e) {
+    r.status = mech::to_string(Status::evaluation_error);
+    r.message = e.what();
+    std::fill(r.metrics.begin(), r.metrics.end(), kNan);
+  }
+  mech::set_deadline(0);
+  r.wall_time = since(t0);
+  return r;
+}
+
+}  // namespace opt::doe
