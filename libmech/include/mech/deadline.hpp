@@ -19,6 +19,7 @@ class TimedOut : public std::runtime_error {
 
 inline thread_local bool has_deadline = false;
 inline thread_local Clock::time_point deadline;
+inline thread_local unsigned deadline_calls = 0;
 
 // Sets (seconds > 0) or clears (0) this thread's deadline, from now.
 inline void set_deadline(double seconds) {
@@ -27,8 +28,11 @@ inline void set_deadline(double seconds) {
     deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
+// Reads the clock every 64th call: a right-hand side costs ~0.1 us and the
+// clock ~20 ns, which was 8% of a limited elastic DOE's time when read on
+// every call; 64 calls are microseconds past the limit at most.
 inline void check_deadline() {
-  if (has_deadline && Clock::now() > deadline) throw TimedOut();
+  if (has_deadline && (++deadline_calls & 63) == 0 && Clock::now() > deadline) throw TimedOut();
 }
 
 }  // namespace mech

@@ -278,7 +278,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     layout.factors.push_back(f.factor.name);
     layout.labels.push_back(f.factor.labels);
   }
-  layout.metrics = metrics;
+  for (const auto& m : metrics) layout.metrics.push_back(metric_column(spec, m));
   const std::string shard = std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count);
   nlohmann::json j = {{"mechopt_version", MECHOPT_VERSION}, {"problem", base.name()}, {"study", "doe"},
                       {"sampler", sampler->describe()}, {"samples", n}, {"shard", shard},

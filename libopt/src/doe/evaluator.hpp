@@ -58,7 +58,7 @@ class Evaluator {
 };
 
 // `where` of SQL for a feasible sample: status ok, the constraints met (summary.cpp).
-std::string feasible_where(const std::vector<Constraint>& constraints);
+std::string feasible_where(const DoeSpec& spec);
 
 // `refine`: a local optimisation from each of the best feasible samples of
 // the store (refine.cpp); rows in its `refined` table, the summary returned.

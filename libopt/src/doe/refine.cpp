@@ -29,8 +29,8 @@ struct Start {
 std::vector<Start> best_samples(const sql::Db& db, const DoeSpec& spec) {
   std::string columns;
   for (const auto& f : spec.factors) columns += identifier(f.factor.name) + ", ";
-  const std::string m = identifier(spec.objective.metric);
-  Statement s(db, "SELECT idx, " + columns + m + " FROM samples WHERE " + feasible_where(spec.constraints) +
+  const std::string m = identifier(metric_column(spec, spec.objective.metric));
+  Statement s(db, "SELECT idx, " + columns + m + " FROM samples WHERE " + feasible_where(spec) +
                       " AND " + m + " IS NOT NULL ORDER BY " + m + (spec.objective.maximize ? " DESC" : " ASC") +
                       ", idx LIMIT " + std::to_string(spec.refine_best));
   std::vector<Start> out;
@@ -58,7 +58,7 @@ void prepare_table(const sql::Db& db, const DoeSpec& spec, const std::vector<std
                     "driver_status TEXT NOT NULL, message TEXT, evaluations INTEGER, seconds REAL, "
                     "start_value REAL, value REAL, status TEXT";
   for (const auto& f : spec.factors) sql += ", " + identifier(f.factor.name) + (f.factor.labels.empty() ? " REAL" : " TEXT");
-  for (const auto& m : metrics) sql += ", " + identifier(m) + " REAL";
+  for (const auto& m : metrics) sql += ", " + identifier(metric_column(spec, m)) + " REAL";
   db.exec(sql + ")");
   const std::string settings = spec.refine_settings.dump();
   Statement old(db, "SELECT value FROM meta WHERE key = 'refine'");

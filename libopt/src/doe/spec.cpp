@@ -280,6 +280,12 @@ DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, c
   return s;
 }
 
+std::string metric_column(const DoeSpec& spec, const std::string& metric) {
+  const bool taken = std::any_of(spec.factors.begin(), spec.factors.end(),
+                                 [&](const FactorSpec& f) { return f.factor.name == metric; });
+  return taken ? metric + "_metric" : metric;
+}
+
 std::unique_ptr<Sampler> make_sampler(const DoeSpec& s) {
   std::vector<Factor> f;
   for (const auto& x : s.factors) f.push_back(x.factor);

@@ -33,10 +33,10 @@ std::string sql_number(double v) {
 
 }  // namespace
 
-std::string feasible_where(const std::vector<Constraint>& cs) {
+std::string feasible_where(const DoeSpec& spec) {
   std::string w = "status = 'ok'";
-  for (const auto& c : cs) {
-    const std::string m = identifier(c.metric), b = sql_number(c.bound);
+  for (const auto& c : spec.constraints) {
+    const std::string m = identifier(metric_column(spec, c.metric)), b = sql_number(c.bound);
     w += c.equal ? " and abs(" + m + " - " + b + ") <= 1e-6 * max(1, abs(" + b + "))"
                  : " and " + m + (c.upper ? " <= " : " >= ") + b;
   }
@@ -167,7 +167,9 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
                          std::vector<std::string>& charts) {
   sql::Db db(store_file, SQLITE_OPEN_READWRITE);
   nlohmann::json j;
-  const std::string where = feasible_where(spec.constraints);
+  const std::string where = feasible_where(spec);
+  std::vector<std::string> columns;  // of the metrics
+  for (const auto& m : metrics) columns.push_back(metric_column(spec, m));
 
   // Failures by status, with one message each.
   Statement failures(db, "select status, count(*), min(message) from samples where status != 'ok' group by status "
@@ -189,8 +191,9 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
   std::string factor_columns;
   for (const auto& f : spec.factors) factor_columns += ", " + identifier(f.factor.name);
   for (const auto& [m, maximize] : goals) {
-    Statement best(db, "select idx" + factor_columns + ", " + identifier(m) + " from samples where " + where +
-                           " and " + identifier(m) + " is not null order by " + identifier(m) +
+    const std::string c = identifier(metric_column(spec, m));
+    Statement best(db, "select idx" + factor_columns + ", " + c + " from samples where " + where + " and " + c +
+                           " is not null order by " + c +
                            (maximize ? " desc" : " asc") + " limit 1");
     if (!best.step()) continue;
     nlohmann::json b = {{"metric", m}, {"maximize", maximize}, {"index", best.int64(0)}};
@@ -205,7 +208,7 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
 
   // Main effects: the mean of each metric per level (or bin) of each factor.
   for (const auto& fs : spec.factors) {
-    const Effect e = main_effect(db, fs.factor, metrics, where);
+    const Effect e = main_effect(db, fs.factor, columns, where);
     for (size_t m = 0; m < metrics.size(); ++m) {
       const auto [lo, hi] = std::minmax_element(e.means[m].begin(), e.means[m].end());
       j["main_effects"][fs.factor.name][metrics[m]] = {
@@ -217,8 +220,9 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
   // Sobol' indices of a saltelli design.
   if (spec.sampler == "saltelli") {
     const int d = static_cast<int>(spec.factors.size());
-    for (const auto& m : metrics) {
-      const auto rows = saltelli_rows(db, m, d, where);
+    for (std::size_t k = 0; k < metrics.size(); ++k) {
+      const std::string& m = metrics[k];
+      const auto rows = saltelli_rows(db, columns[k], d, where);
       const auto idx = sobol_indices(rows, d, spec.seed.value_or(0));
       for (int f = 0; f < d; ++f)
         j["sobol"][m][spec.factors[static_cast<size_t>(f)].factor.name] = {

@@ -68,6 +68,10 @@ constexpr std::int64_t kHardMaxSamples = 10'000'000'000;
 DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, const Problem& problem,
                   bool beyond_limit = false);
 
+// The store's column of a metric: its name, or NAME_metric when a factor has
+// that name (the conveyor's crank_length is a factor and a metric).
+std::string metric_column(const DoeSpec& spec, const std::string& metric);
+
 // The sampler a spec asks for.
 std::unique_ptr<Sampler> make_sampler(const DoeSpec& spec);
 
