@@ -18,6 +18,8 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import doe_bench  # noqa: E402
 
 
 def google_benchmark(binary, repetitions, benchmark_filter=None):
@@ -580,8 +582,10 @@ def main():
         path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
         write_work_precision_svg(path, scene, drivers)
         print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
+    print("running the batch DOE cases (bench/doe_bench.py) ...", file=sys.stderr)
+    doe_rows = doe_bench.run(args.build, 3, not args.no_docs)
     out = os.path.join(args.build, "bench-results.json")
-    json.dump(rows, open(out, "w"), indent=1)
+    json.dump(rows + doe_rows, open(out, "w"), indent=1)
     print(f"{'case':34s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
     for r in rows:
         fmt = lambda v: "-" if v is None or v != v else f"{v:.1e}"

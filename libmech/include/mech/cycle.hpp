@@ -68,27 +68,51 @@ double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter 
   return b;
 }
 
-// Angle of the maximum of a periodic f near grid point phi_k (spacing h), given
-// its derivative df. The maximum lies where df changes sign from + to -; if the
-// bracket [phi_k - h, phi_k + h] holds no such change, phi_k is returned.
+// + to - sign changes of df on [a, b] (df(a) = ga, df(b) = gb) split into
+// `parts` equal pieces, each refined by Brent, appended to out.
 template <class DF>
-double refine_max(DF&& df, double phi_k, double h) {
-  const double gk = df(phi_k);
-  if (gk == 0.0) return phi_k;
-  const double a = gk > 0 ? phi_k : phi_k - h;
-  const double b = gk > 0 ? phi_k + h : phi_k;
-  const double ga = gk > 0 ? gk : df(a);
-  const double gb = gk > 0 ? df(b) : gk;
-  if (!(ga > 0 && gb < 0)) return phi_k;
-  return brent_root(df, a, b, ga, gb);
+void sign_changes(DF&& df, double a, double b, double ga, double gb, int parts, std::vector<double>& out) {
+  for (int i = 1; i <= parts; ++i) {
+    const double x = i == parts ? b : a + (b - a) * i / parts, gx = i == parts ? gb : df(x);
+    if (ga > 0 && gx < 0) out.push_back(brent_root(df, a, x, ga, gx));
+    else if (ga > 0 && gx == 0) out.push_back(x);
+    a = x;
+    ga = gx;
+  }
+}
+
+// Angles of the maxima of a periodic f within one grid step h of the grid
+// point phi_k, given its derivative df: the + to - sign changes of df on
+// both sides of phi_k, each side cut at the kinks of f inside it (where df
+// jumps: a kink may part two maxima, or be one). Where nothing shows (two
+// maxima closer than a step), each piece is searched again in 4 parts.
+// None found: phi_k.
+template <class DF>
+void refine_max(DF&& df, double phi_k, double h, const std::vector<double>& kinks, std::vector<double>& out) {
+  const std::size_t before = out.size();
+  std::vector<double> x = {phi_k - h, phi_k, phi_k + h};
+  const double eps = 1e-9 * h;  // either side of a kink: its one-sided slopes
+  for (double kink : kinks) {
+    const double k = kink + kTwoPi * std::round((phi_k - kink) / kTwoPi);  // the copy nearest phi_k
+    if (k - eps > phi_k - h && k + eps < phi_k + h) x.insert(x.end(), {k - eps, k + eps});
+  }
+  std::sort(x.begin(), x.end());
+  std::vector<double> g(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) g[i] = df(x[i]);
+  for (int parts : {1, 4}) {
+    for (std::size_t i = 0; i + 1 < x.size(); ++i) sign_changes(df, x[i], x[i + 1], g[i], g[i + 1], parts, out);
+    if (out.size() > before) return;
+  }
+  out.push_back(phi_k);
 }
 
 // Refined angles of the local maxima of a periodic f sampled as
-// v[k] = f(2 pi k / n), given its derivative df: every grid local maximum no
-// lower than max(v) - margin, sorted by angle.
+// v[k] = f(2 pi k / n), given its derivative df and f's kinks: the maxima
+// near every grid local maximum no lower than max(v) - margin, sorted by
+// angle.
 template <class DF>
-std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df,
-                                     double margin = HUGE_VAL) {
+std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df, double margin = HUGE_VAL,
+                                     const std::vector<double>& kinks = {}) {
   const int n = static_cast<int>(v.size());
   const double h = kTwoPi / n, vmax = *std::max_element(v.begin(), v.end());
   std::vector<double> out;
@@ -96,8 +120,10 @@ std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df,
     const double prev = v[(k + n - 1) % n], next = v[(k + 1) % n];
     if (v[k] < prev || v[k] < next || v[k] < vmax - margin) continue;
     if (next == v[k] && k + 1 < n) continue;  // a flat top: refine it once
-    out.push_back(refine_max(df, k * h, h));
+    refine_max(df, k * h, h, kinks, out);
   }
+  for (double& phi : out) phi = phi < 0 ? phi + kTwoPi : phi >= kTwoPi ? phi - kTwoPi : phi;
+  std::sort(out.begin(), out.end());
   return out;
 }
 
@@ -119,16 +145,35 @@ std::vector<double> cycle_max_angles(const M& model, int n, G&& g) {
 // highest is refined and the largest kept. A peak lies at most h^2 |f''| / 8
 // above its best grid value; |f''| h^2 is estimated by the largest second
 // difference, and peaks more than twice that bound below the grid maximum are
-// skipped.
+// skipped. `kinks` are the angles where f has kinks (a slider's dead centres
+// for |M|): they cut the searches and are candidates themselves, as is the
+// best grid point, so the answer is never below a value the grid has seen.
 template <class F, class DF>
-double global_max_angle(const std::vector<double>& v, F&& f, DF&& df) {
+double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std::vector<double>& kinks = {}) {
   const int n = static_cast<int>(v.size());
   double curvature = 0;
   for (int k = 0; k < n; ++k)
     curvature = std::max(curvature, std::abs(v[(k + 1) % n] - 2 * v[k] + v[(k + n - 1) % n]));
-  double best_phi = 0, best = -HUGE_VAL;
-  for (double phi : local_max_angles(v, df, 0.25 * curvature))
+  const auto top = std::max_element(v.begin(), v.end());
+  double best_phi = kTwoPi * static_cast<double>(top - v.begin()) / n, best = *top;
+  auto consider = [&](double phi) {
     if (const double fv = f(phi); fv > best) best = fv, best_phi = phi;
+  };
+  const double margin = 0.25 * curvature, h = kTwoPi / n, eps = 1e-9 * h;
+  for (double phi : local_max_angles(v, df, margin, kinks)) consider(phi);
+  // A smooth maximum beside a kink need not show on the grid as a local
+  // maximum (the grid point past the kink may be higher): where the grid
+  // rises into a kink, search the two cells before it (or after it).
+  std::vector<double> beside;
+  for (double kink : kinks) {
+    consider(kink);
+    const int j = static_cast<int>(std::floor(kink / h));  // grid points j <= kink < j + 1
+    auto at = [&](int i) { return v[static_cast<std::size_t>(((i % n) + n) % n)]; };
+    if (std::max(at(j), at(j + 1)) < *top - margin) continue;
+    if (at(j) > at(j - 1)) sign_changes(df, (j - 1) * h, kink - eps, df((j - 1) * h), df(kink - eps), 1, beside);
+    if (at(j + 1) > at(j + 2)) sign_changes(df, kink + eps, (j + 2) * h, df(kink + eps), df((j + 2) * h), 1, beside);
+  }
+  for (double phi : beside) consider(phi);
   return best_phi;
 }
 
@@ -188,13 +233,20 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
   for (size_t j = 0; j < ends.size(); ++j) {
     const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + kTwoPi;
     if (b - a <= 0) continue;
+    // Nodes in proportion to the arc; an arc needing more than the table's
+    // kMaxGaussNodes is cut into equal panels (near the dead point an arc
+    // may need thousands).
     const int m = std::max(12, static_cast<int>(std::ceil(n * (b - a) / kTwoPi)));
-    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    const int panels = (m + kMaxGaussNodes - 1) / kMaxGaussNodes;
+    const double half = 0.5 * (b - a) / panels;
     S arc(0.0);
-    for (const auto& [x, w] : gauss_legendre(m)) {
-      const S v = f(mid + half * x);
-      arc += (w * half) * v;
-      out.mean_square += (w * half) * v * v;
+    for (int p = 0; p < panels; ++p) {
+      const double mid = a + (2 * p + 1) * half;
+      for (const auto& [x, w] : gauss_legendre((m + panels - 1) / panels)) {
+        const S v = f(mid + half * x);
+        arc += (w * half) * v;
+        out.mean_square += (w * half) * v * v;
+      }
     }
     out.mean += arc;
     out.mean_abs += value(arc) >= 0 ? arc : S(-arc);

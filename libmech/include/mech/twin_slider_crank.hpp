@@ -191,16 +191,17 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
 }
 
 // Cycle means of M and M^2, eq. (21), by Gauss-Legendre on each arc between
-// dead centres, where M is smooth: exponential convergence again.
+// dead centres (`centres`: dead_centres(d, n)), where M is smooth:
+// exponential convergence again.
 template <class S>
-std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n) {
+std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::vector<double>& centres) {
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
   auto M = [&](double phi) {
     return drive_point(d, std::cos(phi), std::sin(phi), cd, sd).total_moment();
   };
-  const auto r = piecewise_means<S>(M, dead_centres(d, n), 2 * n);
+  const auto r = piecewise_means<S>(M, centres, 2 * n);
   return {r.mean, r.mean_square};
 }
 
@@ -247,10 +248,12 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     m.k3 = m.peak_kinetic_energy / m.least_mean_kinetic_energy;
   }
   if (needs.moments) {
+    std::vector<double> kinks;  // of M: where a cart stops and its resistance flips
     if (d.resistance == Resistance::opposes_motion) {
       // |dx/dphi| has kinks at the dead centres, where the trapezoidal rule
       // drops to O(h^2): integrate piecewise between them instead.
-      const auto [mean, mean2] = piecewise_moment_means(d, n);
+      kinks = dead_centres(d, n);
+      const auto [mean, mean2] = piecewise_moment_means(d, n, kinks);
       sumM = mean * double(n);
       sumM2 = mean2 * double(n);
     }
@@ -261,7 +264,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
       const Dual M = drive_point(dv, seed(phi)).total_moment();
       return (M.value() >= 0 ? 1.0 : -1.0) * M.derivatives()[0];
     };
-    m.phi_peak_moment = global_max_angle(gridM, absM, dabsM);
+    m.phi_peak_moment = global_max_angle(gridM, absM, dabsM, kinks);
     m.peak_total_moment = abs(drive_point(d, S(m.phi_peak_moment)).total_moment());
   }
   return m;

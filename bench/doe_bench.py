@@ -1,0 +1,196 @@
+#!/usr/bin/env python3
+"""Batch DOE throughput (docs/performance.md, "Batch design of experiments"),
+run by run_bench.py or alone:
+
+  /usr/bin/python3 bench/doe_bench.py [--build build] [--repetitions 3]
+
+- designs per second of each configs/doe/ problem, every metric and the
+  store, on 1 and 2 threads and on 2 MPI ranks, with the scaling efficiency
+  (rate(2) / (2 rate(1))); the recuperative DOE runs its first quarter
+  (--shard 0/4: 250 000 designs), the others whole;
+- the store's rows per second against its column count (bench_doe_store);
+- a same-run peer for the recuperative DOE (bench/doe/peer_recuperative_doe.py):
+  chunked numpy computing the same metrics, checked against mechopt's rows,
+  and writing them to SQLite.
+Rates are medians over the repetitions of the evaluation phase (`rate` in
+result.json: samples / seconds from the first sample to the last commit).
+"""
+import argparse
+import json
+import os
+import shutil
+import sqlite3
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
+
+# name, config, --shard (None: all of it)
+CASES = [("recuperative_drive", "configs/doe/recuperative_drive.yaml", "0/4"),
+         ("conveyor_swing", "configs/doe/conveyor_swing.yaml", None),
+         ("elastic_drive", "configs/doe/elastic_drive.yaml", None)]
+
+
+def run_doe(binary, config, out, threads, shard, ranks=1):
+    """One run into a fresh `out`: (result.json, whole-process seconds)."""
+    shutil.rmtree(out, ignore_errors=True)
+    cmd = [binary, "run", os.path.join(ROOT, config), "--output", out, "--progress", "none",
+           "--threads", str(threads)] + (["--shard", shard] if shard else [])
+    if ranks > 1:
+        cmd = ["mpirun", "-n", str(ranks), "--oversubscribe"] + cmd
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True, capture_output=True, env={**os.environ, **MPI_ENV})
+    seconds = time.perf_counter() - t0
+    return json.load(open(os.path.join(out, "result.json"))), seconds
+
+
+def mean_sample_seconds(store):
+    """Mean wall time of one evaluation in the store (the model alone)."""
+    with sqlite3.connect(store) as db:
+        return db.execute("select avg(wall_time) from samples").fetchone()[0]
+
+
+def store_rates(build):
+    """{metrics: (columns, rows/s)} of bench_doe_store's BM_Append/METRICS."""
+    out = subprocess.run([os.path.join(build, "bin", "bench_doe_store"), "--benchmark_filter=BM_Append",
+                          "--benchmark_format=json", "--benchmark_min_time=0.5",
+                          "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"],
+                         check=True, capture_output=True, text=True).stdout
+    rates = {}
+    for b in json.loads(out)["benchmarks"]:
+        if b.get("aggregate_name") == "median":
+            rates[int(b["run_name"].split("/")[1])] = (int(b["columns"]), b["rows_per_second"])
+    return rates
+
+
+def measure(build, repetitions):
+    binary = os.path.join(build, "bin", "mechopt")
+    mpi = shutil.which("mpirun") is not None
+    work = tempfile.mkdtemp(prefix="doe_bench_")
+    rows = []
+    try:
+        for name, config, shard in CASES:
+            runs = {"1 thread": (1, 1), "2 threads": (2, 1)}
+            if mpi:
+                runs["2 ranks"] = (1, 2)
+            med = {}
+            for label, (threads, ranks) in runs.items():
+                rates, walls = [], []
+                for _ in range(repetitions):
+                    j, wall = run_doe(binary, config, os.path.join(work, name), threads, shard, ranks)
+                    if j["ranks"] != ranks:
+                        sys.exit(f"doe_bench: {name} {label}: {j['ranks']} ranks ran (mechopt built without MPI?)")
+                    rates.append(j["rate"])
+                    walls.append(wall)
+                med[label] = statistics.median(rates)
+                row = {"case": f"doe_{name}_{label.replace(' ', '_')}", "config": config, "shard": shard,
+                       "samples": j["evaluated"], "threads": threads, "ranks": ranks,
+                       "designs_per_second": med[label], "designs_per_minute": 60 * med[label],
+                       "process_seconds": statistics.median(walls),
+                       "mean_evaluation_seconds": mean_sample_seconds(os.path.join(work, name, "store.sqlite"))}
+                if label != "1 thread":
+                    row["efficiency"] = med[label] / (2 * med["1 thread"])
+                rows.append(row)
+            if name == "recuperative_drive":  # the peer checks its values against this run's store
+                peer = json.loads(subprocess.run(
+                    [sys.executable, os.path.join(HERE, "doe", "peer_recuperative_doe.py"),
+                     "--samples", str(j["evaluated"]), "--check", os.path.join(work, name, "store.sqlite")],
+                    check=True, capture_output=True, text=True).stdout)
+                one = next(r for r in rows if r["case"] == "doe_recuperative_drive_1_thread")
+                two = next(r for r in rows if r["case"] == "doe_recuperative_drive_2_threads")
+                rows.append({"case": "doe_recuperative_peer", "peer_method": peer_method(peer),
+                             "samples": peer["designs"],
+                             "peer_compute_per_second": peer["compute_rate"],
+                             "peer_end_to_end_per_second": peer["total_rate"],
+                             "peer_max_rel_diff": peer.get("max_rel_diff"),
+                             "compute_ratio_per_core": peer["compute_seconds"] / peer["designs"]
+                             / one["mean_evaluation_seconds"],
+                             "end_to_end_ratio_1_thread": one["designs_per_second"] / peer["total_rate"],
+                             "end_to_end_ratio_2_threads": two["designs_per_second"] / peer["total_rate"]})
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    for metrics, (columns, rate) in sorted(store_rates(build).items()):
+        rows.append({"case": f"doe_store_append_{columns}_columns", "columns": columns, "metrics": metrics,
+                     "rows_per_second": rate})
+    return rows
+
+
+def peer_method(peer):
+    return (f"numpy {peer.get('numpy', '')} chunks of {peer['chunk']} designs x crank angles, the same "
+            "quadrature and refined maxima, rows to SQLite (WAL) by executemany, one process")
+
+
+def fmt_rate(r):
+    return f"{r / 1e3:.1f}k/s" if r < 1e6 else f"{r / 1e6:.2f}M/s"
+
+
+def block(rows):
+    """The markdown of performance.md's generated block `doe`."""
+    by = {r["case"]: r for r in rows}
+    lines = ["| problem (samples) | 1 thread | 2 threads | efficiency | 2 ranks | efficiency | one evaluation |",
+             "|---|---|---|---|---|---|---|"]
+    for name, config, shard in CASES:
+        one, two = by[f"doe_{name}_1_thread"], by[f"doe_{name}_2_threads"]
+        ranks = by.get(f"doe_{name}_2_ranks")
+        lines.append(f"| {name} ({one['samples']}) | {fmt_rate(one['designs_per_second'])} | "
+                     f"{fmt_rate(two['designs_per_second'])} | {two['efficiency']:.0%} | "
+                     + (f"{fmt_rate(ranks['designs_per_second'])} | {ranks['efficiency']:.0%}" if ranks else "- | -")
+                     + f" | {one['mean_evaluation_seconds'] * 1e6:.1f} us |")
+    peer = by["doe_recuperative_peer"]
+    two = by["doe_recuperative_drive_2_threads"]
+    diffs = peer["peer_max_rel_diff"] or {}
+    worst = max(diffs.items(), key=lambda kv: kv[1], default=("-", float("nan")))
+    lines += ["", "| recuperative DOE, same run | mechopt | numpy peer | ratio | target |", "|---|---|---|---|---|",
+              f"| compute per core (designs/s) | {fmt_rate(1 / by['doe_recuperative_drive_1_thread']['mean_evaluation_seconds'])} "
+              f"| {fmt_rate(peer['peer_compute_per_second'])} | {peer['compute_ratio_per_core']:.1f} | >= 10 |",
+              f"| end to end, 1 thread + writer (designs/s) | {fmt_rate(by['doe_recuperative_drive_1_thread']['designs_per_second'])} "
+              f"| {fmt_rate(peer['peer_end_to_end_per_second'])} | {peer['end_to_end_ratio_1_thread']:.1f} | >= 5 |",
+              f"| end to end, 2 threads (designs/min) | {two['designs_per_minute'] / 1e6:.1f}M | | | >= 20M |",
+              "", f"The peer's values agree with mechopt's rows to {worst[1]:.1e} relative at worst ({worst[0]}); "
+              f"peer: {peer['peer_method']}.",
+              "", "| store columns | rows/s (append, 20 000-row batches) |", "|---|---|"]
+    for r in rows:
+        if r["case"].startswith("doe_store_append_"):
+            lines.append(f"| {r['columns']} | {fmt_rate(r['rows_per_second'])} |")
+    return "\n".join(lines)
+
+
+def write_block(path, body, name="doe"):
+    """Replaces the block between `<!-- generated by bench/doe_bench.py: NAME -->`
+    and `<!-- end NAME -->` in path."""
+    text = open(path).read()
+    begin, end = f"<!-- generated by bench/doe_bench.py: {name} -->\n", f"<!-- end {name} -->"
+    if text.count(begin) != 1 or text.count(end) != 1:
+        sys.exit(f"{path}: expected one block '{begin.strip()}' .. '{end}'")
+    head, rest = text.split(begin)
+    with open(path, "w") as f:
+        f.write(head + begin + "\n" + body.strip("\n") + "\n\n" + end + rest.split(end, 1)[1])
+
+
+def run(build, repetitions, write_docs):
+    """The rows for build/bench-results.json; with write_docs, performance.md's block."""
+    rows = measure(build, repetitions)
+    if write_docs:
+        write_block(os.path.join(ROOT, "docs", "performance.md"), block(rows))
+        print("written: docs/performance.md (doe)", file=sys.stderr)
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--repetitions", type=int, default=3)
+    ap.add_argument("--no-docs", action="store_true", help="do not write docs/performance.md's block")
+    a = ap.parse_args()
+    rows = run(a.build, a.repetitions, not a.no_docs)
+    print(json.dumps(rows, indent=1))
+    print(block(rows))
+
+
+if __name__ == "__main__":
+    main()
