@@ -151,6 +151,30 @@ TEST(TwinDrive, HardDesignsMatchAnIndependentPeer) {
   }
 }
 
+// The closed-form dead centres (exact kinematics) are where each slider
+// stops: its velocity vanishes there and changes sign across, two per slider.
+TEST(TwinDrive, DeadCentresAreWhereTheSlidersStop) {
+  for (auto layout : {mech::Layout::opposed, mech::Layout::same_side})
+    for (double e : {-0.09, 0.0, 0.05})
+      for (double l : {0.32, 0.8}) {
+        auto d = seed000(l);
+        d.layout = layout;
+        d.offset = e;
+        d.phase_shift = 1.3;
+        const auto centres = mech::dead_centres(d, 24);
+        ASSERT_EQ(centres.size(), 4u);
+        for (int i = 0; i < 4; ++i) {
+          const auto m = d.mechanism(i / 2);
+          const double psi = centres[std::size_t(i)] + (i < 2 ? 0.0 : d.phase_shift);
+          auto dx = [&](double a) { return mech::slider_crank_velocity(m, std::cos(a), std::sin(a)).dx; };
+          EXPECT_NEAR(dx(psi), 0.0, 1e-13) << "l " << l << " e " << e;
+          EXPECT_LT(dx(psi - 1e-4) * dx(psi + 1e-4), 0) << "l " << l << " e " << e;
+          EXPECT_GE(centres[std::size_t(i)], 0.0);
+          EXPECT_LT(centres[std::size_t(i)], 2 * kPi);
+        }
+      }
+}
+
 TEST(TwinDrive, MirroredLayoutAtZeroOffsetHasTheSameEnergyAsShiftedSameSide) {
   // At zero offset a mirrored slider moves as x_m(psi) = -x_n(psi + pi): its
   // energy is the normal one shifted by pi, and a cycle mean is shift-invariant.

@@ -172,7 +172,11 @@ struct CycleMetrics {
 };
 
 // Crank angles phi in [0, 2 pi) of the dead centres of both sliders (where
-// a cart stops and its resistance flips). check(d) must be ok.
+// a cart stops and its resistance flips). check(d) must be ok. Exact
+// kinematics: in closed form, where crank and rod are collinear (crank angle
+// psi with sin psi = -e/(l + r), stretched, or e/(l - r), folded; the cosine's
+// sign from the slider's side sigma). The binomial series: the sign changes
+// of the slider velocity on the n-point grid, refined by Brent.
 template <class S>
 std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
   const TwinDrive<double> dv = d.template cast<double>();
@@ -180,6 +184,13 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
   for (int i = 0; i < 2; ++i) {
     const auto m = dv.mechanism(i);
     const double shift = i == 0 ? 0.0 : dv.phase_shift;
+    if (m.kinematics == Kinematics::exact) {
+      for (const auto& [sn, side] : {std::pair{-m.e / (m.l + m.r), 1.0}, std::pair{m.e / (m.l - m.r), -1.0}}) {
+        const double phi = std::atan2(sn, side * m.sigma * std::sqrt(1 - sn * sn)) - shift;
+        out.push_back(phi - kTwoPi * std::floor(phi / kTwoPi));
+      }
+      continue;
+    }
     auto dx = [&](double phi) {
       return slider_crank_velocity(m, std::cos(phi + shift), std::sin(phi + shift)).dx;
     };
@@ -233,15 +244,13 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   m.mean_kinetic_energy = sumT / double(n);
   m.least_mean_kinetic_energy = least_mean_kinetic_energy(d);
   m.k2 = m.mean_kinetic_energy / m.least_mean_kinetic_energy;
-  // Values and angle derivatives of T and |M| at the design's value (the
-  // derivative by autodiff in phi), for locating the maxima.
+  // Angle derivatives for locating the maxima: dT/dphi is the inertia
+  // moment (eqs 18-20, constant speed); d|M|/dphi by autodiff in phi.
   const TwinDrive<Dual> dv = d.template cast<Dual>();
   const TwinDrive<double> dd = d.template cast<double>();
   if (needs.peak_energy) {
     auto T = [&](double phi) { return drive_point(dd, phi).kinetic_energy; };
-    auto dT = [&](double phi) {
-      return drive_point(dv, seed(phi)).kinetic_energy.derivatives()[0];
-    };
+    auto dT = [&](double phi) { return drive_point(dd, phi).inertia_moment; };
     m.phi_peak_energy = global_max_angle(gridT, T, dT);
     m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
     m.k1 = m.peak_kinetic_energy / m.mean_kinetic_energy;
