@@ -68,6 +68,10 @@ TEST_P(Config, RunsAndWritesResults) {
   if (j["study"] == "sweep") {
     EXPECT_TRUE(fs::exists(dir + "/sweep.csv"));
   }
+  if (j["study"] == "sweep" || j["study"] == "doe") {  // the store closed: its WAL checkpointed and gone
+    EXPECT_FALSE(fs::exists(dir + "/store.sqlite-wal"));
+    EXPECT_FALSE(fs::exists(dir + "/store.sqlite-shm"));
+  }
   if (j["study"] == "doe") {
     EXPECT_TRUE(fs::exists(dir + "/store.sqlite"));
     EXPECT_EQ(j["run_status"], "complete");

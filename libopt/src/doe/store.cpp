@@ -5,6 +5,7 @@
 #include "opt/doe/store.hpp"
 
 #include <sqlite3.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -183,9 +184,12 @@ void move_aside(const std::string& file) {
 }
 
 // A store to read: a missing file is an error, never a new empty store.
+// Opened read-write when the file allows it (nothing is written): a
+// read-only connection that is the last to close cannot checkpoint the WAL,
+// and would leave store.sqlite-wal and -shm beside the store.
 Db open_to_read(const std::string& file) {
   if (!fs::is_regular_file(file)) throw std::runtime_error(file + ": no such store");
-  return Db(file, SQLITE_OPEN_READONLY);
+  return Db(file, access(file.c_str(), W_OK) == 0 ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY);
 }
 
 // An existing store must hold this run's samples: the same config_hash and
