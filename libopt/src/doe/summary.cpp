@@ -45,15 +45,14 @@ std::string feasible_where(const DoeSpec& spec) {
 
 namespace {
 
-// A factor's groups for its main effect: its values (levels, options), or
-// bins of its range.
-std::string group_expression(const Factor& f) {
-  const std::string c = identifier(f.name);
-  const bool binned = f.kind == Factor::Kind::range && (f.count == 0 || f.count > kMaxLevels);
-  if (!binned) return c;
-  return "min(" + std::to_string(kBins - 1) + ", max(0, cast((" + c + " - " + sql_number(f.lower) + ") / " +
-         sql_number((f.upper - f.lower) / kBins) + " as integer)))";
+// A REAL as SQLite writes it as text ("0.1", "800.0").
+std::string sql_text(double x) {
+  char text[40];
+  sqlite3_snprintf(sizeof text, text, "%!.15g", x);
+  return text;
 }
+
+bool binned(const Factor& f) { return f.kind == Factor::Kind::range && (f.count == 0 || f.count > kMaxLevels); }
 
 struct Effect {
   std::vector<std::string> groups;          // level, option or bin [lo, hi)
@@ -62,32 +61,73 @@ struct Effect {
   std::vector<std::vector<double>> means;   // [metric][group]
 };
 
-Effect main_effect(const sql::Db& db, const Factor& f, const std::vector<std::string>& metrics,
-                   const std::string& where) {
-  std::string q = "select " + group_expression(f) + ", count(*)";
-  for (const auto& m : metrics) q += ", avg(" + identifier(m) + ")";
-  q += " from samples where " + where + " group by 1 order by 1";
-  Statement st(db, q);
-  Effect e;
-  e.means.resize(metrics.size());
-  const bool binned = group_expression(f) != identifier(f.name);
+// Rows of one group: how many, and per metric the sum and count of its
+// non-NULL values (a mean skips NULLs, as SQL's avg does).
+struct Group {
+  std::int64_t rows = 0;
+  std::vector<double> sum;
+  std::vector<std::int64_t> values;
+};
+
+void add(Group& g, const std::vector<double>& v) {
+  if (g.sum.empty()) g.sum.assign(v.size(), 0.0), g.values.assign(v.size(), 0);
+  ++g.rows;
+  for (std::size_t m = 0; m < v.size(); ++m)
+    if (!std::isnan(v[m])) g.sum[m] += v[m], ++g.values[m];
+}
+
+// The main effects of every factor: the mean of each metric per level (or
+// option, or tenth of a range) over the feasible rows, in one scan of the
+// store (a GROUP BY per factor was a scan and a sort each: ~35 s on 10^7
+// rows). Groups in ascending order of value, or of name for options.
+std::vector<Effect> main_effects(const sql::Db& db, const std::vector<FactorSpec>& factors,
+                                 const std::vector<std::string>& metrics, const std::string& where) {
+  std::string q = "select ";
+  for (const auto& f : factors) q += identifier(f.factor.name) + ", ";
+  for (const auto& m : metrics) q += identifier(m) + ", ";
+  Statement st(db, q.substr(0, q.size() - 2) + " from samples where " + where);
+  const std::size_t nf = factors.size();
+  std::vector<std::map<double, Group>> by_value(nf);       // levels, or bin index
+  std::vector<std::map<std::string, Group>> by_name(nf);   // options
+  std::vector<double> v(metrics.size());
   while (st.step()) {
-    if (binned) {
-      const double b = st.real(0), w = (f.upper - f.lower) / kBins;
-      e.groups.push_back("[" + sql_number(f.lower + b * w).substr(0, 8) + ", " +
-                         sql_number(f.lower + (b + 1) * w).substr(0, 8) + ")");
-      e.position.push_back((b + 0.5) / kBins);
-    } else {
-      e.groups.push_back(st.text(0).value_or(""));
-      e.position.push_back(0);  // set below, by rank
+    for (std::size_t m = 0; m < metrics.size(); ++m) v[m] = st.real(static_cast<int>(nf + m));
+    for (std::size_t j = 0; j < nf; ++j) {
+      const Factor& f = factors[j].factor;
+      const int c = static_cast<int>(j);
+      if (!f.labels.empty()) {
+        add(by_name[j][st.text(c).value_or("")], v);
+        continue;
+      }
+      double x = st.real(c);
+      if (std::isnan(x)) continue;
+      if (binned(f)) x = std::clamp(std::trunc((x - f.lower) / ((f.upper - f.lower) / kBins)), 0.0, kBins - 1.0);
+      add(by_value[j][x], v);
     }
-    e.counts.push_back(st.int64(1));
-    for (size_t m = 0; m < metrics.size(); ++m) e.means[m].push_back(st.real(static_cast<int>(m) + 2));
   }
-  if (!binned)
-    for (size_t g = 0; g < e.groups.size(); ++g)
-      e.position[g] = e.groups.size() > 1 ? static_cast<double>(g) / static_cast<double>(e.groups.size() - 1) : 0.5;
-  return e;
+  std::vector<Effect> out(nf);
+  for (std::size_t j = 0; j < nf; ++j) {
+    const Factor& f = factors[j].factor;
+    Effect& e = out[j];
+    e.means.resize(metrics.size());
+    auto put = [&](const std::string& name, double position, const Group& g) {
+      e.groups.push_back(name);
+      e.position.push_back(position);
+      e.counts.push_back(g.rows);
+      for (std::size_t m = 0; m < metrics.size(); ++m)
+        e.means[m].push_back(g.values[m] ? g.sum[m] / double(g.values[m]) : NAN);
+    };
+    const double w = (f.upper - f.lower) / kBins;
+    for (const auto& [x, g] : by_value[j])
+      put(binned(f) ? "[" + sql_text(f.lower + x * w) + ", " + sql_text(f.lower + (x + 1) * w) + ")"
+                    : sql_text(x),
+          binned(f) ? (x + 0.5) / kBins : 0, g);
+    for (const auto& [name, g] : by_name[j]) put(name, 0, g);
+    if (!binned(f))  // levels and options: evenly by rank
+      for (size_t g = 0; g < e.groups.size(); ++g)
+        e.position[g] = e.groups.size() > 1 ? static_cast<double>(g) / static_cast<double>(e.groups.size() - 1) : 0.5;
+  }
+  return out;
 }
 
 struct Indices {
@@ -207,8 +247,10 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
   }
 
   // Main effects: the mean of each metric per level (or bin) of each factor.
-  for (const auto& fs : spec.factors) {
-    const Effect e = main_effect(db, fs.factor, columns, where);
+  const std::vector<Effect> effects = main_effects(db, spec.factors, columns, where);
+  for (std::size_t f = 0; f < spec.factors.size(); ++f) {
+    const auto& fs = spec.factors[f];
+    const Effect& e = effects[f];
     for (size_t m = 0; m < metrics.size(); ++m) {
       const auto [lo, hi] = std::minmax_element(e.means[m].begin(), e.means[m].end());
       j["main_effects"][fs.factor.name][metrics[m]] = {
