@@ -90,7 +90,7 @@ class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
       for (int i = 0; i < m_.cycle_points; ++i) v[i] = f(kd, mech::kTwoPi * i / m_.cycle_points);
       return mech::global_max_angle(
           v, [&](double phi) { return f(kd, phi); },
-          [&](double phi) { return f(kv, mech::seed(phi)).derivatives()[0]; });
+          [&](double phi) { return f(kv, mech::seed(phi)).d; });
     };
     // (Named points: GCC takes members of a temporary point for uninitialised.)
     auto position = [](const auto& m, const auto& phi) {

@@ -141,7 +141,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   if (means) {
     std::vector<double> kinks = periodic_roots(w3, w3_at);
     for (double r : periodic_roots(M, M_at)) kinks.push_back(r);
-    auto moment = [&](double phi) -> S { return swing_point(m, S(phi)).moment(); };
+    auto moment = [&](double phi, double, double) -> S { return swing_point(m, S(phi)).moment(); };
     const auto arcs = piecewise_means<S>(moment, kinks, 2 * n);
     out.mean_abs_moment = arcs.mean_abs;
     out.rms_moment = sqrt(arcs.mean_square);
@@ -149,7 +149,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   // Maxima: derivative in phi by autodiff.
   auto dabsM = [&](double phi) {
     const Dual v = swing_point(mv, seed(phi)).moment();
-    return (v.value() >= 0 ? 1.0 : -1.0) * v.derivatives()[0];
+    return (v.value() >= 0 ? 1.0 : -1.0) * v.d;
   };
   auto absM = [&](double phi) { return std::abs(swing_point(md, phi).moment()); };
   out.phi_peak_moment = global_max_angle(gridM, absM, dabsM);
@@ -157,7 +157,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   auto dP = [&](double phi) {
     FourBarPoint<Dual> p;
     four_bar_point(mv.linkage, seed(phi), p);
-    return pressure_angle(p).derivatives()[0];
+    return pressure_angle(p).d;
   };
   auto P = [&](double phi) {
     FourBarPoint<double> p;

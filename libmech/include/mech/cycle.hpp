@@ -136,7 +136,7 @@ std::vector<double> cycle_max_angles(const M& model, int n, G&& g) {
   const auto mv = model.template cast<Dual>();
   std::vector<double> v(n);
   for (int k = 0; k < n; ++k) v[k] = g(md, kTwoPi * k / n);
-  return local_max_angles(v, [&](double phi) { return g(mv, seed(phi)).derivatives()[0]; });
+  return local_max_angles(v, [&](double phi) { return g(mv, seed(phi)).d; });
 }
 
 // Angle of the global maximum of a periodic f sampled as v[k] = f(2 pi k / n),
@@ -221,9 +221,10 @@ struct ArcMeans {
 // Cycle means when f is smooth between the angles `ends` (its kinks, and its
 // zeros for |f|): Gauss-Legendre on each arc with nodes in proportion to the
 // arc's length (n per revolution, at least 12 per arc), so kinks cost no
-// accuracy. f(phi) returns a scalar S (which may carry design derivatives);
-// the arc ends are held fixed under differentiation, exact when f is
-// continuous there (the Leibniz boundary terms of adjacent arcs cancel).
+// accuracy. f(phi, cos phi, sin phi) returns a scalar S (which may carry
+// design derivatives); the arc ends are held fixed under differentiation,
+// exact when f is continuous there (the Leibniz boundary terms of adjacent
+// arcs cancel).
 // mean_abs is right when `ends` holds every sign change of f.
 template <class S, class F>
 ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
@@ -240,12 +241,23 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
     const int panels = (m + kMaxGaussNodes - 1) / kMaxGaussNodes;
     const double half = 0.5 * (b - a) / panels;
     S arc(0.0);
+    auto add = [&](const S& v, double weight) {
+      arc += weight * v;
+      out.mean_square += weight * v * v;
+    };
     for (int p = 0; p < panels; ++p) {
-      const double mid = a + (2 * p + 1) * half;
-      for (const auto& [x, w] : gauss_legendre((m + panels - 1) / panels)) {
-        const S v = f(mid + half * x);
-        arc += (w * half) * v;
-        out.mean_square += (w * half) * v * v;
+      const double mid = a + (2 * p + 1) * half, cm = std::cos(mid), sm = std::sin(mid);
+      const auto& nodes = gauss_legendre((m + panels - 1) / panels);
+      const std::size_t k = nodes.size();
+      // The nodes are +-x pairs (the table's first half holds x > 0; odd k
+      // has x = 0 in the middle): cos and sin of mid +- half x come from
+      // one cos and sin of half x.
+      for (std::size_t i = 0; i < (k + 1) / 2; ++i) {
+        const bool centre = 2 * i + 1 == k;
+        const double t = centre ? 0.0 : half * nodes[i].first, ct = std::cos(t), st = std::sin(t);
+        const double weight = nodes[i].second * half;
+        add(f(mid + t, cm * ct - sm * st, sm * ct + cm * st), weight);
+        if (!centre) add(f(mid - t, cm * ct + sm * st, sm * ct - cm * st), weight);
       }
     }
     out.mean += arc;

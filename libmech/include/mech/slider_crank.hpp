@@ -13,6 +13,12 @@
 
 #include "mech/status.hpp"
 
+// The kinematic kernels run ~100 times per cycle evaluation: always inlined
+// (GCC's size heuristic at -O2 keeps them out of line otherwise).
+#ifndef MECH_INLINE
+#define MECH_INLINE [[gnu::always_inline]] inline
+#endif
+
 namespace mech {
 
 enum class Kinematics { exact, binomial };
@@ -60,7 +66,7 @@ struct Extent {
 };
 
 template <class S>
-Extent<S> extent(const SliderCrank<S>& m, const S& c, const S& s) {
+MECH_INLINE Extent<S> extent(const SliderCrank<S>& m, const S& c, const S& s) {
   using std::sqrt;
   Extent<S> x;
   x.h = m.r * s + m.e;
@@ -78,7 +84,7 @@ Extent<S> extent(const SliderCrank<S>& m, const S& c, const S& s) {
 }
 
 template <class S>
-void first_order(const SliderCrank<S>& m, const Extent<S>& x, const S& s,
+MECH_INLINE void first_order(const SliderCrank<S>& m, const Extent<S>& x, const S& s,
                  SliderCrankVelocity<S>& v) {
   const double sg = m.sigma;
   v.dx = -m.r * s - sg * x.g;
@@ -92,7 +98,7 @@ void first_order(const SliderCrank<S>& m, const Extent<S>& x, const S& s,
 // s = sin psi (passed in so a uniform grid can rotate them without trig
 // calls). The caller guarantees assembly (assembles_over_cycle).
 template <class S>
-SliderCrankVelocity<S> slider_crank_velocity(const SliderCrank<S>& m, const S& c, const S& s) {
+MECH_INLINE SliderCrankVelocity<S> slider_crank_velocity(const SliderCrank<S>& m, const S& c, const S& s) {
   SliderCrankVelocity<S> v;
   detail::first_order(m, detail::extent(m, c, s), s, v);
   return v;
@@ -100,7 +106,7 @@ SliderCrankVelocity<S> slider_crank_velocity(const SliderCrank<S>& m, const S& c
 
 // All transfer functions up to second order (see slider_crank_velocity).
 template <class S>
-SliderCrankPoint<S> slider_crank_point(const SliderCrank<S>& m, const S& c, const S& s) {
+MECH_INLINE SliderCrankPoint<S> slider_crank_point(const SliderCrank<S>& m, const S& c, const S& s) {
   const double sg = m.sigma;
   const auto x = detail::extent(m, c, s);
   SliderCrankPoint<S> p;

@@ -77,7 +77,7 @@ struct DrivePoint {
 // Sum of mass * (velocity / w)^2 over both carts (eq. 9) and rods (eq. 10,
 // plus the rods' rotation for RodModel::full): T = w^2/2 times this.
 template <class S>
-S mass_velocity_squared(const TwinDrive<S>& d, const SliderCrankVelocity<S>& p1,
+MECH_INLINE S mass_velocity_squared(const TwinDrive<S>& d, const SliderCrankVelocity<S>& p1,
                         const SliderCrankVelocity<S>& p2) {
   const S rod_mass = d.rod_mass_per_length * d.rod_length;
   S mv2 = d.cart_mass * (p1.dx * p1.dx + p2.dx * p2.dx) +
@@ -90,7 +90,7 @@ S mass_velocity_squared(const TwinDrive<S>& d, const SliderCrankVelocity<S>& p1,
 // Energy and moments at crank angle phi given c = cos(phi), s = sin(phi) and
 // the cos/sin of the phase shift (cd, sd). check(d) must be ok.
 template <class S, class A>
-DrivePoint<S> drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S& cd,
+MECH_INLINE DrivePoint<S> drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S& cd,
                           const S& sd) {
   using std::abs;
   const auto p1 = slider_crank_point(d.mechanism(0), S(c), S(s));
@@ -209,9 +209,7 @@ std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
-  auto M = [&](double phi) {
-    return drive_point(d, std::cos(phi), std::sin(phi), cd, sd).total_moment();
-  };
+  auto M = [&](double, double c, double s) { return drive_point(d, c, s, cd, sd).total_moment(); };
   const auto r = piecewise_means<S>(M, centres, 2 * n);
   return {r.mean, r.mean_square};
 }
@@ -248,9 +246,11 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   // moment (eqs 18-20, constant speed); d|M|/dphi by autodiff in phi.
   const TwinDrive<Dual> dv = d.template cast<Dual>();
   const TwinDrive<double> dd = d.template cast<double>();
+  const double cdd = value(cd), sdd = value(sd);
+  auto at = [&](double phi) { return drive_point(dd, std::cos(phi), std::sin(phi), cdd, sdd); };
   if (needs.peak_energy) {
-    auto T = [&](double phi) { return drive_point(dd, phi).kinetic_energy; };
-    auto dT = [&](double phi) { return drive_point(dd, phi).inertia_moment; };
+    auto T = [&](double phi) { return at(phi).kinetic_energy; };
+    auto dT = [&](double phi) { return at(phi).inertia_moment; };
     m.phi_peak_energy = global_max_angle(gridT, T, dT);
     m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
     m.k1 = m.peak_kinetic_energy / m.mean_kinetic_energy;
@@ -268,10 +268,11 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     }
     m.mean_total_moment = sumM / double(n);
     m.rms_total_moment = sqrt(sumM2 / double(n));
-    auto absM = [&](double phi) { return abs(drive_point(dd, phi).total_moment()); };
-    auto dabsM = [&](double phi) {
-      const Dual M = drive_point(dv, seed(phi)).total_moment();
-      return (M.value() >= 0 ? 1.0 : -1.0) * M.derivatives()[0];
+    auto absM = [&](double phi) { return abs(at(phi).total_moment()); };
+    auto dabsM = [&](double phi) {  // cos and sin of the angle as Duals: slopes -sin, cos
+      const double c = std::cos(phi), s = std::sin(phi);
+      const Dual M = drive_point(dv, Dual(c, -s), Dual(s, c), Dual(cdd), Dual(sdd)).total_moment();
+      return (M.value() >= 0 ? 1.0 : -1.0) * M.d;
     };
     m.phi_peak_moment = global_max_angle(gridM, absM, dabsM, kinks);
     m.peak_total_moment = abs(drive_point(d, S(m.phi_peak_moment)).total_moment());
