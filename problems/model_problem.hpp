@@ -44,7 +44,7 @@ class MetricSink {
     if (!want(id)) return;
     opt::MetricValue mv;
     mv.value = mech::value(v);
-    if constexpr (mech::is_dual<S>) mv.gradient = v.derivatives();
+    if constexpr (mech::is_dual<S>) mv.gradient = mech::gradient(v);
     result.set(static_cast<opt::MetricId>(id), std::move(mv));
   }
   opt::Evaluation result;
@@ -127,7 +127,7 @@ class ModelProblem : public TabledProblem {
   auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
     if (!gradient) return f(seeded<double>(x));
     switch (variables().size()) {
-      case 1: return f(seeded<mech::DualN<1>>(x));
+      case 1: return f(seeded<mech::Dual>(x));  // value and slope: no Eigen expression templates
       case 2: return f(seeded<mech::DualN<2>>(x));
       case 3: return f(seeded<mech::DualN<3>>(x));
       case 4: return f(seeded<mech::DualN<4>>(x));
@@ -148,7 +148,7 @@ class ModelProblem : public TabledProblem {
       for (double phi : angles) {
         const S v = g(model, S(phi));
         opt::MetricValue mv{mech::value(v), {}};
-        if constexpr (mech::is_dual<S>) mv.gradient = v.derivatives();
+        if constexpr (mech::is_dual<S>) mv.gradient = mech::gradient(v);
         out.push_back(mv);
       }
       return out;
@@ -160,7 +160,8 @@ class ModelProblem : public TabledProblem {
   static std::vector<S> seeded(const Eigen::VectorXd& x) {
     std::vector<S> xs(x.size());
     for (int i = 0; i < x.size(); ++i) {
-      if constexpr (mech::is_dual<S>) xs[i] = S(x[i], static_cast<int>(x.size()), i);
+      if constexpr (std::is_same_v<S, mech::Dual>) xs[i] = mech::seed(x[i]);
+      else if constexpr (mech::is_dual<S>) xs[i] = S(x[i], static_cast<int>(x.size()), i);
       else xs[i] = x[i];
     }
     return xs;

@@ -57,6 +57,11 @@ inline Dual atan2(const Dual& y, const Dual& x) {
   return {std::atan2(y.v, x.v), (x.v * y.d - y.v * x.d) / (x.v * x.v + y.v * y.v)};
 }
 
+// The derivatives of a scalar as a vector (one entry for a Dual).
+inline Eigen::VectorXd gradient(const Dual& x) { return Eigen::VectorXd::Constant(1, x.d); }
+template <class D>
+Eigen::VectorXd gradient(const Eigen::AutoDiffScalar<D>& x) { return x.derivatives(); }
+
 inline double value(double x) { return x; }
 inline double value(const Dual& x) { return x.v; }
 template <class D>
