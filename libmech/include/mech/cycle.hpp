@@ -127,6 +127,14 @@ std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df, doub
   return out;
 }
 
+// g(model, phi) on an n-point grid, for a model of doubles.
+template <class M, class G>
+std::vector<double> cycle_samples(const M& md, int n, G& g) {
+  std::vector<double> v(n);
+  for (int k = 0; k < n; ++k) v[k] = g(md, kTwoPi * k / n);
+  return v;
+}
+
 // Refined angles of every local maximum over the cycle of g(model, phi), a
 // quantity of a model with cast<T>() (double samples on an n-point grid; the
 // angle derivative by autodiff in phi), sorted by angle.
@@ -134,9 +142,7 @@ template <class M, class G>
 std::vector<double> cycle_max_angles(const M& model, int n, G&& g) {
   const auto md = model.template cast<double>();
   const auto mv = model.template cast<Dual>();
-  std::vector<double> v(n);
-  for (int k = 0; k < n; ++k) v[k] = g(md, kTwoPi * k / n);
-  return local_max_angles(v, [&](double phi) { return g(mv, seed(phi)).d; });
+  return local_max_angles(cycle_samples(md, n, g), [&](double phi) { return g(mv, seed(phi)).d; });
 }
 
 // Angle of the global maximum of a periodic f sampled as v[k] = f(2 pi k / n),
@@ -175,6 +181,16 @@ double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std:
   }
   for (double phi : beside) consider(phi);
   return best_phi;
+}
+
+// Refined angle of the global maximum over the cycle of g(model, phi) (as
+// cycle_max_angles; global_max_angle picks among near-equal peaks).
+template <class M, class G>
+double cycle_peak_angle(const M& model, int n, G&& g) {
+  const auto md = model.template cast<double>();
+  const auto mv = model.template cast<Dual>();
+  return global_max_angle(
+      cycle_samples(md, n, g), [&](double phi) { return g(md, phi); }, [&](double phi) { return g(mv, seed(phi)).d; });
 }
 
 // Nodes and weights of the m-point Gauss-Legendre rule on [-1, 1] (Newton on

@@ -1,0 +1,330 @@
+// balanced_slider_crank: the main mechanism of the two-storey sawmill frame
+// 2R63 balanced by a fixed circular cam and springs (seed 004), against the
+// original plain slider-crank: the cosine-law error of the slider's motion,
+// the balancing torque, the crank-bearing and cam forces, the rod's force and
+// the shaking force on the frame. Defaults: the paper's data and improved
+// design. Design and readings: docs/design/balanced_slider_crank.md.
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "mech/balanced_slider_crank.hpp"
+#include "mech/cycle.hpp"
+#include "opt/parameters.hpp"
+#include "problems/model_problem.hpp"
+#include "problems/registry.hpp"
+
+namespace problems {
+namespace {
+
+struct Model {
+  double cam_offset = 0.0365 * 0.6;  // a = 0.0365 S
+  double rod_length = 0;             // 0 (auto): l2 + a
+  double spring_rate = 0;            // 0 (auto): m3 w^2
+  double spring_neutral = 0;         // s0 - S/2
+  double crank_length = 0.3, original_rod_length = 2.0;
+  double crank_speed = 320 * std::numbers::pi / 30;
+  double rod_mass = 150, rod_inertia = 0.5, rod_centre = 0.5, slider_mass = 600;
+  int gravity = 0;  // mech::Gravity
+  int springs_carry_weight = 0;
+  int cycle_points = 72;
+};
+
+enum Row { kCamOffset, kRodLength, kSpringRate, kSpringNeutral };  // the variables' rows of kTable
+
+// The variables first, in the order of Row.
+const opt::ParameterTable<Model> kTable = {
+    {variable("cam_offset", Dimension::length, kNonNegative,
+              "a: the cam centre from the crank axis, away from the slider (paper: 0.0365 S)",
+              "seed 004 eq. (1)"),
+     MECHOPT_STORED_AT(m.cam_offset)},
+    {variable("rod_length", Dimension::length, kPositive,
+              "L = l2s, the improved rod (> l1 + a); auto: original_rod_length + cam_offset, keeping s(0) = 0",
+              "seed 004 eq. (2)").or_auto(),
+     MECHOPT_STORED_AT(m.rod_length)},
+    {variable("spring_rate", Dimension::linear_stiffness, kPositive,
+              "c of the springs parallel to the stroke; auto: m3 w^2, the slider fully balanced", "seed 004 (text)")
+         .or_auto(),
+     MECHOPT_STORED_AT(m.spring_rate)},
+    {variable("spring_neutral", Dimension::length, kAnyValue,
+              "where the springs are free: slider travel s0 minus mid-stroke S/2", ""),
+     MECHOPT_STORED_AT(m.spring_neutral)},
+    {quantity("crank_length", Dimension::length, kPositive, "l1: the original crank and the cam's radius; S = 2 l1",
+              "seed 004 eq. (1)"),
+     MECHOPT_STORED_AT(m.crank_length)},
+    {quantity("original_rod_length", Dimension::length, kPositive, "l2, the original rod (> l1)", "seed 004 eq. (2)"),
+     MECHOPT_STORED_AT(m.original_rod_length)},
+    {quantity("crank_speed", Dimension::angular_speed, kPositive, "n, constant (kinetostatics)", "seed 004 (2R63)"),
+     MECHOPT_STORED_AT(m.crank_speed)},
+    {quantity("rod_mass", Dimension::mass, kNonNegative, "m2", "seed 004 eq. (3)"), MECHOPT_STORED_AT(m.rod_mass)},
+    {quantity("rod_inertia", Dimension::inertia, kNonNegative,
+              "I_S2 about the rod's centre of mass; 0.5 as printed is 1% of a uniform 2 m bar's 51.1 (flagged)",
+              "seed 004 eq. (3)"),
+     MECHOPT_STORED_AT(m.rod_inertia)},
+    {quantity("rod_centre_of_mass", Dimension::dimensionless, {0, 1, false, false},
+              "|A S2| / L, from the crank pin (not printed: mid-length)", ""),
+     MECHOPT_STORED_AT(m.rod_centre)},
+    {quantity("slider_mass", Dimension::mass, kNonNegative, "m3, the saw frame", "seed 004 eq. (3)"),
+     MECHOPT_STORED_AT(m.slider_mass)},
+    {choice("gravity", {"perpendicular", "none", "along_stroke"},
+            "across the stroke (the paper's eq. 3), none, or along it toward the crank (a vertical frame)",
+            "seed 004 eq. (3)"),
+     MECHOPT_STORED_AT(m.gravity)},
+    {choice("springs_carry_weight", {"no", "yes"}, "along_stroke: shift s0 by m3 g / c so the springs hold the frame",
+            ""),
+     MECHOPT_STORED_AT(m.springs_carry_weight)},
+    {whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""),
+     MECHOPT_STORED_AT(m.cycle_points)},
+};
+
+// The metrics, in the order of kMetrics (their MetricIds).
+struct M {
+  enum Id : int {
+    displacement_deviation,
+    velocity_deviation,
+    acceleration_deviation,
+    peak_balancing_torque,
+    original_peak_balancing_torque,
+    peak_torque_ratio,
+    torque_ratio_1,
+    torque_ratio_2,
+    torque_ratio_3,
+    torque_ratio_4,
+    mean_dynamic_coefficient,
+    peak_support_reaction,
+    original_peak_support_reaction,
+    support_reaction_ratio,
+    peak_cam_force,
+    max_cam_pressure_angle,
+    peak_rod_force,
+    peak_rod_inertia_force,
+    peak_shaking_force,
+    original_peak_shaking_force,
+    energy_swing,
+    original_energy_swing,
+    rod_length,
+  };
+};
+
+const std::vector<MetricSpec> kMetrics = {
+    {M::displacement_deviation, "displacement_deviation", ""},  // max |s - s_c| / (S/2), s_c = S/2 (1 - cos phi)
+    {M::velocity_deviation, "velocity_deviation", ""},          // max |v - v_c| / (w S/2)
+    {M::acceleration_deviation, "acceleration_deviation", ""},  // max |a - a_c| / (w^2 S/2)
+    {M::peak_balancing_torque, "peak_balancing_torque", "N m"},  // max |M_b|, eq. (4)
+    {M::original_peak_balancing_torque, "original_peak_balancing_torque", "N m"},
+    {M::peak_torque_ratio, "peak_torque_ratio", ""},  // original over improved
+    {M::torque_ratio_1, "torque_ratio_1", ""},  // n_d: |M_b| extreme of the original over the improved's,
+    {M::torque_ratio_2, "torque_ratio_2", ""},  // one per quarter turn (max, min, max, min)
+    {M::torque_ratio_3, "torque_ratio_3", ""},
+    {M::torque_ratio_4, "torque_ratio_4", ""},
+    {M::mean_dynamic_coefficient, "mean_dynamic_coefficient", ""},  // k_d: ratio of the means of the four |extremes|
+    {M::peak_support_reaction, "peak_support_reaction", "N"},       // max |R_O|, the crank bearing
+    {M::original_peak_support_reaction, "original_peak_support_reaction", "N"},
+    {M::support_reaction_ratio, "support_reaction_ratio", ""},  // original over improved
+    {M::peak_cam_force, "peak_cam_force", "N"},                 // max |N_c|
+    {M::max_cam_pressure_angle, "max_cam_pressure_angle", "rad"},  // max |nu|, tan nu = r'/r
+    {M::peak_rod_force, "peak_rod_force", "N"},                 // max |F_A|, the rod's pin force
+    {M::peak_rod_inertia_force, "peak_rod_inertia_force", "N"},  // max m2 |a_S2|
+    {M::peak_shaking_force, "peak_shaking_force", "N"},          // max |m2 a_S2 + m3 a_B|, on the frame
+    {M::original_peak_shaking_force, "original_peak_shaking_force", "N"},
+    {M::energy_swing, "energy_swing", "J"},  // max - min of kinetic + potential energy: the flywheel's work
+    {M::original_energy_swing, "original_energy_swing", "J"},
+    {M::rod_length, "rod_length", "m"},  // L (l2s)
+};
+
+template <class S>
+using Mechanism = mech::BalancedSliderCrank<S>;
+
+// Cycle quantities g(mechanism, phi), each on any scalar.
+auto torque = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).torque; };
+auto support = [](const auto& m, const auto& phi) {
+  const auto p = mech::balanced_point(m, phi);
+  return mech::hypot2(p.bearing_x, p.bearing_y);
+};
+auto cam = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).cam; };
+auto pressure = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).pressure_angle; };
+auto rod_force = [](const auto& m, const auto& phi) {
+  const auto p = mech::balanced_point(m, phi);
+  return mech::hypot2(p.pin_x, p.pin_y);
+};
+auto rod_inertia = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).rod_inertia; };
+auto shaking = [](const auto& m, const auto& phi) {
+  const auto p = mech::balanced_point(m, phi);
+  return mech::hypot2(p.inertia_x, p.inertia_y);
+};
+auto energy = [](const auto& m, const auto& phi) { return mech::mechanical_energy(m, mech::balanced_kinematics(m, phi)); };
+template <int i>
+auto deviation = [](const auto& m, const auto& phi) {
+  const auto d = mech::cosine_law_deviation(m, mech::balanced_kinematics(m, phi));
+  return i == 0 ? d.v : i == 1 ? d.d : d.dd;
+};
+
+// |g| and -g as cycle quantities.
+template <class G>
+auto absolute(G g) {
+  return [g](const auto& m, const auto& phi) {
+    using std::abs;
+    const auto v = g(m, phi);
+    return decltype(v)(abs(v));
+  };
+}
+template <class G>
+auto negative(G g) {
+  return [g](const auto& m, const auto& phi) {
+    const auto v = g(m, phi);
+    return decltype(v)(-v);
+  };
+}
+
+class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProblem> {
+ public:
+  BalancedSliderCrankProblem(Model m, bool rod_auto, std::vector<opt::Variable> vars)
+      : ModelProblem("balanced_slider_crank", kMetrics, std::move(vars)), m_(std::move(m)), rod_auto_(rod_auto),
+        slots_(opt::variable_rows(kTable, variables())) {
+    for (int row : slots_) rod_auto_ = rod_auto_ && row != kRodLength;
+  }
+
+  nlohmann::json settings() const override {
+    return {{"model", opt::parameters_json(opt::parameters(kTable, m_))},
+            {"assumptions",
+             {"crank turns at constant speed (kinetostatics); crank and sliding block massless",
+              "cam: circle of radius l1 centred at (-a, 0); frictionless slot and roller",
+              "original: the plain slider-crank l1, l2, no cam, no springs"}},
+            {"numerics",
+             {{"cycle_points", m_.cycle_points},
+              {"extrema", "grid bracket + Brent root of the angle derivative; Danskin gradients"}}},
+            {"units", "SI (m, rad, rad/s, kg, N, N m, J)"}};
+  }
+
+  // The improved mechanism at design x.
+  template <class S>
+  Mechanism<S> improved(const std::vector<S>& x) const {
+    S a(m_.cam_offset), rod(m_.rod_length), rate(m_.spring_rate), neutral(m_.spring_neutral);
+    for (size_t i = 0; i < x.size(); ++i) {
+      switch (slots_[i]) {
+        case kCamOffset: a = x[i]; break;
+        case kRodLength: rod = x[i]; break;
+        case kSpringRate: rate = x[i]; break;
+        default: neutral = x[i];
+      }
+    }
+    if (rod_auto_) rod = m_.original_rod_length + a;
+    S s0 = m_.crank_length + neutral;
+    if (m_.springs_carry_weight == 1 && static_cast<mech::Gravity>(m_.gravity) == mech::Gravity::along_stroke &&
+        mech::value(rate) > 0)
+      s0 = s0 - m_.slider_mass * mech::kStandardGravity / rate;
+    return {S(m_.crank_length), a, rod, S(m_.crank_length + m_.original_rod_length), S(m_.rod_mass),
+            S(m_.rod_inertia), S(m_.rod_centre), S(m_.slider_mass), rate, s0, S(m_.crank_speed),
+            static_cast<mech::Gravity>(m_.gravity), true};
+  }
+
+  // The original mechanism: no cam, no springs.
+  template <class S>
+  Mechanism<S> original() const {
+    const S l1(m_.crank_length);
+    return {l1, S(0.0), S(m_.original_rod_length), S(m_.crank_length + m_.original_rod_length), S(m_.rod_mass),
+            S(m_.rod_inertia), S(m_.rod_centre), S(m_.slider_mass), S(0.0), l1, S(m_.crank_speed),
+            static_cast<mech::Gravity>(m_.gravity), false};
+  }
+
+  template <class S>
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
+    const Mechanism<S> imp = improved(x), orig = original<S>();
+    out.put(M::rod_length, imp.rod_length);
+    for (const auto* m : {&imp, &orig}) {
+      if (const mech::Status st = mech::check(*m); st != mech::Status::ok) {
+        out.result.status = st;
+        return;
+      }
+    }
+    const int n = m_.cycle_points;
+    // The value of g at its refined cycle maximum (Danskin: the gradient at that fixed angle).
+    auto peak = [n](const Mechanism<S>& m, const auto& g) { return g(m, S(mech::cycle_peak_angle(m, n, g))); };
+    out.put(M::displacement_deviation, peak(imp, absolute(deviation<0>)));
+    out.put(M::velocity_deviation, peak(imp, absolute(deviation<1>)));
+    out.put(M::acceleration_deviation, peak(imp, absolute(deviation<2>)));
+    const bool torques = out.want_any(M::peak_torque_ratio, M::torque_ratio_1, M::torque_ratio_2, M::torque_ratio_3,
+                                      M::torque_ratio_4, M::mean_dynamic_coefficient);
+    if (torques || out.want_any(M::peak_balancing_torque, M::original_peak_balancing_torque)) {
+      const S peak_imp = peak(imp, absolute(torque)), peak_orig = peak(orig, absolute(torque));
+      out.put(M::peak_balancing_torque, peak_imp);
+      out.put(M::original_peak_balancing_torque, peak_orig);
+      out.put(M::peak_torque_ratio, peak_orig / peak_imp);
+    }
+    if (torques) {
+      const auto at_imp = mech::quarter_torque_extremum_angles(imp, n);
+      const auto at_orig = mech::quarter_torque_extremum_angles(orig, n);
+      S sum_imp(0.0), sum_orig(0.0);
+      for (int i = 0; i < 4; ++i) {
+        const S e_imp = absolute(torque)(imp, S(at_imp[i])), e_orig = absolute(torque)(orig, S(at_orig[i]));
+        out.put(M::torque_ratio_1 + i, S(e_orig / e_imp));
+        sum_imp += e_imp;
+        sum_orig += e_orig;
+      }
+      out.put(M::mean_dynamic_coefficient, S(sum_orig / sum_imp));
+    }
+    if (out.want_any(M::peak_support_reaction, M::original_peak_support_reaction, M::support_reaction_ratio)) {
+      const S r_imp = peak(imp, support), r_orig = peak(orig, support);
+      out.put(M::peak_support_reaction, r_imp);
+      out.put(M::original_peak_support_reaction, r_orig);
+      out.put(M::support_reaction_ratio, S(r_orig / r_imp));
+    }
+    if (out.want(M::peak_cam_force)) out.put(M::peak_cam_force, peak(imp, absolute(cam)));
+    if (out.want(M::max_cam_pressure_angle)) out.put(M::max_cam_pressure_angle, peak(imp, absolute(pressure)));
+    if (out.want(M::peak_rod_force)) out.put(M::peak_rod_force, peak(imp, rod_force));
+    if (out.want(M::peak_rod_inertia_force)) out.put(M::peak_rod_inertia_force, peak(imp, rod_inertia));
+    if (out.want(M::peak_shaking_force)) out.put(M::peak_shaking_force, peak(imp, shaking));
+    if (out.want(M::original_peak_shaking_force)) out.put(M::original_peak_shaking_force, peak(orig, shaking));
+    auto swing = [&](const Mechanism<S>& m) { return S(peak(m, energy) + peak(m, negative(energy))); };
+    if (out.want(M::energy_swing)) out.put(M::energy_swing, swing(imp));
+    if (out.want(M::original_energy_swing)) out.put(M::original_energy_swing, swing(orig));
+  }
+
+  opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
+    const auto imp = improved(std::vector<double>(x.data(), x.data() + x.size()));
+    const auto orig = original<double>();
+    if (mech::check(imp) != mech::Status::ok || mech::check(orig) != mech::Status::ok) return {};
+    opt::CycleCurves c{{"crank_angle", "balancing_torque", "original_balancing_torque", "support_reaction",
+                        "cam_force", "slider_travel"},
+                       {}};
+    for (int i = 0; i <= n; ++i) {
+      const double phi = mech::kTwoPi * i / n;
+      const auto p = mech::balanced_point(imp, phi);
+      c.add_row({phi, p.torque, torque(orig, phi), mech::hypot2(p.bearing_x, p.bearing_y), p.cam, p.k.s});
+    }
+    return c;
+  }
+
+  std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
+    if (mech::check(improved(std::vector<double>(x.data(), x.data() + x.size()))) != mech::Status::ok) return {};
+    auto model_at = [&](const auto& xs) { return improved(xs); };
+    const int n = m_.cycle_points;
+    if (metric == M::peak_balancing_torque) return cycle_local_maxima(x, n, model_at, absolute(torque));
+    if (metric == M::peak_support_reaction) return cycle_local_maxima(x, n, model_at, support);
+    if (metric == M::peak_cam_force) return cycle_local_maxima(x, n, model_at, absolute(cam));
+    return {};
+  }
+
+ private:
+  Model m_;
+  bool rod_auto_;           // L = l2 + a (tracks a variable cam offset)
+  std::vector<int> slots_;  // table row of each variable
+};
+
+std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
+  Model m;
+  opt::read_parameters(root, kTable, m);
+  const bool rod_auto = m.rod_length == 0;
+  if (rod_auto) m.rod_length = m.original_rod_length + m.cam_offset;
+  if (m.spring_rate == 0) m.spring_rate = m.slider_mass * m.crank_speed * m.crank_speed;
+  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
+  return std::make_unique<BalancedSliderCrankProblem>(std::move(m), rod_auto, std::move(vars));
+}
+
+const Registration kRegistration{
+    {"balanced_slider_crank",
+     "sawmill-frame slider-crank balanced by a fixed circular cam and springs, against the original (seed 004)",
+     opt::parameters(kTable, Model{}), make}};
+
+}  // namespace
+}  // namespace problems
