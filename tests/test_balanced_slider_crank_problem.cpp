@@ -12,7 +12,7 @@
 //   (30 digits; its JSON keys are named beside each value) for every
 //   reproduced figure. The paper's own figures are in comments; where ours
 //   differ (n_d 2 and 3, k_d, the acceleration error) the test pins ours:
-//   docs/design/balanced_slider_crank_reproduction.md gives the reasons.
+//   docs/reproduction.md (seed 004) gives the reasons.
 #include <gtest/gtest.h>
 
 #include <algorithm>
