@@ -60,7 +60,7 @@ S lever_pivot_distance(const CrankPress<S>& k) {
 
 // How far the design is from not assembling [m]: l_sh - r for the slider
 // (lambda < 1, (7.5)); the Grashof margin l_sh + l_p - r - |OC| of the
-// crank-rocker for the four-bar.
+// crank-rocker for the four-bar (>= 0 exactly when r <= l_sh and r <= l_p).
 template <class S>
 S assembly_margin(const CrankPress<S>& k) {
   return k.lever == PressLever::slider ? S(k.l_sh - k.r) : S(k.l_sh + k.l_p - k.r - lever_pivot_distance(k));
@@ -73,10 +73,8 @@ Status check(const CrankPress<S>& k) {
     if (!(value(*v) > 0)) return Status::invalid_parameter;
   if (!(value(k.b) >= 0)) return Status::invalid_parameter;
   if (!(value(k.r) < value(k.l_sh))) return Status::cannot_assemble;
-  if (k.lever == PressLever::four_bar) {
-    if (!(value(k.r) < value(k.l_p))) return Status::cannot_assemble;
-    if (!(value(assembly_margin(k)) >= 0)) return Status::not_grashof;
-  }
+  // Four-bar: then Grashof holds too, (l_sh + l_p - r)^2 - |OC|^2 = 2 (l_sh - r)(l_p - r).
+  if (k.lever == PressLever::four_bar && !(value(k.r) < value(k.l_p))) return Status::cannot_assemble;
   // The compaction must start inside the working half-turn.
   if (!(value(k.h) < value(press_stroke(k)))) return Status::invalid_parameter;
   return Status::ok;
