@@ -201,9 +201,12 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
     const double phi_c = mech::compaction_start(kd);
     const double phi_peak = mech::peak_torque_angle(kd, phi_c, m_.stroke_points);
     const S phi_cs = mech::compaction_start(k, phi_c);
+    // Danskin: the peak's gradient at its fixed angle, or with phi_c's motion
+    // when the peak is at the compaction start.
     const S peak = mech::pressing_torque(k, phi_peak == phi_c ? phi_cs : S(phi_peak));
     out.put(M::peak_crank_torque, peak);
-    out.put(M::peak_torque_angle, phi_peak == phi_c ? phi_cs : S(phi_peak));
+    if (out.want(M::peak_torque_angle))
+      out.put(M::peak_torque_angle, phi_peak == phi_c ? phi_cs : mech::peak_angle(k, phi_peak));
     out.put(M::compaction_start_angle, phi_cs);
     if (out.want(M::mean_pressing_torque)) out.put(M::mean_pressing_torque, mech::mean_pressing_torque(k, phi_cs));
     out.put(M::peak_drive_power, S(peak * (drive / m_.overload_factor)));

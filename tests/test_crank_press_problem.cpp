@@ -265,14 +265,16 @@ TEST(CrankPressProblem, InfeasibleDesignsAndConfigErrors) {
   // lambda >= 1: the rod cannot reach.
   EXPECT_EQ(evaluate(*press(v1 + "rod_length: 0.2 m")).status, mech::Status::cannot_assemble);
   // Compaction deeper than the stroke (100.3 mm).
-  const auto deep = evaluate(*press(v1 + "depth: 120 mm"));
+  Row deeper = kTable72[0];
+  deeper.h_mm = 120;
+  const auto deep = evaluate(*press(variant_model(deeper)));
   EXPECT_EQ(deep.status, mech::Status::invalid_parameter);
   EXPECT_FALSE(deep.message.empty());
   // Four-bar: the lever arm shorter than the crank. (With r < l_sh and
   // r < l_p the crank-rocker is always Grashof: (l_sh + l_p - r)^2 - |OC|^2
   // = 2 (l_sh - r)(l_p - r) >= 0.)
   const std::string four_bar = "lever: four_bar, lever_pivot: same_side, ";
-  EXPECT_EQ(evaluate(*press(v1 + four_bar + "lever_arm: 0.19 m, pusher_arm: 0.1 m, depth: 1 mm")).status,
+  EXPECT_EQ(evaluate(*press(v1 + four_bar + "lever_arm: 0.19 m, pusher_arm: 0.1 m")).status,
             mech::Status::cannot_assemble);
   const auto fb = evaluate(*press(v1 + four_bar));
   const double oc = std::sqrt(0.5 * 0.5 + 1.156 * 1.156 - 0.2 * 0.2);

@@ -111,7 +111,10 @@ PistonMotion<S> piston_motion(const CrankPress<S>& k, const S& phi) {
   const S dx = k.l_sh - ax, dy = sigma * yc - ay;  // D = C - A
   const S dd = sqrt(dx * dx + dy * dy);
   const S kk = (k.l_sh * k.l_sh - k.l_p * k.l_p - dd * dd) / (2.0 * k.l_p);
-  const S psi = atan2(sigma * dy, dx) + asin(kk / dd);  // |B - A| = l_sh, the branch with psi near 0
+  // |B - A| = l_sh, the branch with psi near 0 (the terms named: GCC 12
+  // takes AutoDiff's sum of the two for a use after free).
+  const S sdy = sigma * dy, beta = atan2(sdy, dx), gamma = asin(S(kk / dd));
+  const S psi = beta + gamma;
   const S sp = sin(psi), cp = cos(psi);
   const S bx = dx + k.l_p * sp, by = dy - sigma * k.l_p * cp;  // B - A
   // psi' = (B - A).A' / (l_p (B - A).(cos psi, sigma sin psi)), A' = (-A_y, A_x)
@@ -164,6 +167,20 @@ inline double peak_torque_angle(const CrankPress<double>& k, double phi_c, int n
   for (double phi : roots)
     if (const double v = pressing_torque(k, phi); v > top) top = v, best = phi;
   return best;
+}
+
+// An interior peak angle phi* with its design derivative, -M_phix / M_phiphi
+// (implicit function theorem on dM/dphi = 0): the exact design gradient of M
+// and the exact dM/dphi, each differenced in phi over +-delta (1e-4 rad:
+// truncation ~1e-9 relative, roundoff ~1e-12).
+template <class S>
+S peak_angle(const CrankPress<S>& k, double phi) {
+  constexpr double delta = 1e-4;
+  const auto kv = k.template cast<Dual>();
+  const S slope = (pressing_torque(k, S(phi + delta)) - pressing_torque(k, S(phi - delta))) / (2 * delta);
+  const double curvature =
+      (pressing_torque(kv, seed(phi + delta)).d - pressing_torque(kv, seed(phi - delta)).d) / (2 * delta);
+  return S(phi) - S(slope - value(slope)) / curvature;
 }
 
 // Mean pressing torque over [phi_c, pi] (Gauss-Legendre: M is analytic
