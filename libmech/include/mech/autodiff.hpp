@@ -48,6 +48,7 @@ inline bool operator>(const Dual& a, const Dual& b) { return a.v > b.v; }
 inline bool operator<=(const Dual& a, const Dual& b) { return a.v <= b.v; }
 inline bool operator>=(const Dual& a, const Dual& b) { return a.v >= b.v; }
 inline Dual sqrt(const Dual& a) { const double r = std::sqrt(a.v); return {r, a.d / (2 * r)}; }
+inline Dual exp(const Dual& a) { const double e = std::exp(a.v); return {e, e * a.d}; }
 inline Dual abs(const Dual& a) { return a.v < 0 ? -a : a; }
 inline Dual cos(const Dual& a) { return {std::cos(a.v), -std::sin(a.v) * a.d}; }
 inline Dual sin(const Dual& a) { return {std::sin(a.v), std::cos(a.v) * a.d}; }

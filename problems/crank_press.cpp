@@ -1,0 +1,257 @@
+// crank_press: the crank-lever brick press of seed 003, exercise 7 (eqs
+// 7.1-7.8, Tables 7.1-7.2): pressing force from the pressure law, the
+// crankshaft torque at the guide's tabulated angle and its true maximum over
+// the pressing stroke, and the drive power. The readings the guide leaves
+// open are choices named as in docs/design/crank_press.md.
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "mech/crank_press.hpp"
+#include "opt/parameters.hpp"
+#include "problems/model_problem.hpp"
+#include "problems/registry.hpp"
+
+namespace problems {
+namespace {
+
+// Table 7.1 [m]: r, l_sh, l, l_p of the presses SM-816 and MS-152.
+struct Preset {
+  double r, l_sh, l, l_p;
+};
+constexpr Preset kPresets[] = {{0.200, 0.500, 0.290, 1.156}, {0.200, 0.550, 0.275, 1.050}};
+
+struct Model {
+  double r = 0, l_sh = 0, l = 0, l_p = 0;  // 0 (auto): the press's (Table 7.1)
+  double stroke = 0;                       // 0 (auto): the pusher arm is free; else l = S l_p / (2 r)
+  int press = 0;                           // SM-816, MS-152
+  double depth = 0.020, pressure_factor = 0.035e6, brick_area = 0.03, exponent = 1.4;
+  int bricks = 4;
+  int depth_unit = 0;  // cm, mm
+  int euler = 0;       // exact, 2.72
+  double tabulated_angle = 120 * std::numbers::pi / 180, crank_speed = 20.7;
+  double efficiency = 0.8, overload_factor = 1.5, overload_factor_max = 1.8;
+  int pressing_end = 0, lever = 0, lever_pivot = 0, force = 1;
+  int stroke_points = 64;
+
+  // b [1/m]: 1.4 per depth unit, and e^(b d) as 2.72^(b d) with `euler: 2.72`.
+  double exponent_per_m() const {
+    return exponent / (depth_unit == 0 ? 0.01 : 0.001) * (euler == 0 ? 1.0 : std::log(2.72));
+  }
+};
+
+// The variables first, in the order of the lengths in press() below.
+const opt::ParameterTable<Model> kTable = {
+    {variable("crank_radius", Dimension::length, kPositive, "r; auto: the press's", "seed 003 Table 7.1").or_auto(),
+     MECHOPT_STORED_AT(m.r)},
+    {variable("rod_length", Dimension::length, kPositive, "l_sh, connecting rod; auto: the press's",
+              "seed 003 eq. (7.5)").or_auto(),
+     MECHOPT_STORED_AT(m.l_sh)},
+    {variable("pusher_arm", Dimension::length, kPositive,
+              "l, lever pivot to the piston pusher; auto: the press's, or S l_p / (2 r) with a stroke",
+              "seed 003 eq. (7.3)").or_auto(),
+     MECHOPT_STORED_AT(m.l)},
+    {variable("lever_arm", Dimension::length, kPositive, "l_p, lever pivot to the rod joint; auto: the press's",
+              "seed 003 eq. (7.3)").or_auto(),
+     MECHOPT_STORED_AT(m.l_p)},
+    {quantity("stroke", Dimension::length, kPositive,
+              "piston stroke held: the pusher arm follows, l = S l_p / (2 r); auto: not held", "S = 2 r l / l_p")
+         .or_auto(),
+     MECHOPT_STORED_AT(m.stroke)},
+    {choice("press", {"SM-816", "MS-152"}, "the press of Table 7.1 giving the lengths left at auto", "seed 003 Table 7.1"),
+     MECHOPT_STORED_AT(m.press)},
+    {quantity("depth", Dimension::length, kPositive, "h, compaction depth at the end of the stroke",
+              "seed 003 eq. (7.2), Table 7.2"),
+     MECHOPT_STORED_AT(m.depth)},
+    {quantity("pressure_factor", Dimension::pressure, kPositive, "a of p = a e^(b h)", "seed 003 eq. (7.2), Table 7.2"),
+     MECHOPT_STORED_AT(m.pressure_factor)},
+    {quantity("pressure_exponent", Dimension::dimensionless, kNonNegative, "b of p = a e^(b h), per depth_unit",
+              "seed 003 eq. (7.2)"),
+     MECHOPT_STORED_AT(m.exponent)},
+    {choice("depth_unit", {"cm", "mm"}, "unit of h in e^(b h); mm as printed gives 1e10-1e28 MPa",
+            "seed 003 eq. (7.2)"),
+     MECHOPT_STORED_AT(m.depth_unit)},
+    {choice("euler", {"exact", "2.72"}, "the base of e^(b h): e, or the guide's 2.72", "seed 003 eq. (7.2)"),
+     MECHOPT_STORED_AT(m.euler)},
+    {whole("bricks", {1, 1000, false, false}, "m, bricks pressed at once", "seed 003 eq. (7.1), Table 7.2"),
+     MECHOPT_STORED_AT(m.bricks)},
+    {quantity("brick_area", Dimension::dimensionless, kPositive, "F, pressed face of one brick, in m^2 (a plain number)",
+              "seed 003 eq. (7.1)"),
+     MECHOPT_STORED_AT(m.brick_area)},
+    {quantity("tabulated_angle", Dimension::angle, {0, std::numbers::pi, true, true},
+              "phi of Table 7.2, where the guide takes the torque", "seed 003 eq. (7.5), Table 7.2"),
+     MECHOPT_STORED_AT(m.tabulated_angle)},
+    {quantity("crank_speed", Dimension::angular_speed, kPositive, "omega", "seed 003 eq. (7.8), Table 7.2"),
+     MECHOPT_STORED_AT(m.crank_speed)},
+    {quantity("efficiency", Dimension::dimensionless, {0, 1, true, false}, "eta of the drive", "seed 003 eq. (7.8)"),
+     MECHOPT_STORED_AT(m.efficiency)},
+    {quantity("overload_factor", Dimension::dimensionless, kPositive,
+              "motor overload factor (\"b\" of 7.8), low end of 1.5-1.8: the larger motor", "seed 003 eq. (7.8)"),
+     MECHOPT_STORED_AT(m.overload_factor)},
+    {quantity("overload_factor_max", Dimension::dimensionless, kPositive, "motor overload factor, high end",
+              "seed 003 eq. (7.8)"),
+     MECHOPT_STORED_AT(m.overload_factor_max)},
+    {choice("pressing_end", {"inner", "outer"},
+            "dead centre ending the pressing: inner (the rod pulls, the sign of 7.6) or outer", "seed 003 eq. (7.6)"),
+     MECHOPT_STORED_AT(m.pressing_end)},
+    {choice("lever", {"slider", "four_bar"}, "rod end on a line (7.3)-(7.6), or on the lever's arc", "seed 003 eq. (7.3)"),
+     MECHOPT_STORED_AT(m.lever)},
+    {choice("lever_pivot", {"none", "same_side", "opposite_side"},
+            "four_bar (required): the lever pivot on the crank pin's side of the dead-centre line, or opposite", ""),
+     MECHOPT_STORED_AT(m.lever_pivot)},
+    {choice("force", {"constant", "pressure_law"},
+            "the final pressure over the whole compaction (the guide), or (7.2) at the current depth",
+            "seed 003 eqs (7.1)-(7.2)"),
+     MECHOPT_STORED_AT(m.force)},
+    {whole("stroke_points", {4, 100000, false, false}, "grid cells over the pressing stroke for the peak torque", ""),
+     MECHOPT_STORED_AT(m.stroke_points)},
+};
+
+// The metrics, in the order of kMetrics (their MetricIds).
+struct M {
+  enum Id : int {
+    stroke,
+    max_pressure,
+    max_pressing_force,
+    tabulated_crank_torque,
+    tabulated_drive_power,
+    peak_crank_torque,
+    peak_torque_angle,
+    compaction_start_angle,
+    mean_pressing_torque,
+    peak_drive_power,
+    peak_drive_power_max_overload,
+    max_rod_angle,
+    lever_half_swing,
+    assembly_margin,
+    pusher_arm,
+  };
+};
+
+const std::vector<MetricSpec> kMetrics = {
+    {M::stroke, "stroke", "m"},                                // S_k = 2 r l / l_p
+    {M::max_pressure, "max_pressure", "Pa"},                   // (7.2) at h
+    {M::max_pressing_force, "max_pressing_force", "N"},        // (7.1) Q at h
+    {M::tabulated_crank_torque, "tabulated_crank_torque", "N m"},  // the guide: Q at h, (7.3)-(7.7) at Table 7.2's phi
+    {M::tabulated_drive_power, "tabulated_drive_power", "W"},  // (7.8) of it, overload_factor
+    {M::peak_crank_torque, "peak_crank_torque", "N m"},        // max over [phi_c, pi] for the chosen force
+    {M::peak_torque_angle, "peak_torque_angle", "rad"},
+    {M::compaction_start_angle, "compaction_start_angle", "rad"},  // phi_c: the piston meets the mass
+    {M::mean_pressing_torque, "mean_pressing_torque", "N m"},  // mean over [phi_c, pi]: work / (pi - phi_c)
+    {M::peak_drive_power, "peak_drive_power", "W"},            // (7.8) M_max w / (eta k), k = overload_factor
+    {M::peak_drive_power_max_overload, "peak_drive_power_max_overload", "W"},  // k = overload_factor_max
+    {M::max_rod_angle, "max_rod_angle", "rad"},                // asin(r / l_sh), (7.5) at phi = 90 deg
+    {M::lever_half_swing, "lever_half_swing", "rad"},          // asin(r / l_p)
+    {M::assembly_margin, "assembly_margin", "m"},              // slider l_sh - r; four_bar the Grashof margin
+    {M::pusher_arm, "pusher_arm", "m"},                        // l (follows the stroke when held)
+};
+
+class CrankPressProblem : public ModelProblem<CrankPressProblem> {
+ public:
+  CrankPressProblem(Model m, std::vector<opt::Variable> vars)
+      : ModelProblem("crank_press", kMetrics, std::move(vars)), m_(std::move(m)),
+        slots_(opt::variable_rows(kTable, variables())) {}
+
+  nlohmann::json settings() const override {
+    nlohmann::json model = opt::parameters_json(opt::parameters(kTable, m_));
+    const double p = m_.pressure_factor * std::exp(m_.exponent_per_m() * m_.depth);
+    model["derived"] = {{"pressure_exponent_per_m", m_.exponent_per_m()}, {"max_pressure", p}};
+    nlohmann::json warnings = nlohmann::json::array();
+    if (!(p >= 6e6 && p <= 40e6))
+      warnings.push_back("p_out_of_law_range: p = " + std::to_string(p / 1e6) +
+                         " MPa lies outside 6-40 MPa, where the guide states b = 1.4");
+    return {{"model", model},
+            {"warnings", warnings},
+            {"assumptions",
+             {"quasi-static and frictionless: M = Q ds/dphi (virtual work)",
+              "force zero before the piston meets the mass (phi < phi_c)"}},
+            {"numerics",
+             {{"peak", "grid over [phi_c, pi] + Brent root of dM/dphi, against M(phi_c); Danskin gradients, "
+                       "with d(phi_c)/dx when the peak is at phi_c"},
+              {"mean", "128-point Gauss-Legendre over [phi_c, pi]"}}}};
+  }
+
+  template <class S>
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
+    using std::asin;
+    using std::exp;
+    const mech::CrankPress<S> k = press(x);
+    if (const mech::Status st = mech::check(k); st != mech::Status::ok) {
+      out.result.status = st;
+      if (st == mech::Status::invalid_parameter && mech::value(k.h) >= mech::value(mech::press_stroke(k)))
+        out.result.message = "compaction depth h is not below the stroke 2 r l / l_p";
+      return;
+    }
+    out.put(M::stroke, mech::press_stroke(k));
+    out.put(M::pusher_arm, k.l);
+    out.put(M::max_rod_angle, asin(k.r / k.l_sh));
+    out.put(M::lever_half_swing, asin(k.r / k.l_p));
+    out.put(M::assembly_margin, mech::assembly_margin(k));
+    const S q = k.area * k.a * exp(k.b * k.h);  // (7.1)-(7.2) at h
+    out.put(M::max_pressure, S(k.a * exp(k.b * k.h)));
+    out.put(M::max_pressing_force, q);
+    const double drive = m_.crank_speed / m_.efficiency;  // (7.8) N = M w / (eta k)
+    const S guide = q * mech::piston_motion(k, S(m_.tabulated_angle)).ds;
+    out.put(M::tabulated_crank_torque, guide);
+    out.put(M::tabulated_drive_power, S(guide * (drive / m_.overload_factor)));
+    if (!out.want_any(M::peak_crank_torque, M::peak_torque_angle, M::compaction_start_angle, M::mean_pressing_torque,
+                      M::peak_drive_power, M::peak_drive_power_max_overload))
+      return;
+    const auto kd = k.template cast<double>();
+    const double phi_c = mech::compaction_start(kd);
+    const double phi_peak = mech::peak_torque_angle(kd, phi_c, m_.stroke_points);
+    const S phi_cs = mech::compaction_start(k, phi_c);
+    // Danskin: the peak's gradient at its fixed angle, or with phi_c's motion
+    // when the peak is at the compaction start.
+    const S peak = mech::pressing_torque(k, phi_peak == phi_c ? phi_cs : S(phi_peak));
+    out.put(M::peak_crank_torque, peak);
+    if (out.want(M::peak_torque_angle))
+      out.put(M::peak_torque_angle, phi_peak == phi_c ? phi_cs : mech::peak_angle(k, phi_peak));
+    out.put(M::compaction_start_angle, phi_cs);
+    if (out.want(M::mean_pressing_torque)) out.put(M::mean_pressing_torque, mech::mean_pressing_torque(k, phi_cs));
+    out.put(M::peak_drive_power, S(peak * (drive / m_.overload_factor)));
+    out.put(M::peak_drive_power_max_overload, S(peak * (drive / m_.overload_factor_max)));
+  }
+
+ private:
+  template <class S>
+  mech::CrankPress<S> press(const std::vector<S>& x) const {
+    S len[4] = {S(m_.r), S(m_.l_sh), S(m_.l), S(m_.l_p)};  // rows 0-3 of kTable
+    for (size_t i = 0; i < x.size(); ++i) len[slots_[i]] = x[i];
+    if (m_.stroke > 0) len[2] = m_.stroke * len[3] / (2.0 * len[0]);
+    return {len[0], len[1], len[2], len[3], S(m_.depth), S(m_.pressure_factor), S(m_.exponent_per_m()),
+            S(m_.bricks * m_.brick_area), static_cast<mech::PressingEnd>(m_.pressing_end),
+            static_cast<mech::PressLever>(m_.lever),
+            m_.lever_pivot == 2 ? mech::LeverPivot::opposite_side : mech::LeverPivot::same_side,
+            static_cast<mech::PressForce>(m_.force)};
+  }
+
+  Model m_;
+  std::vector<int> slots_;  // table row of each variable
+};
+
+std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
+  Model m;
+  opt::read_parameters(root, kTable, m);
+  const opt::ConfigNode model = root.has("model") ? root.at("model") : root;
+  if ((m.lever == 1) != (m.lever_pivot != 0))
+    model.fail(m.lever == 1 ? "lever: four_bar needs lever_pivot: same_side or opposite_side"
+                            : "lever_pivot goes with lever: four_bar");
+  if (m.stroke > 0 && m.l > 0) model.fail("pusher_arm follows the stroke held (l = S l_p / (2 r)): give one of them");
+  const Preset& p = kPresets[m.press];
+  for (auto [v, preset] : {std::pair{&m.r, p.r}, {&m.l_sh, p.l_sh}, {&m.l_p, p.l_p}, {&m.l, p.l}})
+    if (*v == 0) *v = preset;
+  if (m.stroke > 0) m.l = m.stroke * m.l_p / (2 * m.r);
+  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
+  for (const auto& v : vars)
+    if (v.name == "pusher_arm" && m.stroke > 0)
+      root.at("variables").at(v.name).fail("the pusher arm follows the stroke held (l = S l_p / (2 r))");
+  return std::make_unique<CrankPressProblem>(std::move(m), std::move(vars));
+}
+
+const Registration kRegistration{
+    {"crank_press", "crank-lever brick press: pressing force, crankshaft torque and drive power (seed 003)",
+     opt::parameters(kTable, Model{}), make}};
+
+}  // namespace
+}  // namespace problems
