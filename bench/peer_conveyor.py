@@ -7,10 +7,11 @@ Prints JSON rows {case: {seconds, value}}; run_bench.py turns them into ratios.
 """
 import json
 import math
-import timeit
 
 import numpy as np
 from scipy import optimize
+
+from peer_timing import timed
 
 A, B, THETA, L_CB = 1.0, 2.2, math.radians(16), 1.0
 W1, MN, M3 = 12.0, 200.0, 3200.0
@@ -78,13 +79,6 @@ def optimum():
                                           "fun": lambda x: math.radians(60) - max_pressure(x[0])}],
                             options={"ftol": 1e-12, "maxiter": 200})
     return res.x[0]
-
-
-def timed(fn):
-    t = timeit.Timer(fn)
-    number, _ = t.autorange()
-    runs = sorted(t.repeat(repeat=5, number=number))
-    return runs[2] / number, fn()
 
 
 def main():

@@ -3,8 +3,10 @@
 writes build/bench-results.json: one row per case with mechopt and peer
 medians, their ratio (peer_seconds / mechopt_seconds) and each one's relative
 error against the high-precision references (tools/reference_seed000.json,
-tools/reference_seed002.json).
+tools/reference_seed002.json, bench/reference_press_sawmill.json).
 Usage: /usr/bin/python3 bench/run_bench.py [--build build] [--repetitions 5]
+       /usr/bin/python3 bench/run_bench.py --only press_sawmill   (the crank press and
+       the sawmill alone: their bench, peers, rows and docs block; a minute)
 """
 import argparse
 import datetime
@@ -410,18 +412,92 @@ def drivers_blocks(m):
     return blocks
 
 
+# The crank press (seed 003) and the sawmill's balanced slider-crank (seed
+# 004): bench/bench_press_sawmill.cpp against bench/peer_crank_press.py and
+# bench/peer_balanced_slider_crank.py, errors against
+# bench/reference_press_sawmill.json (printed by tests/ref/*_ref.py).
+PRESS_SAWMILL_BINARY = "bench_press_sawmill"
+PRESS_SAWMILL_PEERS = ("peer_crank_press.py", "peer_balanced_slider_crank.py")
+
+
+def press_sawmill_cases():
+    """(case, mechopt benchmark, peer case, reference, peer method, label) of the press and the sawmill."""
+    ref = json.load(open(os.path.join(HERE, "reference_press_sawmill.json")))
+    press, saw = ref["crank_press"], ref["balanced_slider_crank"]
+    grid = "numpy, 64 cells over [phi_c, pi], brentq for phi_c"
+    return [
+        ("press_peak_constant", "BM_PressPeakTorque/0", "press_peak_constant", press["peak_torque_constant"],
+         grid + " (the peak is at phi_c)",
+         "press SM-816, variant 1: peak torque, constant force"),
+        ("press_peak_pressure_law", "BM_PressPeakTorque/1", "press_peak_pressure_law",
+         press["peak_torque_pressure_law"], grid + " + minimize_scalar refine",
+         "press SM-816, variant 1: peak torque, pressure law (7.2)"),
+        ("sawmill_peak_torque", "BM_SawmillMetrics/0", "sawmill_peak_torque", saw["peak_balancing_torque"],
+         "numpy Newton-Euler, 72 points + minimize_scalar refine",
+         "sawmill, improved mechanism: peak \\|M_b\\| alone"),
+        ("sawmill_all_metrics", "BM_SawmillMetrics/1", "sawmill_all_metrics", saw["peak_balancing_torque"],
+         "as above, 17 of the 23 metrics (no n_d, k_d), each peak refined",
+         "sawmill, improved and original: all metrics (error of peak \\|M_b\\|)"),
+    ]
+
+
+def case_rows(cases, m, peer):
+    rows = []
+    for case, bm, pc, reference, peer_method, *_ in cases:
+        a, p = m[bm], peer[pc]
+        value = a["gradient"] if case == "cycle_mean_gradient" else a["value"]
+        rows.append({"case": case, "mechopt_benchmark": bm, "peer_method": peer_method,
+                     "mechopt_seconds": a["seconds"], "peer_seconds": p["seconds"],
+                     "ratio": p["seconds"] / a["seconds"],
+                     "mechopt_error": rel(value, reference) if reference else None,
+                     "peer_error": rel(p["value"], reference) if reference else None})
+    return rows
+
+
+def press_sawmill_block(row):
+    cases = press_sawmill_cases()
+    body = [[label, fmt_time(row[c]["mechopt_seconds"]), fmt_time(row[c]["peer_seconds"]),
+             fmt_ratio(row[c]["ratio"]), fmt_err(row[c]["mechopt_error"]), fmt_err(row[c]["peer_error"]), method]
+            for c, _, _, _, method, label in cases]
+    r = [row[c[0]]["ratio"] for c in cases]
+    return (table(["case", "mechopt", "peer", "ratio", "mechopt error", "peer error", "peer method"], body) +
+            f"\n\nRatios here run from {fmt_ratio(min(r))}x to {fmt_ratio(max(r))}x.")
+
+
+def run_press_sawmill(build, repetitions):
+    m = google_benchmark(os.path.join(build, "bin", PRESS_SAWMILL_BINARY), repetitions)
+    peer = {}
+    for script in PRESS_SAWMILL_PEERS:
+        peer.update(json.loads(subprocess.run([sys.executable, os.path.join(HERE, script)],
+                                              check=True, capture_output=True, text=True).stdout))
+    return m, peer
+
+
+def print_rows(rows):
+    print(f"{'case':34s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
+    for r in rows:
+        fmt = lambda v: "-" if v is None or v != v else f"{v:.1e}"
+        peer_s = f"{r['peer_seconds'] * 1e6:9.2f}us" if "peer_seconds" in r else f"{'-':>11s}"
+        ratio = f"{r['ratio']:7.1f}" if "ratio" in r else f"{'-':>7s}"
+        mech_s = f"{r['mechopt_seconds'] * 1e6:9.3f}us" if r.get("mechopt_seconds") else f"{'-':>11s}"
+        print(f"{r['case']:34s} {mech_s} {peer_s} {ratio} "
+              f"{fmt(r.get('mechopt_error')):>9s} {fmt(r.get('peer_error')):>9s}")
+
+
 def doc_blocks(m, peer, debian, rows, tcp, peak_elastic, lstar, l_co1_star):
     row = {r["case"]: r for r in rows}
     line = machine_line()
     perf = performance_blocks(m, peer, debian, row, tcp, peak_elastic, lstar, l_co1_star)
+    perf["press_sawmill"] = press_sawmill_block(row)
     return {"docs/performance.md": {"machine": line, **perf}, "docs/drivers.md": {"machine": line, **drivers_blocks(m)}}
 
 
-def write_blocks(path, blocks):
-    """Replaces each block's content; every block in the file must be written."""
+def write_blocks(path, blocks, partial=False):
+    """Replaces each block's content; every block in the file must be written
+    (partial: only the blocks given, each of which must be in the file)."""
     text = open(path).read()
     found = re.findall(r"<!-- generated by bench/run_bench\.py: (\S+) -->", text)
-    missing, unknown = set(blocks) - set(found), set(found) - set(blocks)
+    missing, unknown = set(blocks) - set(found), set() if partial else set(found) - set(blocks)
     if missing or unknown or len(found) != len(set(found)):
         sys.exit(f"{path}: generated blocks do not match the script (missing {sorted(missing)}, "
                  f"unknown {sorted(unknown)}, found {found})")
@@ -441,7 +517,24 @@ def main():
                          "its bench_elastic fills performance.md's SUNDIALS table when present")
     ap.add_argument("--no-docs", action="store_true",
                     help="do not write the generated blocks of docs/performance.md and docs/drivers.md")
+    ap.add_argument("--only", choices=["press_sawmill"],
+                    help="run one group alone: its bench and peers, its rows in build/bench-results-NAME.json "
+                         "and its block of docs/performance.md (with this run's machine line in it)")
     args = ap.parse_args()
+    if args.only == "press_sawmill":
+        print("running bench_press_sawmill and its peers ...", file=sys.stderr)
+        m, peer = run_press_sawmill(args.build, args.repetitions)
+        rows = case_rows(press_sawmill_cases(), m, peer)
+        out = os.path.join(args.build, "bench-results-press_sawmill.json")
+        json.dump(rows, open(out, "w"), indent=1)
+        print_rows(rows)
+        print(f"written: {out}")
+        if not args.no_docs:
+            write_blocks(os.path.join(ROOT, "docs", "performance.md"),
+                         {"press_sawmill": press_sawmill_block({r["case"]: r for r in rows}) +
+                                           "\n\nThis block alone: " + machine_line().replace(" (`make bench`)", "")}, partial=True)
+            print("written: docs/performance.md (block press_sawmill)")
+        return
     ref = json.load(open(os.path.join(ROOT, "tools", "reference_seed000.json")))
     t08 = next(r for r in ref["table1"] if r["rod_length"] == 0.8)
     tcp, tmax = float(t08["mean_kinetic_energy"]), float(t08["peak_kinetic_energy"])
@@ -454,7 +547,7 @@ def main():
 
     print("running Google Benchmark cases ...", file=sys.stderr)
     m = {}
-    for binary in ("bench_recuperative", "bench_conveyor", "bench_drivers", "bench_elastic"):
+    for binary in ("bench_recuperative", "bench_conveyor", "bench_drivers", "bench_elastic", PRESS_SAWMILL_BINARY):
         m.update(google_benchmark(os.path.join(args.build, "bin", binary),
                                   3 if binary == "bench_drivers" else args.repetitions))
     # The same cases on Debian's unoptimised libsundials, when such a build exists.
@@ -465,7 +558,7 @@ def main():
         debian = google_benchmark(debian_bin, args.repetitions, "BM_|WPE/(erk|bdf)/8$")
     print("running the Python peers ...", file=sys.stderr)
     peer = {}
-    for script in ("peer_recuperative.py", "peer_conveyor.py", "peer_elastic.py"):
+    for script in ("peer_recuperative.py", "peer_conveyor.py", "peer_elastic.py") + PRESS_SAWMILL_PEERS:
         peer.update(json.loads(subprocess.run([sys.executable, os.path.join(HERE, script)],
                                               check=True, capture_output=True, text=True).stdout))
 
@@ -502,15 +595,8 @@ def main():
         ("elastic_startup_3s", "BM_ElasticStartup", "startup_lsoda", None,
          "solve_ivp LSODA rtol 1e-8, 3 s, 1 ms output"),
     ]
-    rows = []
-    for case, bm, pc, reference, peer_method in cases:
-        a, p = m[bm], peer[pc]
-        value = a["gradient"] if case == "cycle_mean_gradient" else a["value"]
-        rows.append({"case": case, "mechopt_benchmark": bm, "peer_method": peer_method,
-                     "mechopt_seconds": a["seconds"], "peer_seconds": p["seconds"],
-                     "ratio": p["seconds"] / a["seconds"],
-                     "mechopt_error": rel(value, reference) if reference else None,
-                     "peer_error": rel(p["value"], reference) if reference else None})
+    cases += press_sawmill_cases()
+    rows = case_rows(cases, m, peer)
     # Work-precision rows: quadrature points against error, and each optimiser.
     for name, a in m.items():
         if name.startswith("BM_MeanKineticEnergy/"):
@@ -586,14 +672,7 @@ def main():
     doe_rows = doe_bench.run(args.build, 3, not args.no_docs)
     out = os.path.join(args.build, "bench-results.json")
     json.dump(rows + doe_rows, open(out, "w"), indent=1)
-    print(f"{'case':34s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
-    for r in rows:
-        fmt = lambda v: "-" if v is None or v != v else f"{v:.1e}"
-        peer_s = f"{r['peer_seconds'] * 1e6:9.2f}us" if "peer_seconds" in r else f"{'-':>11s}"
-        ratio = f"{r['ratio']:7.1f}" if "ratio" in r else f"{'-':>7s}"
-        mech_s = f"{r['mechopt_seconds'] * 1e6:9.3f}us" if r.get("mechopt_seconds") else f"{'-':>11s}"
-        print(f"{r['case']:34s} {mech_s} {peer_s} {ratio} "
-              f"{fmt(r.get('mechopt_error')):>9s} {fmt(r.get('peer_error')):>9s}")
+    print_rows(rows)
     print(f"written: {out}")
     if not args.no_docs:
         for path, blocks in doc_blocks(m, peer, debian, rows, tcp, peak_elastic, lstar, l_co1_star).items():

@@ -1,0 +1,73 @@
+// Speed of the two newest problems through the Problem interface (what
+// `mechopt run` pays per evaluation), each case's computed value in a counter
+// for bench/run_bench.py to compare with bench/reference_press_sawmill.json
+// (printed by tests/ref/crank_press_ref.py and balanced_slider_crank_ref.py):
+// - the crank press (seed 003), SM-816, Table 7.2 variant 1: the true peak
+//   crankshaft torque over the pressing stroke, at both force fidelities;
+// - the sawmill's cam-balanced slider-crank (seed 004), the paper's improved
+//   mechanism: every metric, and the peak balancing torque alone.
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "opt/config.hpp"
+#include "problems/registry.hpp"
+
+namespace {
+
+std::unique_ptr<opt::Problem> press(bool pressure_law) {
+  return problems::make_problem(opt::ConfigNode::parse(
+      std::string("problem: crank_press\n"
+                  "model: {press: SM-816, depth: 20 mm, pressure_factor: 0.035 MPa, bricks: 4,\n"
+                  "        tabulated_angle: 120 deg, crank_speed: 20.7 rad/s, pressing_end: inner,\n"
+                  "        lever: slider, force: ") +
+          (pressure_law ? "pressure_law" : "constant") + "}\n",
+      "<bench>"));
+}
+
+// range(0): 0 constant force (the final pressure), 1 the pressure law (7.2).
+void BM_PressPeakTorque(benchmark::State& state) {
+  const auto p = press(state.range(0) != 0);
+  const Eigen::VectorXd x = p->initial_point();
+  const opt::MetricSet wanted = p->metric_set({"peak_crank_torque"});
+  for (auto _ : state) {
+    const auto e = p->evaluate(x, wanted, false);
+    benchmark::DoNotOptimize(e);
+  }
+  // From one evaluation after the loop (see bench_recuperative.cpp's BM_ProblemEvaluate).
+  state.counters["value"] = p->evaluate(x, wanted, false)[p->metric_id("peak_crank_torque")].value;
+}
+BENCHMARK(BM_PressPeakTorque)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The paper's improved mechanism (configs/balanced_slider_crank/paper.yaml), 72 grid points.
+std::unique_ptr<opt::Problem> sawmill() {
+  return problems::make_problem(opt::ConfigNode::parse(
+      "problem: balanced_slider_crank\n"
+      "model: {crank_speed: 320 rpm, crank_length: 0.3 m, original_rod_length: 2 m, cam_offset: 0.0219 m,\n"
+      "        rod_length: auto, rod_mass: 150 kg, rod_inertia: 0.5 kg m^2, rod_centre_of_mass: 0.5,\n"
+      "        slider_mass: 600 kg, spring_rate: auto, spring_neutral: 0 m, gravity: perpendicular}\n",
+      "<bench>"));
+}
+
+// range(0): 1 every metric (the value counter is the peak balancing torque), 0 that peak alone.
+void BM_SawmillMetrics(benchmark::State& state) {
+  const auto p = sawmill();
+  const Eigen::VectorXd x = p->initial_point();
+  const opt::MetricSet wanted = state.range(0) != 0 ? opt::MetricSet::all() : p->metric_set({"peak_balancing_torque"});
+  for (auto _ : state) {
+    const auto e = p->evaluate(x, wanted, false);
+    benchmark::DoNotOptimize(e);
+  }
+  const auto e = p->evaluate(x, wanted, false);
+  state.counters["value"] = e[p->metric_id("peak_balancing_torque")].value;
+  if (state.range(0) != 0) {
+    state.counters["original_value"] = e[p->metric_id("original_peak_balancing_torque")].value;
+    state.counters["support"] = e[p->metric_id("peak_support_reaction")].value;
+    state.counters["cam"] = e[p->metric_id("peak_cam_force")].value;
+  }
+}
+BENCHMARK(BM_SawmillMetrics)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
