@@ -286,7 +286,7 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
     if (mech::check(imp) != mech::Status::ok || mech::check(orig) != mech::Status::ok) return {};
     opt::CycleCurves c{{"crank_angle", "balancing_torque", "original_balancing_torque", "support_reaction",
                         "cam_force", "slider_travel"},
-                       {}};
+                       {"rad", "N m", "N m", "N", "N", "m"}};
     for (int i = 0; i <= n; ++i) {
       const double phi = mech::kTwoPi * i / n;
       const auto p = mech::balanced_point(imp, phi);

@@ -211,7 +211,8 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     const Design<double> d = design(std::vector<double>(x.data(), x.data() + x.size()));
     if (d.status() != mech::Status::ok) return {};
     opt::CycleCurves c{{"crank_angle", "balancing_moment", "inertia_moment", "friction_moment",
-                        "pressure_angle", "rocker_angle"}, {}};
+                        "pressure_angle", "rocker_angle"},
+                       {"rad", "N m", "N m", "N m", "rad", "rad"}};
     for (int i = 0; i <= n; ++i) {
       const double phi = mech::kTwoPi * i / n;
       const auto p = mech::swing_point(d.mech, phi);

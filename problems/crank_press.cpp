@@ -213,6 +213,28 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
     out.put(M::peak_drive_power_max_overload, S(peak * (drive / m_.overload_factor_max)));
   }
 
+  // The crankshaft torque over the working half-turn [0, pi] under both
+  // force laws (zero while the piston is free, phi < phi_c), the configured
+  // one the chart's primary, and the piston travel.
+  opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
+    mech::CrankPress<double> k = press(std::vector<double>(x.data(), x.data() + x.size()));
+    if (mech::check(k) != mech::Status::ok) return {};
+    const double phi_c = mech::compaction_start(k);
+    opt::CycleCurves c{{"crank_angle", "torque_constant_force", "torque_pressure_law", "piston_travel"},
+                       {"rad", "N m", "N m", "m"},
+                       k.force == mech::PressForce::constant ? 1u : 2u};
+    auto torque = [&](mech::PressForce f, double phi) {
+      k.force = f;
+      return phi < phi_c ? 0.0 : mech::pressing_torque(k, phi);
+    };
+    for (int i = 0; i <= n; ++i) {
+      const double phi = std::numbers::pi * i / n;
+      c.add_row({phi, torque(mech::PressForce::constant, phi), torque(mech::PressForce::pressure_law, phi),
+                 mech::piston_motion(k, phi).s});
+    }
+    return c;
+  }
+
  private:
   template <class S>
   mech::CrankPress<S> press(const std::vector<S>& x) const {

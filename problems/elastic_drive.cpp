@@ -213,7 +213,7 @@ class ElasticDriveProblem : public TabledProblem {
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int) const override {
     const mech::ElasticDrive d = drive(x);
     const double side = m_.motor_side ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
-    opt::CycleCurves c{{"time", "coupling_torque", "crank_speed", "motor_speed"}, {}};
+    opt::CycleCurves c{{"time", "coupling_torque", "crank_speed", "motor_speed"}, {"s", "N m", "rad/s", "rad/s"}};
     mech::Trajectory tr;
     if (m_.startup_curves) {
       const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 2e-3, nullptr, m_.start_speed);

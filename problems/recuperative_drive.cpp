@@ -129,8 +129,10 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
     const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
     if (mech::check(d) != mech::Status::ok) return {};
-    opt::CycleCurves c{{"crank_angle", "kinetic_energy", "total_moment", "inertia_moment",
-                        "static_moment"}, {}};
+    // The chart: the crank moments (the energy stays in cycle.csv).
+    opt::CycleCurves c{{"crank_angle", "kinetic_energy", "total_moment", "inertia_moment", "static_moment"},
+                       {"rad", "J", "N m", "N m", "N m"},
+                       2};
     for (int i = 0; i <= n; ++i) {
       const double phi = mech::kTwoPi * i / n;
       const auto p = mech::drive_point(d, phi);

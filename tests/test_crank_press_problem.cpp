@@ -7,9 +7,11 @@
 // and the power relations of (7.8).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "mech/crank_press.hpp"
 #include "opt/config.hpp"
@@ -168,6 +170,42 @@ TEST(CrankPressProblem, EveryReadingOfVariant1) {
     // Stroke 2 r l / l_p (presses."SM-816".S_kinematic_2rl_over_lp) in every reading.
     EXPECT_NEAR(law.at("stroke") / (2 * 0.2 * 0.29 / 1.156), 1, 1e-15);
   }
+}
+
+// cycle.svg's curves, variant 1 of SM-816 at 361 angles over the working
+// half-turn: zero while the piston is free (before phi_c = 115.68 deg), the
+// guide's torque at its tabulated 120 deg (constant force, at grid point 240),
+// no grid point above either refined peak and the pressure law's within the
+// flat top's grid error (0.5 deg steps: ~(0.25 deg)^2 M''/2, under 1e-4
+// relative); the configured force is the chart's primary.
+TEST(CrankPressProblem, CycleCurvesBothForces) {
+  const Row& v1 = kTable72[0];
+  const auto p = press(variant_model(v1));
+  const opt::CycleCurves c = p->cycle_curves(p->initial_point(), 360);
+  ASSERT_EQ(c.names, (std::vector<std::string>{"crank_angle", "torque_constant_force", "torque_pressure_law",
+                                               "piston_travel"}));
+  EXPECT_EQ(c.units, (std::vector<std::string>{"rad", "N m", "N m", "m"}));
+  EXPECT_EQ(c.primary, 2u);
+  EXPECT_EQ(c.plotted(), (std::vector<size_t>{2, 1}));
+  ASSERT_EQ(c.columns.size(), 4u);
+  ASSERT_EQ(c.columns[0].size(), 361u);
+  EXPECT_DOUBLE_EQ(c.columns[0].back(), kPi);
+  EXPECT_NEAR(c.columns[1][240] / v1.guide_M, 1, kTol);
+  double law_max = 0;
+  for (size_t i = 0; i < 361; ++i) {
+    const double phi = c.columns[0][i] / kDeg;
+    if (phi < v1.const_phi) {
+      EXPECT_EQ(c.columns[1][i] + c.columns[2][i], 0.0) << phi;
+    } else if (i < 360) {
+      EXPECT_GT(c.columns[1][i], c.columns[2][i]) << phi;
+    }
+    EXPECT_LE(c.columns[1][i], v1.const_M * (1 + kTol));
+    law_max = std::max(law_max, c.columns[2][i]);
+  }
+  EXPECT_LE(law_max, v1.law_M * (1 + kTol));
+  EXPECT_GT(law_max, v1.law_M * (1 - 1e-4));
+  const auto constant = press(variant_model(v1) + ", force: constant");
+  EXPECT_EQ(constant->cycle_curves(constant->initial_point(), 8).primary, 1u);
 }
 
 // The model directly, every reading and both forces: zero torque at the

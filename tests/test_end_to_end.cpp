@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
@@ -24,6 +26,67 @@ std::vector<std::string> configs() {
 }
 
 class Config : public ::testing::TestWithParam<std::string> {};
+
+// The text of every <text> element of an SVG file, in order, with whether it
+// is rotated (the y axis label).
+struct SvgText {
+  std::string text;
+  bool rotated;
+};
+std::vector<SvgText> svg_texts(const std::string& svg) {
+  std::vector<SvgText> out;
+  for (size_t at = svg.find("<text"); at != std::string::npos; at = svg.find("<text", at + 1)) {
+    const size_t open_end = svg.find('>', at), close = svg.find("</text>", at);
+    if (open_end == std::string::npos || close == std::string::npos) break;
+    const std::string tag = svg.substr(at, open_end - at);
+    out.push_back({svg.substr(open_end + 1, close - open_end - 1), tag.find("rotate(-90)") != std::string::npos});
+  }
+  return out;
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// The curves each problem's cycle.svg names in its legend.
+const std::map<std::string, std::vector<std::string>> kCycleCurves = {
+    {"recuperative_drive", {"total_moment", "inertia_moment", "static_moment"}},
+    {"conveyor_swing", {"balancing_moment", "inertia_moment", "friction_moment"}},
+    {"elastic_drive", {"coupling_torque"}},
+    {"balanced_slider_crank", {"balancing_torque", "original_balancing_torque"}},
+    {"crank_press", {"torque_constant_force", "torque_pressure_law"}},
+};
+
+// cycle.svg: the x axis in degrees of crank angle (or seconds), the y axis
+// labelled with its unit (never "[SI]"), the expected curves named (on the
+// axis or in the legend; neither cut),
+// and the legend beside the plot at most 30% of the chart's width; cycle.csv headed "name [unit]".
+void check_cycle_chart(const std::string& dir, const std::string& problem) {
+  std::ifstream in(dir + "/cycle.svg");
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(svg.find("[SI]"), std::string::npos);
+  const auto texts = svg_texts(svg);
+  const auto y = std::find_if(texts.begin(), texts.end(), [](const SvgText& t) { return t.rotated; });
+  ASSERT_NE(y, texts.end()) << "no y axis label";
+  ASSERT_NE(y, texts.begin());
+  const std::string x_label = std::prev(y)->text;
+  EXPECT_TRUE(x_label == "crank_angle [deg]" || x_label == "time [s]") << x_label;
+  EXPECT_NE(y->text.find(" [N m]"), std::string::npos) << y->text;  // every problem's cycle curves are torques
+  ASSERT_TRUE(kCycleCurves.count(problem)) << problem << " has no expected cycle curves";
+  for (const auto& name : kCycleCurves.at(problem))
+    EXPECT_TRUE(std::any_of(y, texts.end(), [&](const SvgText& t) { return t.text.find(name) != std::string::npos; }))
+        << name << " neither on the y axis nor in the legend";
+  const size_t plot = svg.find("<rect x='80' y='40' width='");
+  ASSERT_NE(plot, std::string::npos);
+  EXPECT_GE(std::strtod(svg.c_str() + plot + 27, nullptr), 780 - 80 - 0.3 * 780);  // the legend: at most 30%
+  std::ifstream csv(dir + "/cycle.csv");
+  std::string head;
+  std::getline(csv, head);
+  EXPECT_TRUE(head.rfind("crank_angle [rad],", 0) == 0 || head.rfind("time [s],", 0) == 0) << head;
+  EXPECT_EQ(count(head, "["), count(head, ",") + 1) << head;
+}
 
 // A doe config of more than kSlice samples runs its first shard of about
 // kSlice samples (`--shard 0/K`, as a job array's first task would): every
@@ -81,6 +144,10 @@ TEST_P(Config, RunsAndWritesResults) {
   if (j.contains("charts")) {  // (const json's [] on a missing key is undefined)
     for (const auto& f : j["charts"]) EXPECT_TRUE(fs::exists(f.get<std::string>())) << f;
   }
+  if (fs::exists(dir + "/cycle.svg")) {
+    SCOPED_TRACE("cycle.svg of " + GetParam());
+    check_cycle_chart(dir, problem);
+  }
   if (j.contains("variables") && j["variables"].size() == 1) {
     EXPECT_TRUE(fs::exists(dir + "/chart.svg"));
   }
@@ -92,5 +159,36 @@ INSTANTIATE_TEST_SUITE_P(All, Config, ::testing::ValuesIn(configs()), [](const a
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return n;
 });
+
+}  // namespace
+
+namespace {
+
+// The sawmill's chart at the paper's design: the improved and the original
+// balancing torque, two lines on one axis in N m. With rsvg-convert
+// (librsvg2-bin) installed, the chart also renders to a PNG.
+TEST(CycleChart, SawmillDrawsBothTorques) {
+  const std::string dir = testing::TempDir() + "/cycle_sawmill";
+  fs::remove_all(dir);
+  const std::string cmd = std::string(MECHOPT_BINARY) + " run " + MECHOPT_SOURCE_DIR +
+                          "/configs/balanced_slider_crank/paper.yaml --output " + dir + " > " + dir + ".log 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "see " << dir << ".log";
+  std::ifstream in(dir + "/cycle.svg");
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(count(svg, "<polyline"), 2u);
+  check_cycle_chart(dir, "balanced_slider_crank");
+  if (std::system("command -v rsvg-convert > /dev/null 2>&1") != 0) {
+    std::printf("rsvg-convert not installed (librsvg2-bin): cycle.svg not rendered\n");
+    return;
+  }
+  const std::string render = "rsvg-convert -o " + dir + "/cycle.png " + dir + "/cycle.svg";
+  ASSERT_EQ(std::system(render.c_str()), 0) << render;
+  std::ifstream png(dir + "/cycle.png", std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  EXPECT_GT(fs::file_size(dir + "/cycle.png"), 5000u);
+}
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 
@@ -39,7 +40,22 @@ std::string escape(const std::string& text) {
   return out;
 }
 
-const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
+const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                         "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+constexpr size_t kNumColors = std::size(kColors);
+
+// Every stride-th point of a series is drawn: 1 up to kMaxDrawnPoints points.
+size_t stride(const Series& s) {
+  return (std::min(s.x.size(), s.y.size()) + kMaxDrawnPoints - 1) / kMaxDrawnPoints;
+}
+
+// A legend entry cut to `chars` bytes (at a UTF-8 character boundary), "..." marking the cut.
+std::string fit(const std::string& text, size_t chars) {
+  if (text.size() <= chars) return text;
+  size_t n = chars > 3 ? chars - 3 : 0;
+  while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;
+  return text.substr(0, n) + "...";
+}
 
 }  // namespace
 
@@ -83,12 +99,32 @@ Axis make_axis(const std::vector<double>& values, double pad) {
 }
 
 bool write_svg(const Chart& chart, const std::string& file) {
-  const double W = 780, H = 450, L = 80, R = 260, T = 40, B = 60;
+  const double W = 780, H = 450, L = 80, T = 40, B = 60;
+  // Legend entries, thinned lines saying so; the legend column beside the
+  // plot is as wide as its longest entry, at most 30% of the width (longer
+  // entries are cut), and lists as many entries as fit its height.
+  constexpr double kCharWidth = 7.0;  // of the 12 px sans-serif, on average (DejaVu Sans: 6.9)
+  std::vector<std::string> legend;
+  size_t longest = 0;
+  for (const auto& s : chart.series) {
+    const size_t n = std::min(s.x.size(), s.y.size()), every = stride(s);
+    legend.push_back(s.label +
+                     (every > 1 ? " (every " + std::to_string(every) + "th of " + std::to_string(n) + ")" : ""));
+    longest = std::max(longest, legend.back().size());
+  }
+  const size_t legend_chars = std::min(longest, static_cast<size_t>((0.3 * W - 44) / kCharWidth));
+  const double R = std::max(44 + kCharWidth * static_cast<double>(legend_chars), 120.0);
+  const size_t legend_rows = static_cast<size_t>((H - T - B) / 18);
   std::vector<double> xs, ys;
   for (const auto& s : chart.series)
     for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) xs.push_back(s.x[i]), ys.push_back(s.y[i]);
-  const Axis ax = make_axis(xs), ay = make_axis(ys, 0.05);
+  Axis ax = make_axis(xs);
+  const Axis ay = make_axis(ys, 0.05);
+  if (const double step = chart.x_tick_step; step > 0 && (ax.hi / step - ax.lo / step) < kMaxTicks) {
+    ax.ticks.clear();
+    for (double t = std::ceil(ax.lo / step); t * step <= ax.hi; ++t) ax.ticks.push_back(t * step);
+  }
   // Fractions along the axis from halves, so that a span near the largest double cannot overflow.
   auto px = [&](double x) { return L + (x / 2 - ax.lo / 2) / (ax.hi / 2 - ax.lo / 2) * (W - L - R); };
   auto py = [&](double y) { return H - B - (y / 2 - ay.lo / 2) / (ay.hi / 2 - ay.lo / 2) * (H - T - B); };
@@ -115,11 +151,11 @@ bool write_svg(const Chart& chart, const std::string& file) {
       << ") rotate(-90)' text-anchor='middle'>" << escape(chart.y_label) << "</text>\n";
   for (size_t k = 0; k < chart.series.size(); ++k) {
     const Series& s = chart.series[k];
-    const char* color = kColors[k % 6];
+    const char* color = kColors[k % kNumColors];
     const size_t n = std::min(s.x.size(), s.y.size());
-    const size_t stride = (n + kMaxDrawnPoints - 1) / kMaxDrawnPoints;  // 1 up to kMaxDrawnPoints
+    const size_t every = stride(s);
     auto drawn = [&](size_t i) {
-      return (i % stride == 0 || i + 1 == n) && std::isfinite(s.x[i]) && std::isfinite(s.y[i]);
+      return (i % every == 0 || i + 1 == n) && std::isfinite(s.x[i]) && std::isfinite(s.y[i]);
     };
     if (s.style == Series::Style::line) {
       out << "<polyline fill='none' stroke='" << color << "' stroke-width='2' points='";
@@ -134,10 +170,13 @@ bool write_svg(const Chart& chart, const std::string& file) {
               << "' fill='" << (s.style == Series::Style::star ? color : "none")
               << "' stroke='" << color << "' stroke-width='2'/>\n";
     }
-    const double ly = T + 14 + 20 * k;
+    if (k >= legend_rows) continue;
+    const double ly = T + 14 + 18 * static_cast<double>(k);
+    const bool last_row = k + 1 == legend_rows && chart.series.size() > legend_rows;
     out << "<rect x='" << W - R + 12 << "' y='" << ly - 8 << "' width='14' height='4' fill='"
-        << color << "'/><text x='" << W - R + 32 << "' y='" << ly << "'>" << escape(s.label)
-        << (stride > 1 ? " (every " + std::to_string(stride) + "th of " + std::to_string(n) + ")" : "")
+        << (last_row ? "none" : color) << "'/><text x='" << W - R + 32 << "' y='" << ly << "'>"
+        << escape(last_row ? "+ " + std::to_string(chart.series.size() - k) + " more"
+                           : fit(legend[k], legend_chars))
         << "</text>\n";
   }
   out << "</svg>\n";

@@ -15,12 +15,15 @@ struct Series {
 struct Chart {
   std::string title, x_label, y_label;
   std::vector<Series> series;
+  double x_tick_step = 0;  // > 0: x ticks at its multiples (e.g. 45 for degrees), unless too many
 };
 
 // Writes the chart as SVG; returns false if the file cannot be written.
 // Points with a non-finite coordinate are skipped; a series with more than
 // kMaxDrawnPoints points is thinned to every k-th point (said in its legend),
-// so a chart file stays under about 1 MB whatever the data.
+// so a chart file stays under about 1 MB whatever the data. The legend
+// beside the plot takes at most 30% of the width (longer labels are cut) and
+// as many rows as fit, the last then "+ k more".
 bool write_svg(const Chart& chart, const std::string& file);
 
 constexpr int kMaxTicks = 12;

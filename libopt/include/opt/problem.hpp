@@ -97,15 +97,32 @@ struct Objective {
   MetricId id = -1;  // of `metric`, set where a driver starts (Problem::metric_id)
 };
 
-// Quantities over one crank revolution, for charts and cycle.csv: column 0
-// is the crank angle [rad], column 1 the problem's headline curve.
+// Quantities over one crank revolution (or the part of it a problem works
+// on), for cycle.svg and cycle.csv: column 0 is the abscissa (the crank
+// angle [rad], or time [s]); every column has its SI unit ("rad", "J",
+// "N m", "N", "m", ...). The chart draws the `primary` column and every
+// other column in its unit on one axis.
 struct CycleCurves {
+  CycleCurves() = default;
+  CycleCurves(std::vector<std::string> names_, std::vector<std::string> units_, size_t primary_ = 1)
+      : names(std::move(names_)), units(std::move(units_)), primary(primary_) {}
   std::vector<std::string> names;
+  std::vector<std::string> units;  // one per column
   std::vector<std::vector<double>> columns;
+  size_t primary = 1;
   void add_row(std::initializer_list<double> row) {
     columns.resize(names.size());
     size_t i = 0;
     for (double v : row) columns[i++].push_back(v);
+  }
+  // The columns the chart draws: primary first, then the others in its unit.
+  std::vector<size_t> plotted() const {
+    std::vector<size_t> out;
+    if (primary >= names.size() || units.size() != names.size()) return out;
+    out.push_back(primary);
+    for (size_t k = 1; k < names.size(); ++k)
+      if (k != primary && units[k] == units[primary]) out.push_back(k);
+    return out;
   }
 };
 
@@ -138,8 +155,9 @@ class Problem {
   Evaluation evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient) const;
   // The same by names (all metrics if empty), for reports and tests.
   Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted, bool gradient) const;
-  // Curves over one crank revolution at x, at n + 1 angles from 0 to 2 pi;
-  // empty when the design is infeasible or the problem has none.
+  // Curves over one crank revolution at x, at n + 1 angles from 0 to 2 pi
+  // (or over the problem's working part of it, or its time span); empty when
+  // the design is infeasible or the problem has none.
   virtual CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const {
     (void)x, (void)n;
     return {};

@@ -29,8 +29,10 @@ std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
                                       const std::vector<Eigen::VectorXd>& grid_x,
                                       const std::vector<Evaluation>& grid_e,
                                       const nlohmann::json* optimum, const std::string& dir);
-// The problem's headline cycle curve over the crank angle at each design in
-// `xs` (labelled), plus cycle.csv with every curve at the last design.
+// cycle.svg: the problem's primary cycle curve at each design in `xs`
+// (labelled) and, at the last design, every other curve in its unit, over the
+// crank angle in degrees (or time), the y axis in that unit; plus cycle.csv
+// with every column at the last design in SI, each headed "name [unit]".
 std::vector<std::string> write_cycle_chart(const Problem& p,
                                            const std::vector<std::pair<std::string, Eigen::VectorXd>>& xs,
                                            const std::string& dir);

@@ -3,6 +3,7 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <numbers>
 
 #include "opt/chart.hpp"
 #include "report/report.hpp"
@@ -76,23 +77,45 @@ std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
 std::vector<std::string> write_cycle_chart(const Problem& p,
                                            const std::vector<std::pair<std::string, Eigen::VectorXd>>& xs,
                                            const std::string& dir) {
-  Chart c;
-  CycleCurves last;
+  std::vector<std::pair<std::string, CycleCurves>> drawn;
   for (const auto& [label, x] : xs) {
-    const CycleCurves curves = p.cycle_curves(x, 360);
-    if (curves.names.size() < 2) continue;
-    c.series.push_back({label, curves.columns[0], curves.columns[1], Series::Style::line});
-    last = curves;
+    CycleCurves curves = p.cycle_curves(x, 360);
+    if (!curves.plotted().empty() && !curves.columns.empty() && !curves.columns[0].empty())
+      drawn.emplace_back(label, std::move(curves));
   }
-  if (c.series.empty()) return {};
-  c.title = p.name() + ": " + last.names[1] + " over one revolution";
-  c.x_label = last.names[0] + (last.names[0] == "time" ? " [s]" : " [rad]");
-  c.y_label = last.names[1] + " [SI]";
+  if (drawn.empty()) return {};
+  const CycleCurves& last = drawn.back().second;
+  const std::vector<size_t> cols = last.plotted();
+  const bool degrees = last.units[0] == "rad";  // the crank angle, drawn in degrees
+  const double x_scale = degrees ? 180 / std::numbers::pi : 1.0;
+  // Every plotted column at the last design; the primary alone at the others.
+  // With several designs, a primary line is labelled by its design alone.
+  Chart c;
+  for (size_t d = 0; d < drawn.size(); ++d) {
+    const CycleCurves& curves = drawn[d].second;
+    for (size_t k : cols) {
+      if (d + 1 < drawn.size() && k != curves.primary) continue;
+      Series line{curves.names[k], curves.columns[0], curves.columns[k], Series::Style::line};
+      for (double& v : line.x) v *= x_scale;
+      if (drawn.size() > 1)
+        line.label = k == curves.primary ? drawn[d].first : line.label + " (" + drawn[d].first + ")";
+      c.series.push_back(std::move(line));
+    }
+  }
+  std::string quantities = last.names[cols[0]];
+  for (size_t i = 1; i < cols.size(); ++i) quantities += ", " + last.names[cols[i]];
+  if (quantities.size() > 52) quantities = last.names[cols[0]] + " and others";
+  c.title = p.name() + ": " +
+            (drawn.size() > 1 ? last.names[cols[0]] + " at each design" : "cycle curves at " + drawn.back().first);
+  if (degrees) c.x_tick_step = last.columns[0].back() * x_scale > 200 ? 45 : 30;
+  c.x_label = last.names[0] + " [" + (degrees ? "deg" : last.units[0]) + "]";
+  c.y_label = quantities + " [" + last.units[cols[0]] + "]";
   std::vector<std::string> files;
   if (write_svg(c, dir + "cycle.svg")) files.push_back(dir + "cycle.svg");
+  // cycle.csv: every column at the last design, in SI, each header "name [unit]".
   std::ofstream csv(dir + "cycle.csv");
   csv << std::setprecision(17);
-  for (size_t k = 0; k < last.names.size(); ++k) csv << (k ? "," : "") << last.names[k];
+  for (size_t k = 0; k < last.names.size(); ++k) csv << (k ? "," : "") << last.names[k] << " [" << last.units[k] << "]";
   csv << "\n";
   for (size_t i = 0; i < last.columns[0].size(); ++i) {
     for (size_t k = 0; k < last.columns.size(); ++k) csv << (k ? "," : "") << last.columns[k][i];
