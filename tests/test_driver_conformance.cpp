@@ -6,6 +6,7 @@
 // the problem (constraints, gradients, dimension).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -226,10 +227,6 @@ class EveryDriver : public ::testing::TestWithParam<std::string> {
 // to within the evaluation under way at the limit.
 TEST_P(EveryDriver, MaxSecondsIsWallClockWithinOneEvaluation) {
   constexpr double kMaxSeconds = 0.2;
-  // The evaluation under way at the limit finishes; the final design is then
-  // evaluated once more for the report (unless it was the last one); 50 ms
-  // for the scheduler on the shared 2-core machine.
-  constexpr double kSlack = 2 * kEvaluationSeconds + 0.05;
   const auto p = problems::make_problem(opt::ConfigNode::parse(
       "problem: slow_rosenbrock\nvariables: {x: {min: -1.5, max: 0.5}, y: {min: -0.5, max: 1.5}}\n",
       "<slow>"));
@@ -243,14 +240,21 @@ TEST_P(EveryDriver, MaxSecondsIsWallClockWithinOneEvaluation) {
   EXPECT_FALSE(r.success());
   EXPECT_TRUE(r.stopped());
   EXPECT_GE(elapsed, kMaxSeconds);
-  // No evaluation starts later than the slack after the limit, or after the
-  // first evaluation where the driver's own set-up outlasted the limit
-  // (Ipopt's, under the sanitizers on a loaded machine): set-up and
-  // tear-down are not evaluations, and the limit cannot stop them.
+  // Honoured to within one evaluation, counted rather than timed: the
+  // evaluation under way at the limit finishes, and after the limit (or after
+  // the first evaluation, when the driver's own set-up outlasted the limit)
+  // only the report's evaluation of the final design starts. When it starts
+  // is not bounded: the driver's iteration and tear-down before it (Ipopt's,
+  // under the sanitizers on a loaded shared machine, took 0.27 s) are not
+  // evaluations, and the limit cannot stop them. A driver that ignored the
+  // limit would start an evaluation every 30 ms after it; the 2 s bound
+  // catches one that never returns.
   const auto& starts = dynamic_cast<const SlowRosenbrock&>(*p).starts;
   ASSERT_FALSE(starts.empty());
   const double limit = std::max(kMaxSeconds, since_t0(starts.front()));
-  EXPECT_LE(since_t0(starts.back()), limit + kSlack) << r.evaluations << " evaluations, " << elapsed << " s";
+  const auto late = std::count_if(starts.begin(), starts.end(), [&](auto t) { return since_t0(t) > limit; });
+  EXPECT_LE(late, 1) << r.evaluations << " evaluations, " << elapsed << " s";
+  EXPECT_LE(elapsed, limit + 2.0) << r.evaluations << " evaluations";
   EXPECT_LE(r.seconds, elapsed);
   EXPECT_NE(r.message.find("time limit (max_seconds 0.2 s, wall clock)"), std::string::npos) << r.message;
   ASSERT_EQ(r.x.size(), 2);
