@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -414,24 +413,15 @@ TEST(CallbackFailures, AnythingThrownIsRecorded) {
 
 // Memory and work stay bounded whatever the time span.
 
-TEST(Startup, HugeTimeSpanEndsOnTheStepBudgetFastAndSmall) {
+TEST(Startup, HugeTimeSpanEndsOnTheStepBudgetSmall) {
   // 1e9 s at 1 ms used to allocate 1e12 samples (std::bad_alloc) or, past
   // an int's range, to return at once with a wrong 'ok'. The default budget
-  // of 1e5 steps (~150 s of motion) ends it: 0.1-0.2 s measured in Release
-  // on a shared 2-core machine, 1 s is the bound (10 s under AddressSanitizer,
-  // which slows this code ~5x); the samples kept (7 doubles each) stay within
-  // the cap of 100 000, i.e. under 6 MB.
-#if defined(__SANITIZE_ADDRESS__)
-  const double bound = 10.0;
-#else
-  const double bound = 1.0;
-#endif
-  const auto t0 = std::chrono::steady_clock::now();
+  // of 1e5 steps (~150 s of motion) ends it (0.1-0.2 s in Release; the work
+  // is bounded by the step count, not timed here); the samples kept (7
+  // doubles each) stay within the cap of 100 000, i.e. under 6 MB.
   const auto st = mech::simulate_startup(scene(), {}, 1e9, 1e-3, nullptr, kStart);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(st.status, Status::too_many_steps) << st.message;
   EXPECT_EQ(st.steps, 100000);
-  EXPECT_LT(seconds, bound);
   EXPECT_LE(st.trajectory.t.size(), 100000u);
   EXPECT_LE(st.trajectory.t.capacity(), 200000u);
   EXPECT_GT(st.trajectory.t.back(), 10.0);  // it did run
