@@ -236,10 +236,7 @@ int stopped(const std::string& where) {
 }
 
 int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& problem) {
-  const problems::Entry* entry = nullptr;
-  for (const auto& e : problems::registry())
-    if (e.name == problem.name()) entry = &e;
-  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, entry->parameters, problem,
+  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, problems::parameters(root), problem,
                                                       a.batch.force || a.batch.dry_run);
   const opt::RunSpec run = opt::parse_run(root, problem);  // output
   opt::doe::BatchOptions o = a.batch;
@@ -266,7 +263,7 @@ int run(const Args& a) {
   if (a.command == "eval") {
     nlohmann::json j = opt::metrics_json(*problem, problem->initial_point(false));
     j["problem"] = problem->name();
-    j["settings"] = problem->settings();
+    j["settings"] = problem->record();
     j["mechopt_version"] = MECHOPT_VERSION;
     std::cout << j.dump(2) << "\n";
     return 0;

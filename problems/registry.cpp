@@ -1,12 +1,120 @@
 #include "problems/registry.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "mech/status.hpp"
+#include "opt/parameters.hpp"
+#include "opt/units.hpp"
 
 namespace problems {
 namespace {
 std::vector<Entry>& entries() {
   static std::vector<Entry> all;
   return all;
+}
+
+const Entry& entry(const opt::ConfigNode& root) {
+  root.allow_only(config_keys());
+  std::vector<std::string> names;
+  for (const auto& e : registry()) names.push_back(e.name);
+  const std::string n = root.at("problem").choice(names);
+  return *std::find_if(registry().begin(), registry().end(), [&](const Entry& e) { return e.name == n; });
+}
+
+// A model value taken from another config's result (docs/config.md, "Links"):
+//   crank_radius: {from: ../roller_forming/variant.yaml, metric: crank_radius, variant: 9}
+// `key` is its name in the model (sections dotted), `node` the map.
+struct Link {
+  std::string key;
+  opt::ConfigNode node;
+};
+
+constexpr int kMaxLinkDepth = 8;
+
+void find_links(const opt::ConfigNode& n, const std::string& prefix, std::vector<Link>& out) {
+  for (const auto& k : n.keys()) {
+    if (!n.has(k)) continue;
+    const opt::ConfigNode c = n.at(k);
+    if (!c.is_map()) continue;
+    if (c.has("from")) out.push_back({prefix + k, c});
+    else find_links(c, prefix + k + ".", out);
+  }
+}
+
+std::vector<Link> links_of(const opt::ConfigNode& root) {
+  std::vector<Link> out;
+  if (root.has("model")) find_links(root.at("model"), "", out);
+  return out;
+}
+
+// The linked config: the file `from` names (relative to the file the link is
+// written in) with the link's other keys as its model values (and as the
+// initial values of its variables of those names: the design evaluated).
+opt::ConfigNode linked_config(const Link& l) {
+  const opt::ConfigNode from = l.node.at("from");
+  const std::string dir = std::filesystem::path(from.file()).parent_path().string();
+  const std::string file = (dir.empty() ? "" : dir + "/") + from.text();
+  if (!std::ifstream(file)) from.fail("cannot read the linked config '" + file + "'");
+  const opt::ConfigNode linked = opt::ConfigNode::load(file);
+  const bool variables = linked.has("variables") && linked.at("variables").is_map();
+  YAML::Node over(YAML::NodeType::Map);
+  over["model"] = YAML::Node(YAML::NodeType::Map);
+  for (const auto& k : l.node.keys()) {
+    if (k == "from" || k == "metric" || !l.node.has(k)) continue;
+    opt::set_dotted(over["model"], k, YAML::Clone(l.node.at(k).yaml()));
+    // A variable of the linked config starts at the link's value.
+    if (variables && linked.at("variables").has(k)) over["variables"][k]["initial"] = YAML::Clone(l.node.at(k).yaml());
+  }
+  return linked.with(over, l.node.file());
+}
+
+const opt::Parameter* row(const std::vector<opt::Parameter>& table, const std::string& name) {
+  for (const auto& p : table)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+std::unique_ptr<opt::Problem> make_at_depth(const opt::ConfigNode& root, int depth);
+
+// The config with every link replaced by the value it names, and the links'
+// record for the problem.
+opt::ConfigNode resolved(const opt::ConfigNode& root, const Entry& e, int depth, nlohmann::json& record) {
+  const std::vector<Link> ls = links_of(root);
+  if (ls.empty()) return root;
+  YAML::Node over(YAML::NodeType::Map);
+  for (const auto& l : ls) {
+    if (depth == kMaxLinkDepth) l.node.fail("links nest more than 8 deep (does a config link to itself?)");
+    const opt::Parameter* target = row(e.parameters, l.key);
+    if (!target) continue;  // the model's own check names the unknown key
+    if (!target->choices.empty() || target->integer)
+      l.node.fail("a link gives a quantity; " + l.key + " takes " + opt::domain_text(*target));
+    const std::string file = l.node.at("from").text();
+    const auto linked = make_at_depth(linked_config(l), depth + 1);
+    const opt::ConfigNode m = l.node.at("metric");
+    const std::string metric = m.choice(linked->metric_names());
+    const std::string unit = linked->metric_unit(metric), wanted = opt::si_unit(target->dimension);
+    if (unit != wanted)
+      m.fail("'" + metric + "' of " + file + " is in '" + unit + "'; " + l.key + " takes '" + wanted + "'");
+    const opt::Evaluation v = linked->evaluate(linked->initial_point(false), {metric}, false);
+    if (!v.ok() || !v.has(linked->metric_id(metric)))
+      l.node.fail("the design of " + file + " gives no " + metric + ": " + std::string(mech::to_string(v.status)) +
+                  (v.message.empty() ? "" : " (" + v.message + ")"));
+    const double value = v[linked->metric_id(metric)].value;
+    opt::set_dotted(over["model"], l.key, YAML::Node(opt::exact_value_text(*target, value)));
+    record.push_back({{"key", l.key}, {"from", file}, {"metric", metric}, {"value", value}, {"unit", unit},
+                      {"linked", linked->record()}});
+  }
+  return root.with(over, root.file());
+}
+
+std::unique_ptr<opt::Problem> make_at_depth(const opt::ConfigNode& root, int depth) {
+  const Entry& e = entry(root);
+  nlohmann::json record = nlohmann::json::array();
+  auto p = e.make(resolved(root, e, depth, record));
+  p->links = std::move(record);
+  return p;
 }
 }  // namespace
 
@@ -25,15 +133,19 @@ const std::vector<std::string>& config_keys() {
   return keys;
 }
 
-std::unique_ptr<opt::Problem> make_problem(const opt::ConfigNode& root) {
-  root.allow_only(config_keys());
-  const opt::ConfigNode name = root.at("problem");
-  std::vector<std::string> names;
-  for (const auto& e : registry()) names.push_back(e.name);
-  const std::string n = name.choice(names);
-  for (const auto& e : registry())
-    if (e.name == n) return e.make(root);
-  return nullptr;
+std::unique_ptr<opt::Problem> make_problem(const opt::ConfigNode& root) { return make_at_depth(root, 0); }
+
+std::vector<opt::Parameter> parameters(const opt::ConfigNode& root) {
+  std::vector<opt::Parameter> out = entry(root).parameters;
+  for (const auto& l : links_of(root)) {
+    const opt::ConfigNode linked = linked_config(l);
+    for (opt::Parameter p : entry(linked).parameters) {
+      p.name = l.key + "." + p.name;
+      p.variable = false;  // set in the linked config, which the sample rebuilds
+      out.push_back(std::move(p));
+    }
+  }
+  return out;
 }
 
 }  // namespace problems

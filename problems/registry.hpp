@@ -29,8 +29,17 @@ struct Registration {
 const std::vector<Entry>& registry();
 
 // Builds the problem named by the config's `problem` key from its `model` and
-// `variables` sections; bad input is an opt::ConfigError.
+// `variables` sections; bad input is an opt::ConfigError. A model value
+// written as a link, {from: FILE, metric: NAME, KEY: VALUE...}, is the
+// metric of FILE's problem (KEY: VALUE over its model values) at its
+// initial design; the problem's `links` record each one.
 std::unique_ptr<opt::Problem> make_problem(const opt::ConfigNode& root);
+
+// The parameters a config's model values and DOE factors may name: the
+// problem's table, and for each `from:` link KEY the linked problem's table
+// as KEY.NAME (a factor `crank_radius.variant` sets the linked config's
+// `variant` in every sample).
+std::vector<opt::Parameter> parameters(const opt::ConfigNode& root);
 
 // Top-level keys a config may have.
 const std::vector<std::string>& config_keys();

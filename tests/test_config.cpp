@@ -187,3 +187,53 @@ TEST(CommandLine, BaseFileIsInheritedAndOverridden) {
 }
 
 }  // namespace
+
+#include "problems/registry.hpp"
+
+namespace {
+
+// A model value taken from another config's result. The linked config is a
+// centred slider-crank (offset 0), whose stroke is exactly 2 r (closed
+// form), so the linked value is known without the code under test.
+opt::ConfigNode linking(const std::string& link) {
+  return opt::ConfigNode::parse("problem: slider_crank\nmodel:\n  rod_length: 1.2 m\n  crank_radius: {from: " +
+                                    std::string(MECHOPT_SOURCE_DIR) + "/configs/slider_crank/stroke.yaml, " + link +
+                                    "}\nstudy: {type: evaluate}\n",
+                                "<links>");
+}
+
+TEST(Links, ModelValueIsTheLinkedMetricAtItsDesignWithTheLinksValues) {
+  // stroke.yaml's own design has offset 0.02 m (a variable's initial value);
+  // the link sets it to 0, and its crank radius to 0.15 m: stroke 0.3 m.
+  const auto p = problems::make_problem(linking("metric: stroke, offset: 0 m, crank_radius: 0.15 m"));
+  const nlohmann::json r = p->record();
+  EXPECT_NEAR(r["model"]["crank_radius"].get<double>(), 0.3, 1e-15);
+  ASSERT_EQ(r["links"].size(), 1u);
+  EXPECT_EQ(r["links"][0]["key"], "crank_radius");
+  EXPECT_EQ(r["links"][0]["metric"], "stroke");
+  EXPECT_EQ(r["links"][0]["unit"], "m");
+  EXPECT_NEAR(r["links"][0]["value"].get<double>(), 0.3, 1e-15);
+  EXPECT_NEAR(r["links"][0]["linked"]["model"]["crank_radius"].get<double>(), 0.15, 0);
+  // Its own metrics see the linked radius: stroke 2 x 0.3 m.
+  const auto e = p->evaluate(p->initial_point(false), std::vector<std::string>{"stroke"}, false);
+  EXPECT_NEAR(e[p->metric_id("stroke")].value, 0.6, 1e-15);
+}
+
+TEST(Links, DoeFactorsNameTheLinkedModelValuesAndASampleSetsThem) {
+  const opt::ConfigNode root = linking("metric: stroke, offset: 0 m");
+  const auto table = problems::parameters(root);
+  const auto it = std::find_if(table.begin(), table.end(), [](const auto& q) { return q.name == "crank_radius.crank_radius"; });
+  ASSERT_NE(it, table.end());
+  EXPECT_FALSE(it->variable) << "set in the linked config, which each sample rebuilds";
+  EXPECT_EQ(it->dimension, opt::Dimension::length);
+  // A sample's value, written as the DOE writes it (over the config).
+  YAML::Node over;
+  opt::set_dotted(over["model"], "crank_radius.crank_radius", YAML::Node("0.12 m"));
+  const auto p = problems::make_problem(root.with(over, "sample 0"));
+  EXPECT_NEAR(p->record()["model"]["crank_radius"].get<double>(), 0.24, 1e-15);
+  // Without the link, no such factor.
+  const auto plain = problems::parameters(opt::ConfigNode::parse("problem: slider_crank\n", "<plain>"));
+  EXPECT_TRUE(std::none_of(plain.begin(), plain.end(), [](const auto& q) { return q.name.find('.') != std::string::npos; }));
+}
+
+}  // namespace

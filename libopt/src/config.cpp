@@ -255,4 +255,10 @@ bool ConfigNode::boolean() const {
   return choice({"true", "false"}) == "true";
 }
 
+void set_dotted(YAML::Node n, const std::string& key, const YAML::Node& v) {
+  const auto dot = key.find('.');
+  if (dot == std::string::npos) n[key] = v;
+  else set_dotted(n[key.substr(0, dot)], key.substr(dot + 1), v);
+}
+
 }  // namespace opt

@@ -42,6 +42,14 @@ Evaluation Problem::evaluate(const Eigen::VectorXd& x, const std::vector<std::st
   return evaluate(x, wanted.empty() ? MetricSet::all() : metric_set(wanted), gradient);
 }
 
+nlohmann::json Problem::record() const {
+  nlohmann::json j = settings();
+  if (links.empty()) return j;
+  if (!j.is_object()) j = {{"settings", j}};
+  j["links"] = links;
+  return j;
+}
+
 Eigen::VectorXd Problem::initial_point(bool clamp) const {
   const auto& v = variables();
   Eigen::VectorXd x(v.size());

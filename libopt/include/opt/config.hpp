@@ -84,4 +84,8 @@ class ConfigNode {
   std::shared_ptr<const ConfigNode> base_;  // the same path in the base file, if any
 };
 
+// Sets KEY of map n; a dotted key names a key in sections: "motor.slip" is
+// n["motor"]["slip"].
+void set_dotted(YAML::Node n, const std::string& key, const YAML::Node& v);
+
 }  // namespace opt

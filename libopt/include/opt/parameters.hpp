@@ -82,6 +82,10 @@ double read_parameter(const ConfigNode& n, const Parameter& p);
 // The value as a config would write it: "0.2 m", "opposed", "auto", "64".
 std::string value_text(const Parameter& p);
 
+// Value v of row p as a config writes it, exactly: an option name, a whole
+// number, or the SI value to 17 digits with its SI unit.
+std::string exact_value_text(const Parameter& p, double v);
+
 // The domain as text, e.g. "(0, inf) m", "one of: opposed, same_side".
 std::string domain_text(const Parameter& p);
 

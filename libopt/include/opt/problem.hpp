@@ -176,6 +176,13 @@ class Problem {
   virtual bool provides_gradients() const { return true; }
   // Fidelity, numerical settings and fixed model values, for result files.
   virtual nlohmann::json settings() const = 0;
+  // Model values taken from other configs' results (`from:` links, filled
+  // by problems::make_problem): each one's key, file, metric, value and the
+  // linked problem's own record.
+  nlohmann::json links = nlohmann::json::array();
+  // settings() and, when there are any, the links: what result files and a
+  // DOE's config hash record.
+  nlohmann::json record() const;
 
   // The variables' initial values, clamped into their bounds for drivers;
   // unclamped, the model's values as written (for `mechopt eval`).

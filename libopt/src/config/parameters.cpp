@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 namespace opt {
@@ -20,6 +21,14 @@ std::string value_text(const Parameter& p) {
   if (p.automatic && p.value == 0) return "auto";
   const std::string u = si_unit(p.dimension);
   return number(p.value) + (u.empty() ? "" : " " + u);
+}
+
+std::string exact_value_text(const Parameter& p, double v) {
+  if (!p.choices.empty()) return p.choices.at(static_cast<size_t>(v));
+  char text[40];
+  std::snprintf(text, sizeof text, p.integer ? "%.0f" : "%.17g", v);
+  const std::string unit = si_unit(p.dimension);
+  return unit.empty() ? std::string(text) : std::string(text) + " " + unit;
 }
 
 std::string domain_text(const Parameter& p) {

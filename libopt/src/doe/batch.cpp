@@ -191,7 +191,7 @@ std::string now_text() {
 }  // namespace
 
 nlohmann::json canonical_run(const Problem& problem, const DoeSpec& spec, const Sampler& sampler) {
-  nlohmann::json j = problem.settings();
+  nlohmann::json j = problem.record();
   if (!j.is_object()) j = {{"settings", j}};
   j["problem"] = problem.name();
   j["sampler"] = sampler.describe();
@@ -286,7 +286,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   nlohmann::json j = {{"mechopt_version", MECHOPT_VERSION}, {"problem", base.name()}, {"study", "doe"},
                       {"sampler", sampler->describe()}, {"samples", n}, {"shard", shard},
                       {"threads", threads}, {"ranks", o.peers ? o.peers->size() : 1},
-                      {"settings", base.settings()}};
+                      {"settings", base.record()}};
 
   if (o.dry_run && o.peers && o.peers->rank() > 0) return j;  // rank 0 says what the run would take
   if (o.peers && o.peers->rank() > 0) {  // an MPI worker: chunks from rank 0, rows back to it

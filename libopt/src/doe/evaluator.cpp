@@ -2,7 +2,6 @@
 #include "doe/evaluator.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <limits>
 
 #include "mech/deadline.hpp"
@@ -12,22 +11,7 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-// A value of row p as a config writes it: an option name, a whole number, or
-// the SI value (17 digits: exact) with its SI unit.
-YAML::Node value_node(const Parameter& p, double v) {
-  if (!p.choices.empty()) return YAML::Node(p.choices.at(static_cast<size_t>(v)));
-  char text[40];
-  std::snprintf(text, sizeof text, p.integer ? "%.0f" : "%.17g", v);
-  const std::string unit = si_unit(p.dimension);
-  return YAML::Node(unit.empty() ? std::string(text) : std::string(text) + " " + unit);
-}
-
-// Sets SECTION.KEY (a dotted name sits in a section) under `section` of `over`.
-void set_value(YAML::Node over, const std::string& section, const std::string& name, const YAML::Node& v) {
-  const auto dot = name.find('.');
-  if (dot == std::string::npos) over[section][name] = v;
-  else over[section][name.substr(0, dot)][name.substr(dot + 1)] = v;
-}
+YAML::Node value_node(const Parameter& p, double v) { return YAML::Node(exact_value_text(p, v)); }
 
 }  // namespace
 
@@ -64,7 +48,7 @@ Evaluator::Sample Evaluator::sample(const SampleMaker& maker, std::int64_t index
     YAML::Node over(YAML::NodeType::Map);
     for (size_t j = 0; j < spec_.factors.size(); ++j)
       if (variable_[j] < 0)
-        set_value(over, "model", spec_.factors[j].factor.name, value_node(spec_.factors[j].parameter, factors[j]));
+        set_dotted(over["model"], spec_.factors[j].factor.name, value_node(spec_.factors[j].parameter, factors[j]));
     s.own = maker(over, "sample " + std::to_string(index));
     s.problem = s.own.get();
   }

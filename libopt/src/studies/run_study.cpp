@@ -27,7 +27,7 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
   nlohmann::json j = {{"mechopt_version", MECHOPT_VERSION},
                       {"problem", p.name()},
                       {"study", s.type},
-                      {"settings", p.settings()}};
+                      {"settings", p.record()}};
   out << "mechopt " << MECHOPT_VERSION << " — " << p.name() << ", " << s.type << "\n";
   std::vector<std::string> files;
   auto finish = [&]() {
