@@ -103,6 +103,8 @@ struct M {
     energy_swing,
     original_energy_swing,
     rod_length,
+    min_cam_force,
+    max_cam_force,
   };
 };
 
@@ -130,6 +132,11 @@ const std::vector<MetricSpec> kMetrics = {
     {M::energy_swing, "energy_swing", "J"},  // max - min of kinetic + potential energy: the flywheel's work
     {M::original_energy_swing, "original_energy_swing", "J"},
     {M::rod_length, "rod_length", "m"},  // L (l2s)
+    // N_c over the cycle, signed along the cam's outward normal (< 0: toward
+    // its centre): one sign all round (max < 0 or min > 0), the roller keeps
+    // to one side of the cam track and a one-sided cam suffices
+    {M::min_cam_force, "min_cam_force", "N"},
+    {M::max_cam_force, "max_cam_force", "N"},
 };
 
 template <class S>
@@ -270,6 +277,8 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
       out.put(M::support_reaction_ratio, S(r_orig / r_imp));
     }
     if (out.want(M::peak_cam_force)) out.put(M::peak_cam_force, peak(imp, absolute(cam)));
+    if (out.want(M::min_cam_force)) out.put(M::min_cam_force, S(-peak(imp, negative(cam))));
+    if (out.want(M::max_cam_force)) out.put(M::max_cam_force, peak(imp, cam));
     if (out.want(M::max_cam_pressure_angle)) out.put(M::max_cam_pressure_angle, peak(imp, absolute(pressure)));
     if (out.want(M::peak_rod_force)) out.put(M::peak_rod_force, peak(imp, rod_force));
     if (out.want(M::peak_rod_inertia_force)) out.put(M::peak_rod_inertia_force, peak(imp, rod_inertia));

@@ -196,6 +196,10 @@ TEST(BalancedSliderCrankProblem, ReproducesThePaperReading) {
   EXPECT_LT(rel(e.at("support_reaction_ratio"), 12.47271637188316), kRef);
   // Paper: the cam force up to almost 5 tf. ref "improved.cam_force_extrema"[1] (-49.93 kN at 181.1 deg).
   EXPECT_LT(rel(e.at("peak_cam_force"), 49928.801013968005), kRef);
+  // The cam force keeps one sign (toward the cam's centre) all round: ref
+  // "improved.cam_force_extrema" [1] and [0] (-11.46 kN at 86.9 deg).
+  EXPECT_LT(rel(e.at("min_cam_force"), -49928.801013968005), kRef);
+  EXPECT_LT(rel(e.at("max_cam_force"), -11460.84438885492), kRef);
   EXPECT_LT(rel(e.at("max_cam_pressure_angle"), 4.186315679894228 * kDeg), kRef);  // "pressure_angle_max_deg"
   EXPECT_LT(rel(e.at("peak_rod_force"), 49929.27461008979), kRef);                  // "improved.rod_pin_force_max"
   // Paper: the rod's inertia force has three extrema, 25-54 kN. ref "improved.rod_inertia_extrema"[2].

@@ -84,7 +84,7 @@ nlohmann::json pareto(const Problem& p, const RunSpec& s, std::ostream& out, con
   c.series.push_back(front);
   c.series.push_back({"least " + f1, {a2}, {a1}, Series::Style::star});
   c.series.push_back({"least " + f2, {b2}, {b1}, Series::Style::star});
-  if (std::isfinite(m1)) c.series.push_back({"model design (config values)", {m2}, {m1}, Series::Style::markers});
+  if (std::isfinite(m1)) c.series.push_back({"config design", {m2}, {m1}, Series::Style::markers});
   if (write_svg(c, dir + "pareto.svg")) files.push_back(dir + "pareto.svg");
   return j;
 }
