@@ -11,7 +11,7 @@ DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev
   nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath python3-yaml \
   libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin librsvg2-bin
 
-.PHONY: deps configure build run test bench clean sanitize fuzz
+.PHONY: deps configure build run test bench bench-smoke clean sanitize fuzz
 
 deps:
 	@bash tools/install_deps.sh $(DEB_PACKAGES)
@@ -40,6 +40,11 @@ test: build
 
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
+
+# The benchmark gate of CI (~40 s): every same-run peer comparison, reduced,
+# against bench/smoke_gates.json (ratios and errors; never absolute times).
+bench-smoke: build
+	/usr/bin/python3 bench/smoke.py --build $(BUILD)
 
 # ASan + UBSan build in its own directory (-O1, no debug info, no benchmarks,
 # no MPI: the MPI test runs in `make test` only),

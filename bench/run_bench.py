@@ -441,6 +441,61 @@ def press_sawmill_cases():
     ]
 
 
+def references():
+    """High-precision references of seeds 000 and 002: T_cp and T_max at
+    l = 0.8 m, dT_cp/dl there, the rod-length optimum l*, the peak swing
+    moment of variant 1 and the l_CO1 optimum."""
+    ref = json.load(open(os.path.join(ROOT, "tools", "reference_seed000.json")))
+    t08 = next(r for r in ref["table1"] if r["rod_length"] == 0.8)
+    tcp, tmax = float(t08["mean_kinetic_energy"]), float(t08["peak_kinetic_energy"])
+    grad = float(ref["mean_kinetic_energy_gradient_l08"])
+    lstar = float(ref["rod_length_optimum"])
+    ref2 = json.load(open(os.path.join(ROOT, "tools", "reference_seed002.json")))
+    peak_v1 = float(ref2["variants"][0]["peak_moment"])
+    l_co1_star = float(ref2["l_co1_optimum"])
+    return tcp, tmax, grad, lstar, peak_v1, l_co1_star
+
+
+def comparison_cases(peer):
+    """(case, mechopt benchmark, peer case, reference, what the peer does) of
+    every same-run comparison against a peer."""
+    tcp, tmax, grad, lstar, peak_v1, l_co1_star = references()
+    cases = [
+        ("cycle_mean", "BM_MeanKineticEnergy/32", "cycle_mean", tcp,
+         "numpy trapezoid, 32 points"),
+        ("cycle_mean_16_points", "BM_MeanKineticEnergy/16", "cycle_mean_16", tcp,
+         "numpy trapezoid, 16 points"),
+        ("cycle_mean_vs_quad", "BM_MeanKineticEnergy/32", "cycle_mean_quad", tcp,
+         "scipy.integrate.quad, epsrel 1e-12"),
+        ("cycle_mean_gradient", "BM_MeanKineticEnergyGradient/32", "cycle_mean_gradient", grad,
+         "central differences of the numpy mean"),
+        ("cycle_peak", "BM_CycleMetrics", "cycle_peak", tmax,
+         "numpy grid + scipy minimize_scalar"),
+        ("rod_length_optimum", "BM_RodLengthOptimum/LD_SLSQP", "rod_length_optimum", lstar,
+         "scipy minimize_scalar (bounded), xatol 1e-12"),
+        ("rod_length_optimum_lbfgs", "BM_RodLengthOptimum/LD_LBFGS", "rod_length_optimum", lstar,
+         "scipy minimize_scalar (bounded), xatol 1e-12"),
+        ("swing_peak_moment", "BM_SwingMetrics/48/0", "swing_peak", peak_v1,
+         "numpy loop-closure formulas, 48 points + minimize_scalar refine"),
+        ("swing_all_metrics", "BM_SwingMetrics/48/1", "swing_peak", peak_v1,
+         "as above (the peer computes the peak only)"),
+        ("swing_optimum", "BM_SwingOptimum/LD_SLSQP", "swing_optimum", l_co1_star,
+         "scipy SLSQP, finite-difference gradients, ftol 1e-12"),
+    ]
+    peak_elastic = peer["reference"]["value"]  # scipy Radau at rtol 1e-12 (bench/peer_elastic.py)
+    same = "solve_ivp {} rtol 1e-8, the same steady-state algorithm (events for the extrema)"
+    cases += [
+        ("elastic_steady_state", "BM_ElasticSteady", "steady_lsoda_8", peak_elastic, same.format("LSODA")),
+        ("elastic_steady_state_vs_rk45", "BM_ElasticSteady", "steady_rk45_8", peak_elastic,
+         same.format("RK45 (Dormand-Prince 5(4), as mechopt's erk)")),
+        ("elastic_steady_state_vs_radau", "BM_ElasticSteady", "steady_radau_8", peak_elastic, same.format("Radau")),
+        ("elastic_startup_3s", "BM_ElasticStartup", "startup_lsoda", None,
+         "solve_ivp LSODA rtol 1e-8, 3 s, 1 ms output"),
+    ]
+    cases += press_sawmill_cases()
+    return cases
+
+
 def case_rows(cases, m, peer):
     rows = []
     for case, bm, pc, reference, peer_method, *_ in cases:
@@ -535,15 +590,7 @@ def main():
                                            "\n\nThis block alone: " + machine_line().replace(" (`make bench`)", "")}, partial=True)
             print("written: docs/performance.md (block press_sawmill)")
         return
-    ref = json.load(open(os.path.join(ROOT, "tools", "reference_seed000.json")))
-    t08 = next(r for r in ref["table1"] if r["rod_length"] == 0.8)
-    tcp, tmax = float(t08["mean_kinetic_energy"]), float(t08["peak_kinetic_energy"])
-    grad = float(ref["mean_kinetic_energy_gradient_l08"])
-    lstar = float(ref["rod_length_optimum"])
-
-    ref2 = json.load(open(os.path.join(ROOT, "tools", "reference_seed002.json")))
-    peak_v1 = float(ref2["variants"][0]["peak_moment"])
-    l_co1_star = float(ref2["l_co1_optimum"])
+    tcp, tmax, grad, lstar, peak_v1, l_co1_star = references()
 
     print("running Google Benchmark cases ...", file=sys.stderr)
     m = {}
@@ -562,40 +609,8 @@ def main():
         peer.update(json.loads(subprocess.run([sys.executable, os.path.join(HERE, script)],
                                               check=True, capture_output=True, text=True).stdout))
 
-    # case, mechopt benchmark, peer case, reference, what the peer does
-    cases = [
-        ("cycle_mean", "BM_MeanKineticEnergy/32", "cycle_mean", tcp,
-         "numpy trapezoid, 32 points"),
-        ("cycle_mean_16_points", "BM_MeanKineticEnergy/16", "cycle_mean_16", tcp,
-         "numpy trapezoid, 16 points"),
-        ("cycle_mean_vs_quad", "BM_MeanKineticEnergy/32", "cycle_mean_quad", tcp,
-         "scipy.integrate.quad, epsrel 1e-12"),
-        ("cycle_mean_gradient", "BM_MeanKineticEnergyGradient/32", "cycle_mean_gradient", grad,
-         "central differences of the numpy mean"),
-        ("cycle_peak", "BM_CycleMetrics", "cycle_peak", tmax,
-         "numpy grid + scipy minimize_scalar"),
-        ("rod_length_optimum", "BM_RodLengthOptimum/LD_SLSQP", "rod_length_optimum", lstar,
-         "scipy minimize_scalar (bounded), xatol 1e-12"),
-        ("rod_length_optimum_lbfgs", "BM_RodLengthOptimum/LD_LBFGS", "rod_length_optimum", lstar,
-         "scipy minimize_scalar (bounded), xatol 1e-12"),
-        ("swing_peak_moment", "BM_SwingMetrics/48/0", "swing_peak", peak_v1,
-         "numpy loop-closure formulas, 48 points + minimize_scalar refine"),
-        ("swing_all_metrics", "BM_SwingMetrics/48/1", "swing_peak", peak_v1,
-         "as above (the peer computes the peak only)"),
-        ("swing_optimum", "BM_SwingOptimum/LD_SLSQP", "swing_optimum", l_co1_star,
-         "scipy SLSQP, finite-difference gradients, ftol 1e-12"),
-    ]
-    peak_elastic = peer["reference"]["value"]  # scipy Radau at rtol 1e-12 (bench/peer_elastic.py)
-    same = "solve_ivp {} rtol 1e-8, the same steady-state algorithm (events for the extrema)"
-    cases += [
-        ("elastic_steady_state", "BM_ElasticSteady", "steady_lsoda_8", peak_elastic, same.format("LSODA")),
-        ("elastic_steady_state_vs_rk45", "BM_ElasticSteady", "steady_rk45_8", peak_elastic,
-         same.format("RK45 (Dormand-Prince 5(4), as mechopt's erk)")),
-        ("elastic_steady_state_vs_radau", "BM_ElasticSteady", "steady_radau_8", peak_elastic, same.format("Radau")),
-        ("elastic_startup_3s", "BM_ElasticStartup", "startup_lsoda", None,
-         "solve_ivp LSODA rtol 1e-8, 3 s, 1 ms output"),
-    ]
-    cases += press_sawmill_cases()
+    cases = comparison_cases(peer)
+    peak_elastic = peer["reference"]["value"]
     rows = case_rows(cases, m, peer)
     # Work-precision rows: quadrature points against error, and each optimiser.
     for name, a in m.items():
