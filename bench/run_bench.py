@@ -24,10 +24,10 @@ sys.path.insert(0, HERE)
 import doe_bench  # noqa: E402
 
 
-def google_benchmark(binary, repetitions, benchmark_filter=None):
+def google_benchmark(binary, repetitions, benchmark_filter=None, min_time=0.1):
     out = subprocess.run([binary, "--benchmark_format=json",
                           f"--benchmark_repetitions={repetitions}",
-                          "--benchmark_min_time=0.1"] +
+                          f"--benchmark_min_time={min_time}"] +
                          ([f"--benchmark_filter={benchmark_filter}"] if benchmark_filter else []),
                          check=True, capture_output=True, text=True).stdout
     rows = {}

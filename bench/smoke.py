@@ -30,14 +30,7 @@ def measure(build, names):
     pattern = "^(" + "|".join(re.escape(n) for n in sorted(names)) + ")(/iterations:1)?$"
     m = {}
     for binary in BINARIES:
-        out = subprocess.run([os.path.join(build, "bin", binary), "--benchmark_format=json",
-                              "--benchmark_repetitions=3", "--benchmark_min_time=0.05",
-                              f"--benchmark_filter={pattern}"], check=True, capture_output=True, text=True).stdout
-        for b in json.loads(out)["benchmarks"]:
-            if b.get("aggregate_name") == "median":
-                unit = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
-                m[b["run_name"].replace("/iterations:1", "")] = {
-                    "seconds": b["real_time"] * unit, "value": b.get("value"), "gradient": b.get("gradient")}
+        m.update(run_bench.google_benchmark(os.path.join(build, "bin", binary), 3, pattern, 0.05))
     return m
 
 
