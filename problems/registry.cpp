@@ -1,7 +1,6 @@
 #include "problems/registry.hpp"
 
 #include <algorithm>
-#include <filesystem>
 #include <fstream>
 
 #include "mech/status.hpp"
@@ -54,8 +53,7 @@ std::vector<Link> links_of(const opt::ConfigNode& root) {
 // initial values of its variables of those names: the design evaluated).
 opt::ConfigNode linked_config(const Link& l) {
   const opt::ConfigNode from = l.node.at("from");
-  const std::string dir = std::filesystem::path(from.file()).parent_path().string();
-  const std::string file = (dir.empty() ? "" : dir + "/") + from.text();
+  const std::string file = opt::relative_to(from.file(), from.text());
   if (!std::ifstream(file)) from.fail("cannot read the linked config '" + file + "'");
   const opt::ConfigNode linked = opt::ConfigNode::load(file);
   const bool variables = linked.has("variables") && linked.at("variables").is_map();

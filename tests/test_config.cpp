@@ -176,6 +176,12 @@ TEST(CommandLine, BaseFileIsInheritedAndOverridden) {
   const auto j = nlohmann::json::parse(o.output);
   EXPECT_DOUBLE_EQ(j["settings"]["model"]["crank_radius"].get<double>(), 0.25);
   EXPECT_DOUBLE_EQ(j["settings"]["model"]["rod_length"].get<double>(), 0.7);
+  // An absolute base path is taken as it is (it used to be joined to the
+  // config's directory).
+  std::ofstream(dir + "/absolute.yaml") << "base: " << fs::absolute(dir + "/base.yaml").string() << "\n";
+  o = run("eval " + dir + "/absolute.yaml");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(o.output)["settings"]["model"]["rod_length"].get<double>(), 0.9);
   std::ofstream(dir + "/base.yaml") << "problem: recuperative_drive\nmodel:\n  crank_radius: 0.25 kg\n";
   o = run("eval " + dir + "/run.yaml");
   EXPECT_EQ(o.exit_code, 2);

@@ -88,8 +88,7 @@ ConfigNode ConfigNode::load(const std::string& file) {
   for (int depth = 0; layer->node_["base"].IsDefined(); ++depth) {
     const ConfigNode b(layer->node_["base"], layer->file_, "base", layer->mark_);
     if (depth == 8) b.fail("more than 8 base files in a chain (does one name itself?)");
-    const std::string dir = std::filesystem::path(layer->file_).parent_path().string();
-    const std::string name = (dir.empty() ? "" : dir + "/") + b.text();
+    const std::string name = relative_to(layer->file_, b.text());
     if (!std::ifstream(name)) b.fail("cannot read the base file '" + name + "'");
     std::ifstream bin(name);
     std::stringstream bs;
@@ -253,6 +252,10 @@ int ConfigNode::integer(int min, int max) const {
 
 bool ConfigNode::boolean() const {
   return choice({"true", "false"}) == "true";
+}
+
+std::string relative_to(const std::string& file, const std::string& name) {
+  return (std::filesystem::path(file).parent_path() / name).string();
 }
 
 void set_dotted(YAML::Node n, const std::string& key, const YAML::Node& v) {

@@ -84,6 +84,10 @@ class ConfigNode {
   std::shared_ptr<const ConfigNode> base_;  // the same path in the base file, if any
 };
 
+// A path a config names (`base:`, a link's `from:`), relative to the file it
+// is written in unless absolute.
+std::string relative_to(const std::string& file, const std::string& name);
+
 // Sets KEY of map n; a dotted key names a key in sections: "motor.slip" is
 // n["motor"]["slip"].
 void set_dotted(YAML::Node n, const std::string& key, const YAML::Node& v);

@@ -111,11 +111,7 @@ std::vector<std::string> split_csv(const std::string& line) {
 // The factors and rows of a points file; a header cell "name [unit]" gives
 // the unit of its column's bare numbers.
 void parse_points_file(const ConfigNode& n, const std::vector<Parameter>& table, DoeSpec& s) {
-  const std::string dir = [&] {
-    const auto slash = n.file().find_last_of('/');
-    return slash == std::string::npos ? std::string() : n.file().substr(0, slash + 1);
-  }();
-  const std::string file = n.text().front() == '/' ? n.text() : dir + n.text();
+  const std::string file = relative_to(n.file(), n.text());
   std::ifstream in(file);
   if (!in) n.fail("cannot read the points file '" + file + "'");
   std::string line;
