@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 
 #include "mech/status.hpp"
 #include "opt/parameters.hpp"
@@ -76,20 +77,41 @@ const opt::Parameter* row(const std::vector<opt::Parameter>& table, const std::s
 
 std::unique_ptr<opt::Problem> make_at_depth(const opt::ConfigNode& root, int depth);
 
+// The link whose config l evaluates: l itself, or the link of the same
+// model that its `from` names ({from: crank_radius, metric: crank_speed}:
+// the same design, another of its metrics; a DOE factor on crank_radius's
+// values moves both).
+const Link& source_of(const Link& l, const std::vector<Link>& ls) {
+  const std::string from = l.node.at("from").text();
+  for (const auto& other : ls) {
+    if (other.key != from || &other == &l) continue;
+    if (std::any_of(ls.begin(), ls.end(), [&](const Link& o) { return o.key == other.node.at("from").text(); }))
+      l.node.at("from").fail("names the link " + from + ", which names another link; name a config file");
+    for (const auto& k : l.node.keys())
+      if (k != "from" && k != "metric")
+        l.node.at(k).fail("this link evaluates the design of " + from + "; give the linked model values there");
+    return other;
+  }
+  return l;
+}
+
 // The config with every link replaced by the value it names, and the links'
 // record for the problem.
 opt::ConfigNode resolved(const opt::ConfigNode& root, const Entry& e, int depth, nlohmann::json& record) {
   const std::vector<Link> ls = links_of(root);
   if (ls.empty()) return root;
   YAML::Node over(YAML::NodeType::Map);
+  std::map<std::string, std::unique_ptr<opt::Problem>> built;  // by the source link's key
   for (const auto& l : ls) {
     if (depth == kMaxLinkDepth) l.node.fail("links nest more than 8 deep (does a config link to itself?)");
     const opt::Parameter* target = row(e.parameters, l.key);
     if (!target) continue;  // the model's own check names the unknown key
     if (!target->choices.empty() || target->integer)
       l.node.fail("a link gives a quantity; " + l.key + " takes " + opt::domain_text(*target));
-    const std::string file = l.node.at("from").text();
-    const auto linked = make_at_depth(linked_config(l), depth + 1);
+    const Link& source = source_of(l, ls);
+    auto& linked = built[source.key];
+    if (!linked) linked = make_at_depth(linked_config(source), depth + 1);
+    const std::string file = source.node.at("from").text();
     const opt::ConfigNode m = l.node.at("metric");
     const std::string metric = m.choice(linked->metric_names());
     const std::string unit = linked->metric_unit(metric), wanted = opt::si_unit(target->dimension);
@@ -135,7 +157,9 @@ std::unique_ptr<opt::Problem> make_problem(const opt::ConfigNode& root) { return
 
 std::vector<opt::Parameter> parameters(const opt::ConfigNode& root) {
   std::vector<opt::Parameter> out = entry(root).parameters;
-  for (const auto& l : links_of(root)) {
+  const std::vector<Link> ls = links_of(root);
+  for (const auto& l : ls) {
+    if (&source_of(l, ls) != &l) continue;  // its values are its source's
     const opt::ConfigNode linked = linked_config(l);
     for (opt::Parameter p : entry(linked).parameters) {
       p.name = l.key + "." + p.name;

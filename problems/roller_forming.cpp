@@ -144,6 +144,7 @@ struct M {
     productivity,
     capture_angle,
     compaction_power,
+    crank_speed,
   };
 };
 
@@ -159,6 +160,9 @@ const std::vector<MetricSpec> kMetrics = {
     {M::productivity, "productivity", "m^3/s"},           // (6.6)
     {M::capture_angle, "capture_angle", "rad"},           // cos phi = 1 - h_n,min / R_p
     {M::compaction_power, "compaction_power", "W/m"},     // (6.10) as printed: F of (6.12) is per length
+    // pi v_p / L_X: the cart drive's crank speed at which the cart's mean
+    // speed over a revolution (2 L_X per turn) is v_p of Table 6.1
+    {M::crank_speed, "crank_speed", "rad/s"},
 };
 
 class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
@@ -185,6 +189,7 @@ class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
              {"R_p = (R_p/H) H, the guide's R/H >= 1.1 at its least by default",
               "(6.5) a at its least value (the inequality's bound)",
               "L_X = 2 R_p + a + 2 delta (6.4); the cart drive's crank radius L_X / 2 (centred slider-crank)",
+              "the cart drive's crank speed pi v_p / L_X: the cart's mean speed over a turn is v_p",
               "(6.7) h_sp = H, n_PP = n_p + 1; (6.8) n_P = N; (6.9) L_6 read as L_ost",
               "capture angle from the fed layer: cos phi = 1 - h_n,min / R_p",
               "compaction_power in W/m: (6.10) as printed with the force per length of (6.12)"}}};
@@ -211,6 +216,7 @@ class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
     out.put(M::productivity, r.productivity);
     out.put(M::capture_angle, r.capture_angle);
     out.put(M::compaction_power, r.power);
+    out.put(M::crank_speed, S(std::numbers::pi * m_.c.v_p / r.L_X));
   }
 
  private:

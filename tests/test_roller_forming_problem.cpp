@@ -224,6 +224,13 @@ TEST(RollerFormingProblem, ClosedForms) {
       EXPECT_NEAR(std::cos(e.at("capture_angle")), 1 - e.at("min_layer") / e.at("roller_radius"), 1e-15);
     }
   }
+  // The cart drive's crank speed: a centred slider-crank's slider travels
+  // twice its stroke 2 r = L_X per turn, so its mean speed is L_X w / pi,
+  // which must be v_p of Table 6.1 (variant 1: 0.23 m/s; variant 9: 0.25).
+  for (const auto& [i, v_p] : {std::pair{1, 0.23}, {9, 0.25}}) {
+    const auto e = evaluate(*forming(variant(i)));
+    EXPECT_NEAR(e.at("cart_stroke") * e.at("crank_speed") / std::numbers::pi, v_p, 1e-15);
+  }
   // Variant 0 with every product value given is the same chain: variant 1's.
   const auto explicit_v1 = evaluate(*forming(
       "variant: 0, product_length: 3 m, width: 2 m, thickness: 100 mm, forming_speed: 0.004, cart_speed: 0.23, "
@@ -271,6 +278,47 @@ TEST(RollerFormingProblem, Gradients) {
   ASSERT_TRUE(e.ok());
   EXPECT_EQ(e[p->metric_id("cart_stroke")].gradient(0), 2.0);
   EXPECT_EQ(e[p->metric_id("crank_radius")].gradient(0), 1.0);
+}
+
+}  // namespace
+
+namespace {
+
+// configs/recuperative_drive/forming_chain.yaml: the drive's crank radius and
+// speed from a forming variant (config links), as one DOE sample sets it.
+// The radius is the reference's crank_radius; the speed makes the carts'
+// mean speed v_p, so the drive's least mean kinetic energy (both carts at
+// their mean speed, 2 x m v^2 / 2 with m = 1000 kg) is 1000 v_p^2 J.
+TEST(FormingChain, EachVariantSetsTheDrivesCrankRadiusAndSpeed) {
+  const opt::ConfigNode chain =
+      opt::ConfigNode::load(std::string(MECHOPT_SOURCE_DIR) + "/configs/recuperative_drive/forming_chain.yaml");
+  for (const auto& [i, v_p] : {std::pair{1, 0.23}, {9, 0.25}, {24, 0.25}}) {
+    YAML::Node over;
+    opt::set_dotted(over["model"], "crank_radius.variant", YAML::Node(std::to_string(i)));
+    const auto drive = problems::make_problem(chain.with(over, "sample"));
+    const Row& ref = kNegative[i - 1];
+    const nlohmann::json record = drive->record();
+    expect_rel(record["model"]["crank_radius"].get<double>(), ref.crank_radius);
+    expect_rel(record["model"]["crank_speed"].get<double>(), std::numbers::pi * v_p / ref.L_X);
+    ASSERT_EQ(record["links"].size(), 2u);
+    EXPECT_EQ(record["links"][1]["key"], "crank_speed");
+    const auto e = drive->evaluate(drive->initial_point(false), std::vector<std::string>{"least_mean_kinetic_energy"}, false);
+    EXPECT_NEAR(e[drive->metric_id("least_mean_kinetic_energy")].value, 1000 * v_p * v_p, 1e-12) << "variant " << i;
+  }
+}
+
+TEST(FormingChain, ALinkNamingALinkTakesNoModelValuesOfItsOwn) {
+  const auto error = config_error([] {
+    problems::make_problem(opt::ConfigNode::parse(
+        "problem: recuperative_drive\nmodel:\n  crank_radius: {from: " + std::string(MECHOPT_SOURCE_DIR) +
+            "/configs/roller_forming/variant.yaml, metric: crank_radius}\n"
+            "  crank_speed: {from: crank_radius, metric: crank_speed, variant: 3}\n",
+        "<chain>"));
+  });
+  EXPECT_NE(error.find("<chain>:4:67: key 'model.crank_speed.variant': this link evaluates the design of "
+                       "crank_radius; give the linked model values there"),
+            std::string::npos)
+      << error;
 }
 
 }  // namespace
