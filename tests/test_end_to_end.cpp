@@ -88,6 +88,37 @@ void check_cycle_chart(const std::string& dir, const std::string& problem) {
   EXPECT_EQ(count(head, "["), count(head, ",") + 1) << head;
 }
 
+// Every chart a run writes renders to a PNG (rsvg-convert, from
+// librsvg2-bin, which `make deps` installs: a missing renderer fails, never
+// skips), and both its axis labels end in a unit, "[unit]": angles in
+// degrees, a plain number as [-], never [], [SI] or [rad].
+void check_every_chart(const std::string& dir) {
+  ASSERT_EQ(std::system("command -v rsvg-convert > /dev/null 2>&1"), 0) << "rsvg-convert (librsvg2-bin) not installed";
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".svg") continue;
+    const std::string svg_file = e.path().string(), png = svg_file.substr(0, svg_file.size() - 4) + ".png";
+    SCOPED_TRACE(svg_file);
+    const std::string render = "rsvg-convert -o " + png + " " + svg_file;
+    ASSERT_EQ(std::system(render.c_str()), 0) << render;
+    std::ifstream png_in(png, std::ios::binary);
+    char magic[8] = {};
+    png_in.read(magic, 8);
+    EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+    std::ifstream in(svg_file);
+    const auto texts = svg_texts(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+    const auto y = std::find_if(texts.begin(), texts.end(), [](const SvgText& t) { return t.rotated; });
+    ASSERT_NE(y, texts.end()) << "no y axis label";
+    ASSERT_NE(y, texts.begin());
+    for (const std::string& label : {std::prev(y)->text, y->text}) {
+      const size_t open = label.rfind(" [");
+      ASSERT_NE(open, std::string::npos) << "no unit: " << label;
+      const std::string unit = label.substr(open + 2);
+      EXPECT_TRUE(unit.size() > 1 && unit.back() == ']') << label;
+      for (const char* bad : {"]", "SI]", "rad]"}) EXPECT_NE(unit, bad) << label;
+    }
+  }
+}
+
 // A doe config of more than kSlice samples runs its first shard of about
 // kSlice samples (`--shard 0/K`, as a job array's first task would): every
 // key is read and every step runs, without 10^6 evaluations per test run
@@ -148,6 +179,7 @@ TEST_P(Config, RunsAndWritesResults) {
     SCOPED_TRACE("cycle.svg of " + GetParam());
     check_cycle_chart(dir, problem);
   }
+  check_every_chart(dir);
   if (j.contains("variables") && j["variables"].size() == 1) {
     EXPECT_TRUE(fs::exists(dir + "/chart.svg"));
   }
@@ -165,8 +197,7 @@ INSTANTIATE_TEST_SUITE_P(All, Config, ::testing::ValuesIn(configs()), [](const a
 namespace {
 
 // The sawmill's chart at the paper's design: the improved and the original
-// balancing torque, two lines on one axis in N m. With rsvg-convert
-// (librsvg2-bin, installed by make deps) the chart renders to a PNG.
+// balancing torque, two lines on one axis in N m, rendered to a PNG.
 TEST(CycleChart, SawmillDrawsBothTorques) {
   const std::string dir = testing::TempDir() + "/cycle_sawmill";
   fs::remove_all(dir);
@@ -178,14 +209,7 @@ TEST(CycleChart, SawmillDrawsBothTorques) {
   const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(count(svg, "<polyline"), 2u);
   check_cycle_chart(dir, "balanced_slider_crank");
-  // `make deps` installs librsvg2-bin: a missing renderer fails, never skips.
-  ASSERT_EQ(std::system("command -v rsvg-convert > /dev/null 2>&1"), 0) << "rsvg-convert (librsvg2-bin) not installed";
-  const std::string render = "rsvg-convert -o " + dir + "/cycle.png " + dir + "/cycle.svg";
-  ASSERT_EQ(std::system(render.c_str()), 0) << render;
-  std::ifstream png(dir + "/cycle.png", std::ios::binary);
-  char magic[8] = {};
-  png.read(magic, 8);
-  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  check_every_chart(dir);
   EXPECT_GT(fs::file_size(dir + "/cycle.png"), 5000u);
 }
 

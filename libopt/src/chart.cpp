@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -98,7 +99,33 @@ Axis make_axis(const std::vector<double>& values, double pad) {
   return a;
 }
 
-bool write_svg(const Chart& chart, const std::string& file) {
+namespace {
+// The unit a chart shows a quantity of SI unit `si` in, and the factor from SI.
+std::pair<std::string, double> shown(const std::string& si) {
+  if (si == "rad") return {"deg", 180 / std::numbers::pi};
+  return {si.empty() ? "-" : si, 1.0};
+}
+}  // namespace
+
+void Chart::set_x(const std::string& name, const std::string& si) {
+  const auto [unit, scale] = shown(si);
+  x_label = name + " [" + unit + "]";
+  x_scale = scale;
+  if (si == "rad") x_tick_step = 45;  // write_svg's own ticks when 45 deg gives fewer than 3
+}
+
+void Chart::set_y(const std::string& name, const std::string& si) {
+  const auto [unit, scale] = shown(si);
+  y_label = name + " [" + unit + "]";
+  y_scale = scale;
+}
+
+bool write_svg(const Chart& drawn_chart, const std::string& file) {
+  Chart chart = drawn_chart;  // its points in the units shown
+  for (auto& s : chart.series) {
+    for (double& x : s.x) x *= chart.x_scale;
+    for (double& y : s.y) y *= chart.y_scale;
+  }
   const double W = 780, H = 450, L = 80, T = 40, B = 60;
   // Legend entries, thinned lines saying so; the legend column beside the
   // plot is as wide as its longest entry, at most 30% of the width (longer
@@ -121,7 +148,9 @@ bool write_svg(const Chart& chart, const std::string& file) {
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) xs.push_back(s.x[i]), ys.push_back(s.y[i]);
   Axis ax = make_axis(xs);
   const Axis ay = make_axis(ys, 0.05);
-  if (const double step = chart.x_tick_step; step > 0 && (ax.hi / step - ax.lo / step) < kMaxTicks) {
+  // A fixed tick step when it gives 3 to kMaxTicks ticks on this span.
+  if (const double step = chart.x_tick_step;
+      step > 0 && std::floor(ax.hi / step) - std::ceil(ax.lo / step) + 1 >= 3 && (ax.hi / step - ax.lo / step) < kMaxTicks) {
     ax.ticks.clear();
     for (double t = std::ceil(ax.lo / step); t * step <= ax.hi; ++t) ax.ticks.push_back(t * step);
   }

@@ -16,6 +16,12 @@ struct Chart {
   std::string title, x_label, y_label;
   std::vector<Series> series;
   double x_tick_step = 0;  // > 0: x ticks at its multiples (e.g. 45 for degrees), unless too many
+  double x_scale = 1, y_scale = 1;  // every point's x and y are multiplied by these when drawn
+  // The axis of a quantity whose values (in the series) are in SI unit
+  // `si`: labelled "name [unit]", an angle shown in degrees (scaled, with
+  // ticks every 30 or 45 deg on x), a plain number as [-].
+  void set_x(const std::string& name, const std::string& si);
+  void set_y(const std::string& name, const std::string& si);
 };
 
 // Writes the chart as SVG; returns false if the file cannot be written.

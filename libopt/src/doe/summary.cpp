@@ -320,8 +320,10 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
   // Charts: per metric, its mean against each factor's position in its range.
   for (size_t k = 0; k < metrics.size(); ++k) {
     const std::string& m = metrics[k];
-    Chart c{"main effects on " + m, "factor position: its lowest level or value (0) to its highest (1)",
-            m + (units[k].empty() ? "" : " [" + units[k] + "]"), {}};
+    Chart c;
+    c.title = "main effects on " + m;
+    c.x_label = "factor position, lowest level or value (0) to highest (1) [-]";
+    c.set_y(m, units[k]);
     for (const auto& fs : spec.factors) {
       const auto& me = j["main_effects"][fs.factor.name][m];
       Series s{fs.factor.name, me["positions"].get<std::vector<double>>(), me["means"].get<std::vector<double>>(),

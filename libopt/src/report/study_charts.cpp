@@ -3,7 +3,6 @@
 #include <iomanip>
 #include <limits>
 #include <map>
-#include <numbers>
 
 #include "opt/chart.hpp"
 #include "report/report.hpp"
@@ -47,8 +46,8 @@ std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
   for (const auto& m : metrics) {
     Chart c;
     c.title = p.name() + ": " + m + " along " + v.name;
-    c.x_label = v.name + " [" + si_unit(v.dimension) + "]";
-    c.y_label = m + " [" + p.metric_unit(m) + "]";
+    c.set_x(v.name, si_unit(v.dimension));
+    c.set_y(m, p.metric_unit(m));
     c.series.push_back(lines.at(m));
     if (!grid_x.empty()) {
       Series g{"grid points", {}, {}, Series::Style::markers};
@@ -86,8 +85,6 @@ std::vector<std::string> write_cycle_chart(const Problem& p,
   if (drawn.empty()) return {};
   const CycleCurves& last = drawn.back().second;
   const std::vector<size_t> cols = last.plotted();
-  const bool degrees = last.units[0] == "rad";  // the crank angle, drawn in degrees
-  const double x_scale = degrees ? 180 / std::numbers::pi : 1.0;
   // Every plotted column at the last design; the primary alone at the others.
   // With several designs, a primary line is labelled by its design alone.
   Chart c;
@@ -96,7 +93,6 @@ std::vector<std::string> write_cycle_chart(const Problem& p,
     for (size_t k : cols) {
       if (d + 1 < drawn.size() && k != curves.primary) continue;
       Series line{curves.names[k], curves.columns[0], curves.columns[k], Series::Style::line};
-      for (double& v : line.x) v *= x_scale;
       if (drawn.size() > 1)
         line.label = k == curves.primary ? drawn[d].first : line.label + " (" + drawn[d].first + ")";
       c.series.push_back(std::move(line));
@@ -107,9 +103,9 @@ std::vector<std::string> write_cycle_chart(const Problem& p,
   if (quantities.size() > 52) quantities = last.names[cols[0]] + " and others";
   c.title = p.name() + ": " +
             (drawn.size() > 1 ? last.names[cols[0]] + " at each design" : "cycle curves at " + drawn.back().first);
-  if (degrees) c.x_tick_step = last.columns[0].back() * x_scale > 200 ? 45 : 30;
-  c.x_label = last.names[0] + " [" + (degrees ? "deg" : last.units[0]) + "]";
-  c.y_label = quantities + " [" + last.units[cols[0]] + "]";
+  c.set_x(last.names[0], last.units[0]);  // the crank angle in degrees
+  if (last.units[0] == "rad" && last.columns[0].back() < 3.5) c.x_tick_step = 30;  // a half turn
+  c.set_y(quantities, last.units[cols[0]]);
   std::vector<std::string> files;
   if (write_svg(c, dir + "cycle.svg")) files.push_back(dir + "cycle.svg");
   // cycle.csv: every column at the last design, in SI, each header "name [unit]".

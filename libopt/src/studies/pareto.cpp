@@ -79,8 +79,8 @@ nlohmann::json pareto(const Problem& p, const RunSpec& s, std::ostream& out, con
                  {"csv", dir + "pareto.csv"}};
   Chart c;
   c.title = p.name() + ": Pareto front, " + f1 + " against " + f2;
-  c.x_label = f2 + " [" + p.metric_unit(f2) + "]";
-  c.y_label = f1 + " [" + p.metric_unit(f1) + "]";
+  c.set_x(f2, p.metric_unit(f2));
+  c.set_y(f1, p.metric_unit(f1));
   c.series.push_back(front);
   c.series.push_back({"least " + f1, {a2}, {a1}, Series::Style::star});
   c.series.push_back({"least " + f2, {b2}, {b1}, Series::Style::star});
