@@ -5,8 +5,8 @@ medians, their ratio (peer_seconds / mechopt_seconds) and each one's relative
 error against the high-precision references (tools/reference_seed000.json,
 tools/reference_seed002.json, bench/reference_press_sawmill.json).
 Usage: /usr/bin/python3 bench/run_bench.py [--build build] [--repetitions 5]
-       /usr/bin/python3 bench/run_bench.py --only press_sawmill   (the crank press and
-       the sawmill alone: their bench, peers, rows and docs block; a minute)
+       /usr/bin/python3 bench/run_bench.py --only press_sawmill   (the crank press,
+       roller forming and the sawmill alone: their bench, peers, rows and docs block; a minute)
 """
 import argparse
 import datetime
@@ -412,16 +412,18 @@ def drivers_blocks(m):
     return blocks
 
 
-# The crank press (seed 003) and the sawmill's balanced slider-crank (seed
-# 004): bench/bench_press_sawmill.cpp against bench/peer_crank_press.py and
+# The crank press and the roller-forming machine (seed 003) and the sawmill's
+# balanced slider-crank (seed 004): bench/bench_press_sawmill.cpp against
+# bench/peer_crank_press.py, bench/peer_roller_forming.py and
 # bench/peer_balanced_slider_crank.py, errors against
 # bench/reference_press_sawmill.json (printed by tests/ref/*_ref.py).
 PRESS_SAWMILL_BINARY = "bench_press_sawmill"
-PRESS_SAWMILL_PEERS = ("peer_crank_press.py", "peer_balanced_slider_crank.py")
+PRESS_SAWMILL_PEERS = ("peer_crank_press.py", "peer_roller_forming.py", "peer_balanced_slider_crank.py")
 
 
 def press_sawmill_cases():
-    """(case, mechopt benchmark, peer case, reference, peer method, label) of the press and the sawmill."""
+    """(case, mechopt benchmark, peer case, reference, peer method, label) of the press, the roller-forming
+    machine and the sawmill."""
     ref = json.load(open(os.path.join(HERE, "reference_press_sawmill.json")))
     press, saw = ref["crank_press"], ref["balanced_slider_crank"]
     grid = "numpy, 64 cells over [phi_c, pi], brentq for phi_c"
@@ -432,6 +434,9 @@ def press_sawmill_cases():
         ("press_peak_pressure_law", "BM_PressPeakTorque/1", "press_peak_pressure_law",
          press["peak_torque_pressure_law"], grid + " + minimize_scalar refine",
          "press SM-816, variant 1: peak torque, pressure law (7.2)"),
+        ("roller_forming_table", "BM_RollerFormingTable", "roller_forming_table",
+         ref["roller_forming"]["crank_radius_sum"], "numpy, the chain (6.1)-(6.12) vectorised over the 24 variants",
+         "roller forming, Table 6.1: every metric of the 24 variants (error of the summed crank radii)"),
         ("sawmill_peak_torque", "BM_SawmillMetrics/0", "sawmill_peak_torque", saw["peak_balancing_torque"],
          "numpy Newton-Euler, 72 points + minimize_scalar refine",
          "sawmill, improved mechanism: peak \\|M_b\\| alone"),
