@@ -101,7 +101,8 @@ const opt::ParameterTable<Model> kTable = {
      MECHOPT_STORED_AT(m.lever_pivot)},
     {choice("force", {"constant", "pressure_law"},
             "the final pressure over the whole compaction (the guide), or (7.2) at the current depth",
-            "seed 003 eqs (7.1)-(7.2)"),
+            "seed 003 eqs (7.1)-(7.2)")
+         .fidelity({"constant", "pressure_law"}),
      MECHOPT_STORED_AT(m.force)},
     {whole("stroke_points", {4, 100000, false, false}, "grid cells over the pressing stroke for the peak torque", ""),
      MECHOPT_STORED_AT(m.stroke_points)},

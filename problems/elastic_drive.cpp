@@ -133,7 +133,8 @@ const opt::ParameterTable<Model> kTable = {
             "as printed (signed), or opposing the crank's motion (regularised over 1e-3 rad/s)",
             "seed 001 eqs (18)-(20)"),
      MECHOPT_STORED_AT(m.drive.resistance_opposes_motion)},
-    {choice("fidelity", {"rigid", "elastic"}, "one rigid mass, or two masses joined by the coupling", "seed 001 eq. (29)"),
+    {choice("fidelity", {"rigid", "elastic"}, "one rigid mass, or two masses joined by the coupling", "seed 001 eq. (29)")
+         .fidelity({"rigid", "elastic"}),
      MECHOPT_STORED_AT(m.drive.fidelity)},
     {choice("coupling_side", {"crank", "motor"},
             "coupling torques reported at the crank, or on the motor shaft (divided by u eta)", ""),

@@ -1,8 +1,11 @@
 #include "problems/registry.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "mech/status.hpp"
 #include "opt/parameters.hpp"
@@ -129,11 +132,127 @@ opt::ConfigNode resolved(const opt::ConfigNode& root, const Entry& e, int depth,
   return root.with(over, root.file());
 }
 
+// A fidelity row written `auto` (tolerance 1e-3) or `{auto: TOL}`;
+// `fidelity: auto` makes every fidelity.* row auto.
+struct AutoLevel {
+  const opt::Parameter* row;
+  double tolerance;
+};
+
+constexpr double kFidelityTolerance = 1e-3;
+
+// The node that sets row `name` (dotted) under n: its own, or a section's
+// scalar (`fidelity: auto`); none when the config leaves it at its default.
+// (Recursive: assigning a ConfigNode would overwrite the YAML it refers to.)
+std::optional<opt::ConfigNode> setting(const opt::ConfigNode& n, const std::string& name) {
+  const size_t dot = name.find('.');
+  const std::string key = name.substr(0, dot);
+  if (!n.is_map() || !n.has(key)) return std::nullopt;
+  const opt::ConfigNode child = n.at(key);
+  if (dot == std::string::npos || child.is_scalar()) return child;
+  return setting(child, name.substr(dot + 1));
+}
+
+std::vector<AutoLevel> auto_levels(const opt::ConfigNode& root, const Entry& e) {
+  std::vector<AutoLevel> out;
+  if (!root.has("model")) return out;
+  for (const auto& p : e.parameters) {
+    if (p.coarse_to_fine.empty()) continue;
+    const auto n = setting(root.at("model"), p.name);
+    if (!n) continue;
+    if (n->is_scalar() && n->text() == "auto") out.push_back({&p, kFidelityTolerance});
+    else if (n->is_map() && n->has("auto")) {
+      n->allow_only({"auto"});
+      out.push_back({&p, n->at("auto").quantity(opt::Dimension::dimensionless, {0, 1, true, true})});
+    }
+  }
+  return out;
+}
+
+// The metrics an auto fidelity must keep within its tolerance: the config's
+// objective and constraints, else every metric.
+std::vector<std::string> compared_metrics(const opt::ConfigNode& root, const opt::Problem& p) {
+  std::vector<std::string> out;
+  auto add = [&](const std::string& m) {
+    if (p.has_metric(m) && std::find(out.begin(), out.end(), m) == out.end()) out.push_back(m);
+  };
+  if (root.has("objective") && root.at("objective").is_map())
+    for (const auto& k : root.at("objective").keys()) add(root.at("objective").at(k).text());
+  if (root.has("constraints") && root.at("constraints").is_map())
+    for (const auto& k : root.at("constraints").keys()) add(k);
+  return out.empty() ? p.metric_names() : out;
+}
+
+std::string relative_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2g", v);
+  return text;
+}
+
+// The config with every auto fidelity row set to its coarsest level whose
+// metrics, at the start point, move less than its tolerance (relative) from
+// the next finer level's, and the record of each choice. While one row is
+// chosen the other auto rows stand at their finest level.
+opt::ConfigNode fidelity_chosen(const opt::ConfigNode& root, const Entry& e, int depth, nlohmann::json& record) {
+  const std::vector<AutoLevel> autos = auto_levels(root, e);
+  if (autos.empty()) return root;
+  YAML::Node over(YAML::NodeType::Map);
+  for (const auto& a : autos) opt::set_dotted(over["model"], a.row->name, YAML::Node(a.row->coarse_to_fine.back()));
+  for (const auto& a : autos) {
+    const auto& levels = a.row->coarse_to_fine;
+    std::vector<std::string> metrics;
+    auto values = [&](const std::string& level) {  // empty: the design fails at this level
+      opt::set_dotted(over["model"], a.row->name, YAML::Node(level));
+      const auto p = make_at_depth(root.with(over, root.file()), depth);
+      if (metrics.empty()) metrics = compared_metrics(root, *p);
+      const opt::Evaluation ev = p->evaluate(p->initial_point(false), metrics, false);
+      std::vector<double> v;
+      for (const auto& m : metrics)
+        if (ev.ok() && ev.has(p->metric_id(m))) v.push_back(ev[p->metric_id(m)].value);
+      return v.size() == metrics.size() ? v : std::vector<double>{};
+    };
+    size_t chosen = levels.size() - 1;
+    nlohmann::json steps = nlohmann::json::array();
+    std::vector<double> finer = values(levels.back());
+    std::string why = levels.back() + ": the finest level";
+    // From the finest down: a level stands if it is within the tolerance of
+    // the next finer one; the coarsest such level in an unbroken run wins.
+    for (size_t L = levels.size() - 1; L-- > 0;) {
+      const std::vector<double> v = values(levels[L]);
+      double worst = HUGE_VAL;
+      std::string which = "the design fails at one of the two levels";
+      if (!v.empty() && !finer.empty()) {
+        worst = 0;
+        for (size_t k = 0; k < v.size(); ++k) {
+          const double change = std::abs(v[k] - finer[k]) / std::max(std::abs(finer[k]), 1e-300);
+          if (change >= worst) worst = change, which = metrics[k];
+        }
+      }
+      steps.push_back({{"level", levels[L]}, {"against", levels[L + 1]}, {"largest_change", worst}, {"metric", which}});
+      if (!(worst < a.tolerance)) {
+        why = levels[L] + " moves " + which + " by " + relative_text(worst) + " from " + levels[L + 1] +
+              " (tolerance " + relative_text(a.tolerance) + "): " + levels[chosen];
+        break;
+      }
+      chosen = L;
+      finer = v;
+      why = levels[L] + " moves " + which + " by " + relative_text(worst) + " from " + levels[L + 1] + ", within " +
+            relative_text(a.tolerance);
+    }
+    opt::set_dotted(over["model"], a.row->name, YAML::Node(levels[chosen]));
+    record.push_back({{"key", a.row->name}, {"chosen", levels[chosen]}, {"tolerance", a.tolerance},
+                      {"compared", metrics}, {"steps", steps}, {"why", why}});
+  }
+  return root.with(over, root.file());
+}
+
 std::unique_ptr<opt::Problem> make_at_depth(const opt::ConfigNode& root, int depth) {
   const Entry& e = entry(root);
-  nlohmann::json record = nlohmann::json::array();
-  auto p = e.make(resolved(root, e, depth, record));
-  p->links = std::move(record);
+  nlohmann::json links = nlohmann::json::array(), fidelity = nlohmann::json::array();
+  const opt::ConfigNode linked = resolved(root, e, depth, links);
+  auto p = e.make(fidelity_chosen(linked, e, depth, fidelity));
+  if (!links.empty()) p->resolved["links"] = std::move(links);
+  if (!fidelity.empty()) p->resolved["fidelity_auto"] = std::move(fidelity);
   return p;
 }
 }  // namespace

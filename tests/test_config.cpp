@@ -243,3 +243,67 @@ TEST(Links, DoeFactorsNameTheLinkedModelValuesAndASampleSetsThem) {
 }
 
 }  // namespace
+
+namespace {
+
+// `auto` fidelity: the coarsest level whose compared metrics (the objective
+// and constraints) move less than the tolerance from the next finer level at
+// the start point. The change is computed here from two configs that name
+// the levels outright.
+opt::ConfigNode rod_length_with(const std::string& fidelity) {
+  const std::string file = testing::TempDir() + "/fidelity_auto.yaml";
+  std::ofstream(file) << "base: " << MECHOPT_SOURCE_DIR << "/configs/recuperative_drive/rod_length.yaml\n"
+                      << "model: {fidelity: " << fidelity << "}\n";
+  return opt::ConfigNode::load(file);
+}
+
+double mean_kinetic_energy(const opt::ConfigNode& root) {
+  const auto p = problems::make_problem(root);
+  return p->evaluate(p->initial_point(false), std::vector<std::string>{"mean_kinetic_energy"}, false)
+      [p->metric_id("mean_kinetic_energy")].value;
+}
+
+TEST(FidelityAuto, TheCoarsestLevelWithinTheToleranceOfTheNextFiner) {
+  const double binomial = mean_kinetic_energy(rod_length_with("{kinematics: binomial}"));
+  const double exact = mean_kinetic_energy(rod_length_with("{kinematics: exact}"));
+  const double change = std::abs(binomial - exact) / exact;
+  ASSERT_GT(change, 1e-5);  // the two levels differ: the choice means something
+  for (const double tolerance : {change * 2, change / 2}) {
+    const auto p = problems::make_problem(rod_length_with("{kinematics: {auto: " + std::to_string(tolerance) + "}}"));
+    const nlohmann::json r = p->record();
+    const std::string expected = tolerance > change ? "binomial" : "exact";
+    EXPECT_EQ(r["model"]["fidelity"]["kinematics"], expected) << tolerance;
+    ASSERT_EQ(r["fidelity_auto"].size(), 1u);
+    const auto& a = r["fidelity_auto"][0];
+    EXPECT_EQ(a["key"], "fidelity.kinematics");
+    EXPECT_EQ(a["chosen"], expected);
+    EXPECT_EQ(a["compared"], nlohmann::json({"mean_kinetic_energy"}));  // rod_length.yaml's objective
+    EXPECT_NEAR(a["steps"][0]["largest_change"].get<double>(), change, 1e-15);
+    EXPECT_NE(a["why"].get<std::string>().find("moves mean_kinetic_energy by"), std::string::npos) << a["why"];
+    EXPECT_NEAR(mean_kinetic_energy(rod_length_with("{kinematics: " + expected + "}")),
+                p->evaluate(p->initial_point(false), std::vector<std::string>{"mean_kinetic_energy"}, false)
+                    [p->metric_id("mean_kinetic_energy")].value,
+                0);
+  }
+}
+
+TEST(FidelityAuto, ASectionWrittenAutoCoversEveryLevelInIt) {
+  const nlohmann::json r = problems::make_problem(rod_length_with("auto"))->record();
+  ASSERT_EQ(r["fidelity_auto"].size(), 2u);
+  EXPECT_EQ(r["fidelity_auto"][0]["key"], "fidelity.kinematics");
+  EXPECT_EQ(r["fidelity_auto"][1]["key"], "fidelity.rod");
+  // The rod's inertia moves the mean energy by 0.5% at l = 0.8 m: more than
+  // the default 1e-3, so the full rod stays.
+  EXPECT_EQ(r["model"]["fidelity"]["rod"], "full");
+}
+
+TEST(FidelityAuto, BadToleranceIsALocatedError) {
+  try {
+    problems::make_problem(rod_length_with("{rod: {auto: 2}}"));
+    FAIL() << "no error";
+  } catch (const opt::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'model.fidelity.rod.auto'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace

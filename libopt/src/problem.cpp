@@ -44,9 +44,9 @@ Evaluation Problem::evaluate(const Eigen::VectorXd& x, const std::vector<std::st
 
 nlohmann::json Problem::record() const {
   nlohmann::json j = settings();
-  if (links.empty()) return j;
+  if (resolved.empty()) return j;
   if (!j.is_object()) j = {{"settings", j}};
-  j["links"] = links;
+  for (const auto& [key, value] : resolved.items()) j[key] = value;
   return j;
 }
 

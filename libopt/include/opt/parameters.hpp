@@ -29,7 +29,16 @@ struct Parameter {
   bool automatic = false;            // `auto` is accepted too, stored as 0
   bool variable = false;             // a config may free it under `variables:`
   double value = 0;                  // the default (filled from the default model)
+  // A model fidelity choice: its options from the coarsest (cheapest) to the
+  // finest; a config may write `auto` (problems::make_problem picks one).
+  std::vector<std::string> coarse_to_fine;
 
+  // The same choice as a fidelity level, its options ordered coarsest first.
+  Parameter fidelity(std::vector<std::string> coarsest_first) const {
+    Parameter p = *this;
+    p.coarse_to_fine = std::move(coarsest_first);
+    return p;
+  }
   // The same, also accepting `auto` (stored as 0, outside the domain proper).
   Parameter or_auto() const {
     Parameter p = *this;
@@ -40,7 +49,7 @@ struct Parameter {
 
 // Rows of a table, by kind.
 inline Parameter quantity(std::string name, Dimension d, Domain domain, std::string doc, std::string eq) {
-  return {std::move(name), d, domain, std::move(doc), std::move(eq), {}, false, false, false, 0};
+  return {std::move(name), d, domain, std::move(doc), std::move(eq), {}, false, false, false, 0, {}};
 }
 // A quantity a config may also free as a design variable.
 inline Parameter variable(std::string name, Dimension d, Domain domain, std::string doc, std::string eq) {
@@ -50,10 +59,10 @@ inline Parameter variable(std::string name, Dimension d, Domain domain, std::str
 }
 inline Parameter choice(std::string name, std::vector<std::string> options, std::string doc, std::string eq) {
   return {std::move(name), Dimension::dimensionless, kAnyValue, std::move(doc), std::move(eq),
-          std::move(options), false, false, false, 0};
+          std::move(options), false, false, false, 0, {}};
 }
 inline Parameter whole(std::string name, Domain domain, std::string doc, std::string eq) {
-  return {std::move(name), Dimension::dimensionless, domain, std::move(doc), std::move(eq), {}, true, false, false, 0};
+  return {std::move(name), Dimension::dimensionless, domain, std::move(doc), std::move(eq), {}, true, false, false, 0, {}};
 }
 
 // A row of a problem's table with where its value is stored in the problem's

@@ -176,12 +176,13 @@ class Problem {
   virtual bool provides_gradients() const { return true; }
   // Fidelity, numerical settings and fixed model values, for result files.
   virtual nlohmann::json settings() const = 0;
-  // Model values taken from other configs' results (`from:` links, filled
-  // by problems::make_problem): each one's key, file, metric, value and the
-  // linked problem's own record.
-  nlohmann::json links = nlohmann::json::array();
-  // settings() and, when there are any, the links: what result files and a
-  // DOE's config hash record.
+  // How problems::make_problem settled the config's open values, for the
+  // record: "links" (model values taken from other configs' results: each
+  // one's key, file, metric, value and the linked problem's record) and
+  // "fidelity" (each `auto` level: the one chosen and why).
+  nlohmann::json resolved = nlohmann::json::object();
+  // settings() with `resolved`'s entries: what result files and a DOE's
+  // config hash record.
   nlohmann::json record() const;
 
   // The variables' initial values, clamped into their bounds for drivers;

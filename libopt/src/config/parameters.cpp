@@ -35,6 +35,7 @@ std::string domain_text(const Parameter& p) {
   std::string out;
   if (!p.choices.empty()) {
     for (const auto& c : p.choices) out += (out.empty() ? "one of: " : ", ") + c;
+    if (!p.coarse_to_fine.empty()) out += ", or auto";
     return out;
   }
   out = to_string(p.domain, p.dimension);
