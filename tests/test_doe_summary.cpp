@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <sstream>
 
@@ -126,6 +127,30 @@ study:
   const double w = 100 * std::numbers::pi / 30;
   EXPECT_NEAR(best["value"].get<double>(), 0.15 * w * w * (1 + 0.15 / 1.2), 1e-6);
   EXPECT_FALSE(j["charts"].empty());
+}
+
+// The status map: the outcome of every sample over the first two factors.
+// A slider-crank assembles only with the rod longer than the crank (l > r,
+// no offset), and its stroke is 2 r: of the 3 x 3 grid, r >= l fails in 3
+// designs, and of the 6 that assemble only r = 0.6 m meets stroke >= 0.9 m.
+TEST(DoeSummary, StatusMapCountsEveryOutcome) {
+  std::string printed;
+  const std::string dir = cli::fresh_dir("doe_status_map");
+  const auto j = run(R"(problem: slider_crank
+constraints: {stroke: {min: 0.9 m}}
+study:
+  type: doe
+  factors:
+    crank_radius: [0.2 m, 0.4 m, 0.6 m]
+    rod_length: [0.3 m, 0.5 m, 0.7 m]
+)", dir, printed);
+  EXPECT_EQ(j["summary"]["failures"]["cannot_assemble"]["count"], 3);
+  std::ifstream in(dir + "/status_map.svg");
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* label : {"cannot_assemble (3)", "constraint not met (5)", "feasible (1)"})
+    EXPECT_NE(svg.find(std::string(">") + label + "<"), std::string::npos) << label;
+  EXPECT_NE(svg.find("crank_radius [m]"), std::string::npos);
+  EXPECT_NE(svg.find("rod_length [m]"), std::string::npos);
 }
 
 }  // namespace

@@ -24,6 +24,7 @@ using sql::Statement;
 constexpr int kBins = 10;          // a continuous factor's main effect: means over 10 equal bins
 constexpr int kMaxLevels = 50;     // more levels than this are binned too
 constexpr int kBootstrap = 200;    // resamples for the Sobol' indices' 95% intervals
+constexpr std::int64_t kMapPoints = 20000;  // samples drawn on the status map, at most
 
 std::string sql_number(double v) {
   char s[40];
@@ -332,6 +333,40 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     }
     const std::string file = dir + "main_effects_" + m + ".svg";
     if (write_svg(c, file)) charts.push_back(file);
+  }
+
+  // The status map: where designs fail, and how, over the first two
+  // factors; one marker series per outcome, at most kMapPoints samples
+  // (every k-th index), so memory stays bounded whatever the store.
+  if (spec.factors.size() >= 2) {
+    const FactorSpec &fx = spec.factors[0], &fy = spec.factors[1];
+    Statement total(db, "select count(*) from samples");
+    total.step();
+    const std::int64_t every = std::max<std::int64_t>(1, (total.int64(0) + kMapPoints - 1) / kMapPoints);
+    Statement st(db, "select status, (" + where + "), " + identifier(fx.factor.name) + ", " +
+                         identifier(fy.factor.name) + " from samples where idx % " + std::to_string(every) +
+                         " = 0 order by idx");
+    std::map<std::string, Series> outcomes;
+    while (st.step()) {
+      const std::string status = st.text(0).value_or("");
+      const std::string key = status != "ok" ? status : st.int64(1) ? "feasible" : "constraint not met";
+      Series& s = outcomes.try_emplace(key, Series{key, {}, {}, Series::Style::markers}).first->second;
+      s.x.push_back(st.real(2));
+      s.y.push_back(st.real(3));
+    }
+    Chart c;
+    c.title = "outcome of every " + (every > 1 ? std::to_string(every) + "th " : std::string()) + "sample over " +
+              fx.factor.name + " and " + fy.factor.name;
+    c.title += " (at most " + std::to_string(kMaxDrawnPoints) + " drawn each)";
+    c.set_x(fx.factor.name, fx.factor.labels.empty() ? si_unit(fx.parameter.dimension) : "");
+    c.set_y(fy.factor.name, fy.factor.labels.empty() ? si_unit(fy.parameter.dimension) : "");
+    for (auto& [key, s] : outcomes) {  // labelled with its count, at most kMaxDrawnPoints drawn
+      const size_t n = s.x.size(), stride = (n + kMaxDrawnPoints - 1) / kMaxDrawnPoints;
+      Series drawn{key + " (" + std::to_string(n) + ")", {}, {}, Series::Style::markers};
+      for (size_t i = 0; i < n; i += stride) drawn.x.push_back(s.x[i]), drawn.y.push_back(s.y[i]);
+      c.series.push_back(std::move(drawn));
+    }
+    if (write_svg(c, dir + "status_map.svg")) charts.push_back(dir + "status_map.svg");
   }
 
   // Into the store, for scripts: one JSON document.
