@@ -26,6 +26,13 @@ constexpr int kMaxLevels = 50;     // more levels than this are binned too
 constexpr int kBootstrap = 200;    // resamples for the Sobol' indices' 95% intervals
 constexpr std::int64_t kMapPoints = 20000;  // samples drawn on the status map, at most
 
+// Eight significant digits, for the printed summary (the store keeps 17).
+std::string short_number(double v) {
+  char s[40];
+  std::snprintf(s, sizeof s, "%.8g", v);
+  return s;
+}
+
 std::string sql_number(double v) {
   char s[40];
   std::snprintf(s, sizeof s, "%.17g", v);
@@ -287,7 +294,7 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     for (const auto& b : j["best"]) {
       out << "  best " << b["metric"].get<std::string>() << " = " << b["value"].get<double>() << " at sample "
           << b["index"].get<std::int64_t>() << ":";
-      for (const auto& [f, v] : b["factors"].items()) out << " " << f << " = " << (v.is_string() ? v.get<std::string>() : sql_number(v.get<double>()).substr(0, 10));
+      for (const auto& [f, v] : b["factors"].items()) out << " " << f << " = " << (v.is_string() ? v.get<std::string>() : short_number(v.get<double>()));
       out << "\n";
     }
   if (!metrics.empty()) {
