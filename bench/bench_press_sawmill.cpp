@@ -18,19 +18,22 @@
 
 namespace {
 
-std::unique_ptr<opt::Problem> press(bool pressure_law) {
+// range(0): 0 constant force (the final pressure), 1 the pressure law (7.2),
+// both with the lever as a slider; 2 the pressure law with the exact
+// four-bar lever (pivot on the crank pin's side).
+std::unique_ptr<opt::Problem> press(int fidelity) {
   return problems::make_problem(opt::ConfigNode::parse(
       std::string("problem: crank_press\n"
                   "model: {press: SM-816, depth: 20 mm, pressure_factor: 0.035 MPa, bricks: 4,\n"
                   "        tabulated_angle: 120 deg, crank_speed: 20.7 rad/s, pressing_end: inner,\n"
-                  "        lever: slider, force: ") +
-          (pressure_law ? "pressure_law" : "constant") + "}\n",
+                  "        ") +
+          (fidelity == 2 ? "lever: four_bar, lever_pivot: same_side" : "lever: slider") +
+          ", force: " + (fidelity == 0 ? "constant" : "pressure_law") + "}\n",
       "<bench>"));
 }
 
-// range(0): 0 constant force (the final pressure), 1 the pressure law (7.2).
 void BM_PressPeakTorque(benchmark::State& state) {
-  const auto p = press(state.range(0) != 0);
+  const auto p = press(static_cast<int>(state.range(0)));
   const Eigen::VectorXd x = p->initial_point();
   const opt::MetricSet wanted = p->metric_set({"peak_crank_torque"});
   for (auto _ : state) {
@@ -40,7 +43,7 @@ void BM_PressPeakTorque(benchmark::State& state) {
   // From one evaluation after the loop (see bench_recuperative.cpp's BM_ProblemEvaluate).
   state.counters["value"] = p->evaluate(x, wanted, false)[p->metric_id("peak_crank_torque")].value;
 }
-BENCHMARK(BM_PressPeakTorque)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PressPeakTorque)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 // The paper's improved mechanism (configs/balanced_slider_crank/paper.yaml), 72 grid points.
 std::unique_ptr<opt::Problem> sawmill() {
