@@ -21,37 +21,51 @@ namespace {
 // range(0): 0 constant force (the final pressure), 1 the pressure law (7.2),
 // both with the lever as a slider; 2 the pressure law with the exact
 // four-bar lever (pivot on the crank pin's side).
-std::unique_ptr<opt::Problem> press(int fidelity) {
+std::unique_ptr<opt::Problem> press(int fidelity, int stroke_points = 64) {
   return problems::make_problem(opt::ConfigNode::parse(
       std::string("problem: crank_press\n"
                   "model: {press: SM-816, depth: 20 mm, pressure_factor: 0.035 MPa, bricks: 4,\n"
                   "        tabulated_angle: 120 deg, crank_speed: 20.7 rad/s, pressing_end: inner,\n"
                   "        ") +
           (fidelity == 2 ? "lever: four_bar, lever_pivot: same_side" : "lever: slider") +
-          ", force: " + (fidelity == 0 ? "constant" : "pressure_law") + "}\n",
+          ", force: " + (fidelity == 0 ? "constant" : "pressure_law") +
+          ", stroke_points: " + std::to_string(stroke_points) + "}\n",
       "<bench>"));
 }
 
-void BM_PressPeakTorque(benchmark::State& state) {
-  const auto p = press(static_cast<int>(state.range(0)));
-  const Eigen::VectorXd x = p->initial_point();
-  const opt::MetricSet wanted = p->metric_set({"peak_crank_torque"});
+// Times one metric of p at its initial point, its value in the `value` counter.
+void time_metric(benchmark::State& state, const opt::Problem& p, const std::string& metric) {
+  const Eigen::VectorXd x = p.initial_point();
+  const opt::MetricSet wanted = p.metric_set({metric});
   for (auto _ : state) {
-    const auto e = p->evaluate(x, wanted, false);
+    const auto e = p.evaluate(x, wanted, false);
     benchmark::DoNotOptimize(e);
   }
   // From one evaluation after the loop (see bench_recuperative.cpp's BM_ProblemEvaluate).
-  state.counters["value"] = p->evaluate(x, wanted, false)[p->metric_id("peak_crank_torque")].value;
+  state.counters["value"] = p.evaluate(x, wanted, false)[p.metric_id(metric)].value;
+}
+
+void BM_PressPeakTorque(benchmark::State& state) {
+  time_metric(state, *press(static_cast<int>(state.range(0))), "peak_crank_torque");
 }
 BENCHMARK(BM_PressPeakTorque)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
+// Work against precision: the pressure law's peak with range(0) grid cells
+// over the stroke before the root is refined.
+void BM_PressGrid(benchmark::State& state) {
+  time_metric(state, *press(1, static_cast<int>(state.range(0))), "peak_crank_torque");
+}
+BENCHMARK(BM_PressGrid)->Arg(4)->Arg(6)->Arg(8)->Arg(12)->Arg(16)->Arg(32)->Arg(64)->Arg(128)->Arg(512)
+    ->Unit(benchmark::kMicrosecond);
+
 // The paper's improved mechanism (configs/balanced_slider_crank/paper.yaml), 72 grid points.
-std::unique_ptr<opt::Problem> sawmill() {
+std::unique_ptr<opt::Problem> sawmill(int cycle_points = 72) {
   return problems::make_problem(opt::ConfigNode::parse(
       "problem: balanced_slider_crank\n"
       "model: {crank_speed: 320 rpm, crank_length: 0.3 m, original_rod_length: 2 m, cam_offset: 0.0219 m,\n"
       "        rod_length: auto, rod_mass: 150 kg, rod_inertia: 0.5 kg m^2, rod_centre_of_mass: 0.5,\n"
-      "        slider_mass: 600 kg, spring_rate: auto, spring_neutral: 0 m, gravity: perpendicular}\n",
+      "        slider_mass: 600 kg, spring_rate: auto, spring_neutral: 0 m, gravity: perpendicular,\n"
+      "        cycle_points: " + std::to_string(cycle_points) + "}\n",
       "<bench>"));
 }
 
@@ -73,6 +87,14 @@ void BM_SawmillMetrics(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_SawmillMetrics)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
+
+// Work against precision: the peak balancing torque with range(0) grid
+// points per revolution before each maximum is refined.
+void BM_SawmillGrid(benchmark::State& state) {
+  time_metric(state, *sawmill(static_cast<int>(state.range(0))), "peak_balancing_torque");
+}
+BENCHMARK(BM_SawmillGrid)->Arg(8)->Arg(12)->Arg(18)->Arg(24)->Arg(36)->Arg(72)->Arg(144)->Arg(288)
+    ->Unit(benchmark::kMicrosecond);
 
 // Every metric of the 24 variants of Table 6.1 per iteration; the value
 // counter is the sum of their crank radii (L_X / 2).

@@ -44,13 +44,13 @@ def google_benchmark(binary, repetitions, benchmark_filter=None, min_time=0.1):
 
 
 def write_work_precision_svg(path, scene, drivers):
-    """Log-log chart: error of the optimal variable against time, one line per
-    driver over its tolerances; hollow markers where the driver did not
-    report convergence."""
+    """Log-log chart: error against time, one line per driver (or method)
+    over its knob (tolerance, grid points); hollow markers where it did not
+    report convergence; errors of 0 drawn at 1e-17."""
     import math
     W, H, L, R, T, B = 820, 480, 80, 250, 40, 60
-    pts = [(t, e) for runs in drivers.values() for t, e, _, _ in runs if e and e > 0]
-    floor = 1e-17
+    floor = 1e-17  # an error of 0 (the reference's double exactly) is drawn here
+    pts = [(t, max(e, floor)) for runs in drivers.values() for t, e, _, _ in runs if e is not None]
     xs = [math.log10(t) for t, _ in pts]
     ys = [math.log10(max(e, floor)) for _, e in pts]
     x0, x1 = math.floor(min(xs)), math.ceil(max(xs))
@@ -68,15 +68,15 @@ def write_work_precision_svg(path, scene, drivers):
     for v in range(y0, y1 + 1, 2):
         out.append(f"<line x1='{L}' y1='{py(v)}' x2='{W - R}' y2='{py(v)}' stroke='#ddd'/>"
                    f"<text x='{L - 6}' y='{py(v) + 4}' text-anchor='end'>1e{v}</text>")
-    out.append(f"<text x='{(L + W - R) / 2}' y='{H - 18}' text-anchor='middle'>time per run (median)</text>")
-    out.append(f"<text transform='translate(18,{(T + H - B) / 2}) rotate(-90)' text-anchor='middle'>relative error</text>")
+    out.append(f"<text x='{(L + W - R) / 2}' y='{H - 18}' text-anchor='middle'>time per run, median [s]</text>")
+    out.append(f"<text transform='translate(18,{(T + H - B) / 2}) rotate(-90)' text-anchor='middle'>relative error [-]</text>")
     for i, (driver, runs) in enumerate(sorted(drivers.items())):
         c = colors[i % len(colors)]
         runs = sorted(runs, key=lambda r: r[3])
-        line = " ".join(f"{px(math.log10(t))},{py(math.log10(max(e, floor)))}" for t, e, _, _ in runs if e)
+        line = " ".join(f"{px(math.log10(t))},{py(math.log10(max(e, floor)))}" for t, e, _, _ in runs if e is not None)
         out.append(f"<polyline fill='none' stroke='{c}' stroke-width='2' points='{line}'/>")
         for t, e, ok, _ in runs:
-            if e:
+            if e is not None:
                 out.append(f"<circle cx='{px(math.log10(t))}' cy='{py(math.log10(max(e, floor)))}' r='4' "
                            f"fill='{c if ok else 'white'}' stroke='{c}' stroke-width='2'/>")
         out.append(f"<rect x='{W - R + 12}' y='{T + 14 + 20 * i - 8}' width='14' height='4' fill='{c}'/>"
@@ -528,6 +528,27 @@ def press_sawmill_block(row, m):
             f"the peak torque by {100 * (four_bar['value'] / slider['value'] - 1):+.1f}%.")
 
 
+def press_sawmill_charts(m, peer):
+    """Work against precision of the press's and the sawmill's peaks over
+    their grids (BM_PressGrid/<cells>, BM_SawmillGrid/<points>), each with
+    the peer's point at its own grid: docs/img/work_precision_{press,sawmill}.svg."""
+    ref = json.load(open(os.path.join(HERE, "reference_press_sawmill.json")))
+    scenes = (("press", "BM_PressGrid/", "press_peak_pressure_law", ref["crank_press"]["peak_torque_pressure_law"],
+               "press SM-816, variant 1, peak torque (pressure law)", "grid cells", "numpy peer, 64 cells"),
+              ("sawmill", "BM_SawmillGrid/", "sawmill_peak_torque", ref["balanced_slider_crank"]["peak_balancing_torque"],
+               "sawmill, peak balancing torque", "points per turn", "numpy peer, 72 points"))
+    for scene, prefix, peer_case, reference, title, knob, peer_label in scenes:
+        runs = [(a["seconds"], rel(a["value"], reference), True, int(name[len(prefix):]))
+                for name, a in m.items() if name.startswith(prefix)]
+        if not runs:
+            continue
+        p = peer[peer_case]
+        path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
+        write_work_precision_svg(path, title, {f"mechopt, over {knob}": runs,
+                                               peer_label: [(p["seconds"], rel(p["value"], reference), True, 0)]})
+        print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
+
+
 def run_press_sawmill(build, repetitions):
     m = google_benchmark(os.path.join(build, "bin", PRESS_SAWMILL_BINARY), repetitions)
     peer = {}
@@ -588,6 +609,8 @@ def main():
     if args.only == "press_sawmill":
         print("running bench_press_sawmill and its peers ...", file=sys.stderr)
         m, peer = run_press_sawmill(args.build, args.repetitions)
+        if not args.no_docs:
+            press_sawmill_charts(m, peer)
         rows = case_rows(press_sawmill_cases(), m, peer)
         out = os.path.join(args.build, "bench-results-press_sawmill.json")
         json.dump(rows, open(out, "w"), indent=1)
@@ -688,6 +711,8 @@ def main():
                          "mechopt_error": a["error"], "converged": bool(a["converged"])})
             wp.setdefault(scene, {}).setdefault(driver, []).append(
                 (a["seconds"], a["error"], bool(a["converged"]), int(tol)))
+    if not args.no_docs:
+        press_sawmill_charts(m, peer)
     for scene, drivers in wp.items():
         path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
         write_work_precision_svg(path, scene, drivers)
