@@ -27,7 +27,10 @@ void BM_SwingMetrics(benchmark::State& state) {
   }
   state.counters["value"] = v;
 }
-BENCHMARK(BM_SwingMetrics)->Args({24, 0})->Args({48, 0})->Args({48, 1})->Unit(benchmark::kMicrosecond);
+// {grid points, all metrics}: the peak over grids from 8 to 192 points
+// (work against precision), and every metric at 48.
+BENCHMARK(BM_SwingMetrics)->Args({8, 0})->Args({12, 0})->Args({16, 0})->Args({24, 0})->Args({48, 0})->Args({96, 0})
+    ->Args({192, 0})->Args({48, 1})->Unit(benchmark::kMicrosecond);
 
 void BM_SwingOptimum(benchmark::State& state, const char* algorithm) {
   const auto p = problems::make_conveyor_swing(opt::ConfigNode::parse(

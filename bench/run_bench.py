@@ -528,25 +528,32 @@ def press_sawmill_block(row, m):
             f"the peak torque by {100 * (four_bar['value'] / slider['value'] - 1):+.1f}%.")
 
 
+def grid_chart(name, title, m, pattern, reference, knob, peer_points):
+    """docs/img/work_precision_NAME.svg: mechopt's error against time over a
+    grid (its benchmarks match `pattern`, whose one group is the grid's
+    size), and each peer's point: peer_points is [(label, peer row)]."""
+    runs = [(a["seconds"], rel(a["value"], reference), True, int(g.group(1)))
+            for bm, a in m.items() for g in [re.fullmatch(pattern, bm)] if g]
+    if not runs:
+        return
+    lines = {f"mechopt, over {knob}": runs}
+    for label, p in peer_points:
+        lines[label] = [(p["seconds"], rel(p["value"], reference), True, 0)]
+    path = os.path.join(ROOT, "docs", "img", f"work_precision_{name}.svg")
+    write_work_precision_svg(path, title, lines)
+    print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
+
+
 def press_sawmill_charts(m, peer):
     """Work against precision of the press's and the sawmill's peaks over
-    their grids (BM_PressGrid/<cells>, BM_SawmillGrid/<points>), each with
-    the peer's point at its own grid: docs/img/work_precision_{press,sawmill}.svg."""
+    their grids, each with the peer's point at its own grid."""
     ref = json.load(open(os.path.join(HERE, "reference_press_sawmill.json")))
-    scenes = (("press", "BM_PressGrid/", "press_peak_pressure_law", ref["crank_press"]["peak_torque_pressure_law"],
-               "press SM-816, variant 1, peak torque (pressure law)", "grid cells", "numpy peer, 64 cells"),
-              ("sawmill", "BM_SawmillGrid/", "sawmill_peak_torque", ref["balanced_slider_crank"]["peak_balancing_torque"],
-               "sawmill, peak balancing torque", "points per turn", "numpy peer, 72 points"))
-    for scene, prefix, peer_case, reference, title, knob, peer_label in scenes:
-        runs = [(a["seconds"], rel(a["value"], reference), True, int(name[len(prefix):]))
-                for name, a in m.items() if name.startswith(prefix)]
-        if not runs:
-            continue
-        p = peer[peer_case]
-        path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
-        write_work_precision_svg(path, title, {f"mechopt, over {knob}": runs,
-                                               peer_label: [(p["seconds"], rel(p["value"], reference), True, 0)]})
-        print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
+    grid_chart("press", "press SM-816, variant 1, peak torque (pressure law)", m, r"BM_PressGrid/(\d+)",
+               ref["crank_press"]["peak_torque_pressure_law"], "grid cells",
+               [("numpy peer, 64 cells", peer["press_peak_pressure_law"])])
+    grid_chart("sawmill", "sawmill, peak balancing torque", m, r"BM_SawmillGrid/(\d+)",
+               ref["balanced_slider_crank"]["peak_balancing_torque"], "points per turn",
+               [("numpy peer, 72 points", peer["sawmill_peak_torque"])])
 
 
 def run_press_sawmill(build, repetitions):
@@ -713,6 +720,13 @@ def main():
                 (a["seconds"], a["error"], bool(a["converged"]), int(tol)))
     if not args.no_docs:
         press_sawmill_charts(m, peer)
+        grid_chart("cycle_mean", "recuperative drive, mean kinetic energy, l = 0.8 m", m,
+                   r"BM_MeanKineticEnergy/(\d+)", tcp, "grid points",
+                   [("numpy trapezoid, 32 points", peer["cycle_mean"]),
+                    ("numpy trapezoid, 16 points", peer["cycle_mean_16"]),
+                    ("scipy quad, epsrel 1e-12", peer["cycle_mean_quad"])])
+        grid_chart("swing_peak", "conveyor variant 1, peak balancing moment", m, r"BM_SwingMetrics/(\d+)/0",
+                   peak_v1, "grid points", [("numpy peer, 48 points + refine", peer["swing_peak"])])
     for scene, drivers in wp.items():
         path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
         write_work_precision_svg(path, scene, drivers)
