@@ -423,7 +423,24 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
 nlohmann::json run_batch(const ConfigNode& root, const ProblemFactory& make, const DoeSpec& spec,
                          const BatchOptions& o, std::ostream& out, std::ostream& err) {
   const ConfigNode run = run_root(root, spec);
-  const std::unique_ptr<Problem> base = make(run);
+  std::unique_ptr<Problem> base;
+  try {
+    base = make(run);
+  } catch (const ConfigError& e) {
+    // A factor set through x is a variable of the run's config, a key with no
+    // line of its own: the problem's word on it goes to where the factor is written.
+    const std::string what = e.what();
+    for (const auto& f : spec.factors) {
+      const std::string key = "key 'variables." + f.factor.name + "': ";
+      const size_t at = what.find(key);
+      if (!f.through_x || at == std::string::npos || (root.has("variables") && root.at("variables").has(f.factor.name)))
+        continue;
+      const ConfigNode st = root.at("study");
+      const bool listed = st.has("factors") && st.at("factors").is_map() && st.at("factors").has(f.factor.name);
+      (listed ? st.at("factors").at(f.factor.name) : st).fail(what.substr(at + key.size()));
+    }
+    throw;
+  }
   if (spec.refine_best > 0) {  // the driver takes the problem, or the run stops before any sample
     const std::string why = driver_incompatibility(spec.refine_driver, *base, spec.objective, spec.constraints);
     const ConfigNode r = root.at("study").at("refine");
