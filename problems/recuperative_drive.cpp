@@ -55,8 +55,7 @@ const opt::ParameterTable<Model> kTable = {
             "seed 000 eq. (16)"),
      MECHOPT_STORED_AT(m.drive.resistance)},
     {choice("fidelity.kinematics", {"exact", "binomial"},
-            "exact slider-crank, or the binomial series of seed 001 eqs (36)-(39)", "seed 000 eqs (1)-(8)")
-         .fidelity({"binomial", "exact"}),
+            "exact slider-crank, or the binomial series of seed 001 eqs (36)-(39)", "seed 000 eqs (1)-(8)"),
      MECHOPT_STORED_AT(m.drive.kinematics)},
     {choice("fidelity.rod", {"point_masses", "full"},
             "rod as its mass at its centre, or with its rotational inertia q l^3/12 added", "seed 000 eq. (10)")
