@@ -164,7 +164,8 @@ def performance_blocks(m, peer, debian, row, tcp, peak_elastic, lstar, l_co1_sta
         line("all cycle metrics (refined T_max, moments)", "cycle_peak",
              "numpy grid + minimize_scalar refine (T_max only)"),
         line("rod-length optimum, LD_SLSQP", "rod_length_optimum", "scipy minimize_scalar (bounded), xatol 1e-12"),
-        line("rod-length optimum, LD_LBFGS", "rod_length_optimum_lbfgs", "same")])
+        line("rod-length optimum, LD_LBFGS", "rod_length_optimum_lbfgs", "same"),
+        line("rod-length optimum, `library: line` (Brent on the derivative)", "rod_length_optimum_line", "same")])
     blocks["conveyor"] = table(header, [
         line("peak \\|M\\| and max pressure angle, variant 1, 48 points", "swing_peak_moment",
              "numpy loop-closure formulas, 48 points + minimize_scalar refine (peak only)"),
@@ -198,7 +199,8 @@ def performance_blocks(m, peer, debian, row, tcp, peak_elastic, lstar, l_co1_sta
                   ("cycle mean vs adaptive quadrature", "cycle_mean_vs_quad"),
                   ("cycle mean + gradient", "cycle_mean_gradient"), ("all cycle metrics", "cycle_peak"),
                   ("rod-length optimum, LD_SLSQP", "rod_length_optimum"),
-                  ("rod-length optimum, LD_LBFGS", "rod_length_optimum_lbfgs")]
+                  ("rod-length optimum, LD_LBFGS", "rod_length_optimum_lbfgs"),
+                  ("rod-length optimum, line", "rod_length_optimum_line")]
     as_good = lambda r: r["mechopt_error"] <= max(r["peer_error"], 1e-15)  # both at roundoff: equal
     fast = [(label, row[c]) for label, c in peer_cases if row[c]["ratio"] >= 100 and as_good(row[c])]
     slow = [(label, row[c]) for label, c in peer_cases if not (row[c]["ratio"] >= 100 and as_good(row[c]))]
@@ -482,6 +484,8 @@ def comparison_cases(peer):
         ("rod_length_optimum", "BM_RodLengthOptimum/LD_SLSQP", "rod_length_optimum", lstar,
          "scipy minimize_scalar (bounded), xatol 1e-12"),
         ("rod_length_optimum_lbfgs", "BM_RodLengthOptimum/LD_LBFGS", "rod_length_optimum", lstar,
+         "scipy minimize_scalar (bounded), xatol 1e-12"),
+        ("rod_length_optimum_line", "BM_RodLengthOptimum/line", "rod_length_optimum", lstar,
          "scipy minimize_scalar (bounded), xatol 1e-12"),
         ("swing_peak_moment", "BM_SwingMetrics/48/0", "swing_peak", peak_v1,
          "numpy loop-closure formulas, 48 points + minimize_scalar refine"),

@@ -231,6 +231,8 @@ TEST_P(Capabilities, MatchNloptsDocumentation) {
   for (const auto& other : kDocumented)
     if (documented_takes(other, s)) want.insert(other.algorithm);
   if (s.gradients) want.insert("library: ipopt");
+  // line: one variable within finite bounds, an exact derivative, no constraints
+  if (s.variables == 1 && s.gradients && std::isfinite(s.upper) && s.constraints.empty()) want.insert("library: line");
   EXPECT_EQ(capable_list(why), want) << why;
 }
 

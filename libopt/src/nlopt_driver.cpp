@@ -118,6 +118,15 @@ std::string stage_incompatibility(const DriverOptions& o, const Problem& p,
     return p.provides_gradients()
                ? ""
                : "ipopt needs exact gradients, and " + p.name() + " has none: it takes derivative-free algorithms only";
+  if (o.library == "line") {
+    if (p.variables().size() != 1)
+      return "line takes one variable, and the problem has " + std::to_string(p.variables().size());
+    if (!p.provides_gradients()) return "line needs an exact derivative, and " + p.name() + " has none";
+    if (!std::isfinite(p.variables()[0].lower) || !std::isfinite(p.variables()[0].upper))
+      return "line needs finite bounds, and " + p.variables()[0].name + " has none";
+    if (!constraints.empty()) return "line takes no constraints (" + describe(constraints[0]) + ")";
+    return "";
+  }
   const std::string name = o.algorithm.empty() ? default_algorithm(p) : o.algorithm;
   if (std::string why = algorithm_incompatibility(name, p, constraints); !why.empty())
     return name + " " + why;
@@ -168,9 +177,11 @@ std::string driver_incompatibility(const DriverOptions& options, const Problem& 
   std::vector<std::string> can;
   for (const auto& a : kAlgorithms)
     if (algorithm_incompatibility(a.name, problem, constraints).empty()) can.push_back(a.name);
-  DriverOptions ipopt;
-  ipopt.library = "ipopt";
-  if (stage_incompatibility(ipopt, problem, constraints).empty()) can.push_back("library: ipopt");
+  for (const char* library : {"ipopt", "line"}) {
+    DriverOptions other;
+    other.library = library;
+    if (stage_incompatibility(other, problem, constraints).empty()) can.push_back(std::string("library: ") + library);
+  }
   return why + "; algorithms that can take this problem: " + (can.empty() ? "none" : join(can));
 }
 
@@ -480,6 +491,7 @@ void finish(const Problem& problem, const Objective& objective_named,
 std::unique_ptr<Driver> make_driver(const DriverOptions& options) {
   std::unique_ptr<Driver> d;
   if (options.library == "ipopt") d = std::make_unique<IpoptDriver>(options);
+  else if (options.library == "line") d = std::make_unique<LineDriver>(options);
   else d = std::make_unique<NloptDriver>(options);
   if (options.polish) return std::make_unique<ChainDriver>(std::move(d), make_driver(*options.polish));
   return d;

@@ -30,9 +30,9 @@ void for_each_grid_angle(int n, F&& f) {
 }
 
 // Brent's root finder (zeroin) for g on [a, b] with g(a), g(b) of opposite
-// signs; returns the root to within a few ulps of the bracket.
+// signs; returns the root to within rel_tol |root| (by default a few ulps).
 template <class G>
-double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter = 100) {
+double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter = 100, double rel_tol = 4.4e-16) {
   double c = a, gc = ga, d = b - a, e = d;
   for (int it = 0; it < max_iter; ++it) {
     if ((gb > 0) == (gc > 0)) { c = a; gc = ga; d = e = b - a; }
@@ -40,7 +40,7 @@ double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter 
       a = b; b = c; c = a;
       ga = gb; gb = gc; gc = ga;
     }
-    const double tol = 2.0 * 2.2e-16 * std::abs(b) + 1e-300;
+    const double tol = rel_tol * std::abs(b) + 1e-300;
     const double m = 0.5 * (c - b);
     if (std::abs(m) <= tol || gb == 0.0) return b;
     if (std::abs(e) >= tol && std::abs(ga) > std::abs(gb)) {

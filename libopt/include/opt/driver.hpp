@@ -130,6 +130,20 @@ class IpoptDriver : public Driver {
   DriverOptions options_;
 };
 
+// One variable within finite bounds, no constraints of the user's, an exact
+// derivative (`library: line`): downhill from the start to the bound or to
+// the derivative's sign change, refined by Brent's method (line_driver.cpp).
+class LineDriver : public Driver {
+ public:
+  explicit LineDriver(DriverOptions options) : options_(std::move(options)) {}
+  Result minimize(const Problem& problem, const Objective& objective,
+                  const std::vector<Constraint>& constraints,
+                  const Eigen::VectorXd& x0) const override;
+
+ private:
+  DriverOptions options_;
+};
+
 // Runs `first`, then `then` from first's answer: a global search handing
 // over to a local one. Evaluations and time add up; the status is then's.
 // A first stage that stopped on its evaluation or time limit still hands its
@@ -147,7 +161,7 @@ class ChainDriver : public Driver {
   std::unique_ptr<Driver> first_, then_;
 };
 
-// The driver for options.library ("nlopt" or "ipopt"), chained to
+// The driver for options.library ("nlopt", "ipopt" or "line"), chained to
 // options.polish when set.
 std::unique_ptr<Driver> make_driver(const DriverOptions& options);
 

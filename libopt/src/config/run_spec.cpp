@@ -65,7 +65,7 @@ std::string metric(const ConfigNode& n, const Problem& p, const std::string& nam
 
 DriverOptions parse_driver(const ConfigNode& n) {
   DriverOptions o;
-  if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt"});
+  if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt", "line"});
   if (o.library == "ipopt") {
     n.allow_only({"library", "tol", "max_iterations", "max_seconds", "constraint_tol",
                   "print_level", "epigraph", "hessian"});
@@ -76,6 +76,9 @@ DriverOptions parse_driver(const ConfigNode& n) {
     if (n.has("epigraph")) o.epigraph = n.at("epigraph").boolean();
     if (n.has("hessian")) n.at("hessian").choice({"limited-memory"});  // no model gives exact Hessians yet
     if (!(o.tol > 0)) n.at("tol").fail("expected a tolerance > 0");
+  } else if (o.library == "line") {
+    n.allow_only({"library", "xtol_rel", "max_evaluations", "max_seconds"});
+    o.algorithm = "Brent on the derivative";
   } else {
     n.allow_only({"library", "algorithm", "xtol_rel", "ftol_rel", "max_evaluations",
                   "max_seconds", "constraint_tol", "local_algorithm", "polish", "seed"});
