@@ -128,3 +128,22 @@ TEST(LineDriver, LimitsAndFailuresAreStatuses) {
 }
 
 }  // namespace
+
+namespace {
+
+// f = x^4 - 2 x^2 has minima at -1 and 1 and a maximum at 0. From -0.9
+// downhill is toward -1 (the derivative 4x^3 - 4x is positive there): the
+// minimum at -1. From 0.05 (derivative negative) downhill is toward 1: the
+// minimum at 1. Never the maximum between them.
+TEST(LineDriver, TheMinimumDownhillFromTheStart) {
+  auto f = [](double x) { return x * x * x * x - 2 * x * x; };
+  auto df = [](double x) { return 4 * x * x * x - 4 * x; };
+  for (const auto& [x0, expected] : {std::pair{-0.9, -1.0}, {0.05, 1.0}, {1.4, 1.0}}) {
+    const auto p = one_variable(f, df, -1.5, 1.5, x0);
+    const auto r = minimize(p);
+    EXPECT_EQ(r.status, opt::DriverStatus::converged) << x0 << ": " << r.message;
+    EXPECT_NEAR(r.x[0], expected, 1e-12) << x0;
+  }
+}
+
+}  // namespace

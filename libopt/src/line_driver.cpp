@@ -76,7 +76,9 @@ Result LineDriver::minimize(const Problem& problem, const Objective& objective,
         result.x = Eigen::VectorXd::Constant(1, x);
         result.status = DriverStatus::converged;
         result.message = "line: the derivative's sign change refined to xtol_rel";
-        if (best_f < sign * problem.evaluate(result.x, wanted, false)[f.id].value) {
+        // Brent ends on its last evaluation: reuse it (finish() does too).
+        const double at_x = last.x[0] == x ? last.e[f.id].value : problem.evaluate(result.x, wanted, false)[f.id].value;
+        if (best_f < sign * at_x) {
           result.x = Eigen::VectorXd::Constant(1, best_x);  // a stationary point above a design seen: not a minimum
           result.status = DriverStatus::failure;
           result.message = "line: the derivative's zero is not a minimum (a design seen is lower); the best design seen";
