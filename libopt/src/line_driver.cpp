@@ -70,7 +70,7 @@ Result LineDriver::minimize(const Problem& problem, const Objective& objective,
       if (end == x_start || (s_end < 0) == (s0 < 0)) {  // still downhill at the bound
         result.x = Eigen::VectorXd::Constant(1, end);
         result.status = DriverStatus::converged;
-        result.message = "line: the minimum is on the bound (the derivative keeps its sign up to it)";
+        result.message = "line: the optimum is on the bound (the derivative keeps its sign up to it)";
       } else {
         const double x = mech::brent_root(slope, x_start, end, s0, s_end, 200, std::max(options_.xtol_rel, 4.4e-16));
         result.x = Eigen::VectorXd::Constant(1, x);
