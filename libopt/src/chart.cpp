@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 namespace opt {
