@@ -83,12 +83,13 @@ struct SwingPoint {
 // Power balance at constant crank speed: M w1 = sum(m a_s . v_s + J eps w)
 // + M_c |w_3|, with a = w1^2 a', v = w1 v' from the transfer functions.
 // check(m) must be ok.
+// From c = cos(phi) and s = sin(phi).
 template <class S>
-SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& phi) {
+SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& c, const S& s) {
   using std::abs;
   SwingPoint<S> out;
   auto& p = out.kinematics;
-  four_bar_point(m.linkage, phi, p);
+  four_bar_point(m.linkage, c, s, p);
   const auto& k = m.linkage;
   const S m2 = m.rod_mass_per_length * k.coupler, h = 0.5 * k.coupler;
   const S c1 = p.e1.x, s1 = p.e1.y, c2 = p.e2.x, s2 = p.e2.y;
@@ -101,6 +102,13 @@ SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& phi) {
   out.inertia = m.crank_speed * m.crank_speed * power;
   out.friction = m.friction_moment * abs(p.w3);
   return out;
+}
+
+template <class S>
+SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& phi) {
+  using std::cos;
+  using std::sin;
+  return swing_point(m, S(cos(phi)), S(sin(phi)));
 }
 
 template <class S>
@@ -141,7 +149,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   if (means) {
     std::vector<double> kinks = periodic_roots(w3, w3_at);
     for (double r : periodic_roots(M, M_at)) kinks.push_back(r);
-    auto moment = [&](double phi, double, double) -> S { return swing_point(m, S(phi)).moment(); };
+    auto moment = [&](double, double c, double s) -> S { return swing_point(m, S(c), S(s)).moment(); };
     const auto arcs = piecewise_means<S>(moment, kinks, 2 * n);
     out.mean_abs_moment = arcs.mean_abs;
     out.rms_moment = sqrt(arcs.mean_square);

@@ -60,12 +60,11 @@ S dot(const Vec2<S>& a, const Vec2<S>& b) { return a.x * b.x + a.y * b.y; }
 // Position, velocity and acceleration analysis at crank angle phi; false when
 // the loop cannot close there (|O1A| outside [|l2 - l3|, l2 + l3]) or sits
 // exactly at a toggle (coupler and rocker collinear).
+// The same from c = cos(phi), s = sin(phi) (a grid or a quadrature rule has them).
 template <class S>
-bool four_bar_point(const FourBar<S>& m, const S& phi, FourBarPoint<S>& p) {
-  using std::cos;
-  using std::sin;
+bool four_bar_point(const FourBar<S>& m, const S& c, const S& s, FourBarPoint<S>& p) {
   using std::sqrt;
-  p.e1 = {cos(phi), sin(phi)};
+  p.e1 = {c, s};
   p.A = {m.gx + m.crank * p.e1.x, m.gy + m.crank * p.e1.y};
   // B: intersection of the circles (O1, l3) and (A, l2).
   const S d2 = p.A.x * p.A.x + p.A.y * p.A.y;
@@ -89,6 +88,13 @@ bool four_bar_point(const FourBar<S>& m, const S& phi, FourBarPoint<S>& p) {
   p.alpha2 = -(m.crank * c13 + m.coupler * p.w2 * p.w2 * c23 - m.rocker * p.w3 * p.w3) /
              (m.coupler * s23);
   return true;
+}
+
+template <class S>
+bool four_bar_point(const FourBar<S>& m, const S& phi, FourBarPoint<S>& p) {
+  using std::cos;
+  using std::sin;
+  return four_bar_point(m, S(cos(phi)), S(sin(phi)), p);
 }
 
 // Pressure angle at the rocker: between the coupler force (along AB) and the
