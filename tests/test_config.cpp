@@ -309,3 +309,17 @@ TEST(FidelityAuto, BadToleranceIsALocatedError) {
 }
 
 }  // namespace
+
+namespace {
+
+// A whole number may be written in any number form (2e4, 24.0); 32.5 is still
+// an error (tests/bad_configs/cycle_points_not_integer.yaml).
+TEST(ConfigValues, WholeNumbersInAnyNumberForm) {
+  for (const char* text : {"24", "24.0", "2.4e1"}) {
+    const auto p = problems::make_problem(opt::ConfigNode::parse(
+        std::string("problem: recuperative_drive\nmodel: {cycle_points: ") + text + "}\n", "<whole>"));
+    EXPECT_EQ(p->record()["numerics"]["cycle_points"], 24) << text;
+  }
+}
+
+}  // namespace

@@ -122,7 +122,9 @@ def m_scale(data, rng, ctx):
     p, v = rng.choice(cand)
     num, unit = number_of(v)
     f = rng.choice([0.5, 0.8, 1.25, 2, 1.01, 0.99])
-    put(data, p, quantity(repr(float(num) * f), unit, rng))
+    # A whole number stays whole (a count, a table row), so the mutant stays valid.
+    scaled = repr(max(1, round(float(num) * f))) if isinstance(v, int) else repr(float(num) * f)
+    put(data, p, quantity(scaled, unit, rng))
     return f"scaled {'.'.join(map(str, p))} x{f}"
 
 
@@ -312,6 +314,20 @@ HOSTILE = [(m_extreme, 18), (m_unit, 10), (m_type, 6), (m_delete, 6), (m_foreign
            (m_grid, 8), (m_bounds, 6), (m_any_choice, 5), (t_duplicate, 4), (t_bytes, 4)]
 MILD = [(m_scale, 10), (m_convert, 6), (m_choice, 6)]
 TEXTUAL = (t_duplicate, t_bytes)
+
+
+def absolute_paths(node, directory):
+    """Makes the relative file names of `points_file`, `from` and `base` keys absolute, in place."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            if k in ("points_file", "from", "base") and isinstance(v, str) and v.endswith((".csv", ".yaml")) \
+                    and not os.path.isabs(v):
+                node[k] = os.path.normpath(os.path.join(directory, v))
+            else:
+                absolute_paths(v, directory)
+    elif isinstance(node, list):
+        for v in node:
+            absolute_paths(v, directory)
 
 
 def context(configs, algorithms):
@@ -564,6 +580,10 @@ def main():
         study = data.get("study") or {}
         if isinstance(study.get("samples"), int) and study["samples"] > BASE_SAMPLES:
             study["samples"] = BASE_SAMPLES
+        # The mutant is written in a work directory: the files a config names
+        # relative to itself (a points file, a linked config) are named
+        # absolutely, so that a mutant reaches its evaluation.
+        absolute_paths(data, os.path.dirname(path))
         bases[os.path.relpath(path, os.path.join(ROOT, "configs"))] = data
     listing = subprocess.run([binary, "list"], capture_output=True, text=True, check=True).stdout
     algorithms = re.search(r"nlopt:(.*)", listing).group(1).split()

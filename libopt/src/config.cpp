@@ -241,10 +241,11 @@ double ConfigNode::quantity(Dimension d, const Domain& domain) const {
 }
 
 int ConfigNode::integer(int min, int max) const {
+  // A whole number in any number form: 20000, 2e4 and 20000.0 alike.
   const std::string t = text();
   char* end = nullptr;
-  const long v = std::strtol(t.c_str(), &end, 10);
-  if (t.empty() || *end != '\0' || v < min || v > max)
+  const double v = std::strtod(t.c_str(), &end);
+  if (t.empty() || *end != '\0' || !(v >= min && v <= max) || v != std::floor(v))
     fail("expected a whole number from " + std::to_string(min) + " to " + std::to_string(max) +
          ", got '" + t + "'");
   return static_cast<int>(v);
