@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "mech/balanced_slider_crank.hpp"
 #include "mech/cycle.hpp"
@@ -142,46 +143,66 @@ const std::vector<MetricSpec> kMetrics = {
 template <class S>
 using Mechanism = mech::BalancedSliderCrank<S>;
 
-// Cycle quantities g(mechanism, phi), each on any scalar.
-auto torque = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).torque; };
-auto support = [](const auto& m, const auto& phi) {
-  const auto p = mech::balanced_point(m, phi);
-  return mech::hypot2(p.bearing_x, p.bearing_y);
-};
-auto cam = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).cam; };
-auto pressure = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).pressure_angle; };
-auto rod_force = [](const auto& m, const auto& phi) {
-  const auto p = mech::balanced_point(m, phi);
-  return mech::hypot2(p.pin_x, p.pin_y);
-};
-auto rod_inertia = [](const auto& m, const auto& phi) { return mech::balanced_point(m, phi).rod_inertia; };
-auto shaking = [](const auto& m, const auto& phi) {
-  const auto p = mech::balanced_point(m, phi);
-  return mech::hypot2(p.inertia_x, p.inertia_y);
-};
-auto energy = [](const auto& m, const auto& phi) { return mech::mechanical_energy(m, mech::balanced_kinematics(m, phi)); };
+// Cycle quantities q(mechanism, its point at an angle), each on any scalar.
+auto torque = [](const auto&, const auto& p) { return p.torque; };
+auto support = [](const auto&, const auto& p) { return mech::hypot2(p.bearing_x, p.bearing_y); };
+auto cam = [](const auto&, const auto& p) { return p.cam; };
+auto pressure = [](const auto&, const auto& p) { return p.pressure_angle; };
+auto rod_force = [](const auto&, const auto& p) { return mech::hypot2(p.pin_x, p.pin_y); };
+auto rod_inertia = [](const auto&, const auto& p) { return p.rod_inertia; };
+auto shaking = [](const auto&, const auto& p) { return mech::hypot2(p.inertia_x, p.inertia_y); };
+auto energy = [](const auto& m, const auto& p) { return mech::mechanical_energy(m, p.k); };
 template <int i>
-auto deviation = [](const auto& m, const auto& phi) {
-  const auto d = mech::cosine_law_deviation(m, mech::balanced_kinematics(m, phi));
+auto deviation = [](const auto& m, const auto& p) {
+  const auto d = mech::cosine_law_deviation(m, p.k);
   return i == 0 ? d.v : i == 1 ? d.d : d.dd;
 };
 
-// |g| and -g as cycle quantities.
-template <class G>
-auto absolute(G g) {
-  return [g](const auto& m, const auto& phi) {
+// |q| and -q as cycle quantities.
+template <class Q>
+auto absolute(Q q) {
+  return [q](const auto& m, const auto& p) {
     using std::abs;
-    const auto v = g(m, phi);
+    const auto v = q(m, p);
     return decltype(v)(abs(v));
   };
 }
-template <class G>
-auto negative(G g) {
-  return [g](const auto& m, const auto& phi) {
-    const auto v = g(m, phi);
+template <class Q>
+auto negative(Q q) {
+  return [q](const auto& m, const auto& p) {
+    const auto v = q(m, p);
     return decltype(v)(-v);
   };
 }
+
+// q as a function of the crank angle, g(mechanism, phi).
+template <class Q>
+auto at_angle(Q q) {
+  return [q](const auto& m, const auto& phi) { return q(m, mech::balanced_point(m, phi)); };
+}
+
+// One mechanism's points on the n-point grid, computed once for every
+// quantity's search, and the refined maximum of a quantity from them.
+template <class S>
+struct CycleGrid {
+  CycleGrid(const mech::BalancedSliderCrank<S>& m, int n)
+      : model(m), md(m.template cast<double>()), mv(m.template cast<mech::Dual>()) {
+    for (int k = 0; k < n; ++k) points.push_back(mech::balanced_point(md, mech::kTwoPi * k / n));
+  }
+  // q at its refined cycle maximum (Danskin: the gradient at that fixed angle).
+  template <class Q>
+  S peak(const Q& q) const {
+    std::vector<double> v;
+    for (const auto& p : points) v.push_back(q(md, p));
+    const double phi = mech::global_max_angle(
+        v, [&](double a) { return at_angle(q)(md, a); }, [&](double a) { return at_angle(q)(mv, mech::seed(a)).d; });
+    return at_angle(q)(model, S(phi));
+  }
+  const mech::BalancedSliderCrank<S>& model;
+  mech::BalancedSliderCrank<double> md;
+  mech::BalancedSliderCrank<mech::Dual> mv;
+  std::vector<mech::BalancedPoint<double>> points;
+};
 
 class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProblem> {
  public:
@@ -245,8 +266,14 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
       }
     }
     const int n = m_.cycle_points;
-    // The value of g at its refined cycle maximum (Danskin: the gradient at that fixed angle).
-    auto peak = [n](const Mechanism<S>& m, const auto& g) { return g(m, S(mech::cycle_peak_angle(m, n, g))); };
+    const CycleGrid<S> gi(imp, n);
+    std::optional<CycleGrid<S>> go;  // the original's, when a metric needs it
+    auto of = [&](const Mechanism<S>& m) -> const CycleGrid<S>& {
+      if (&m == &imp) return gi;
+      if (!go) go.emplace(orig, n);
+      return *go;
+    };
+    auto peak = [&](const Mechanism<S>& m, const auto& q) { return of(m).peak(q); };
     out.put(M::displacement_deviation, peak(imp, absolute(deviation<0>)));
     out.put(M::velocity_deviation, peak(imp, absolute(deviation<1>)));
     out.put(M::acceleration_deviation, peak(imp, absolute(deviation<2>)));
@@ -263,7 +290,8 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
       const auto at_orig = mech::quarter_torque_extremum_angles(orig, n);
       S sum_imp(0.0), sum_orig(0.0);
       for (int i = 0; i < 4; ++i) {
-        const S e_imp = absolute(torque)(imp, S(at_imp[i])), e_orig = absolute(torque)(orig, S(at_orig[i]));
+        const S e_imp = at_angle(absolute(torque))(imp, S(at_imp[i]));
+        const S e_orig = at_angle(absolute(torque))(orig, S(at_orig[i]));
         out.put(M::torque_ratio_1 + i, S(e_orig / e_imp));
         sum_imp += e_imp;
         sum_orig += e_orig;
@@ -299,7 +327,8 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
     for (int i = 0; i <= n; ++i) {
       const double phi = mech::kTwoPi * i / n;
       const auto p = mech::balanced_point(imp, phi);
-      c.add_row({phi, p.torque, torque(orig, phi), mech::hypot2(p.bearing_x, p.bearing_y), p.cam, p.k.s});
+      c.add_row({phi, p.torque, mech::balanced_point(orig, phi).torque, mech::hypot2(p.bearing_x, p.bearing_y), p.cam,
+                 p.k.s});
     }
     return c;
   }
@@ -308,9 +337,9 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
     if (mech::check(improved(std::vector<double>(x.data(), x.data() + x.size()))) != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return improved(xs); };
     const int n = m_.cycle_points;
-    if (metric == M::peak_balancing_torque) return cycle_local_maxima(x, n, model_at, absolute(torque));
-    if (metric == M::peak_support_reaction) return cycle_local_maxima(x, n, model_at, support);
-    if (metric == M::peak_cam_force) return cycle_local_maxima(x, n, model_at, absolute(cam));
+    if (metric == M::peak_balancing_torque) return cycle_local_maxima(x, n, model_at, at_angle(absolute(torque)));
+    if (metric == M::peak_support_reaction) return cycle_local_maxima(x, n, model_at, at_angle(support));
+    if (metric == M::peak_cam_force) return cycle_local_maxima(x, n, model_at, at_angle(absolute(cam)));
     return {};
   }
 
