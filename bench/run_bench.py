@@ -446,7 +446,7 @@ def press_sawmill_cases():
          "numpy Newton-Euler, 72 points + minimize_scalar refine",
          "sawmill, improved mechanism: peak \\|M_b\\| alone"),
         ("sawmill_all_metrics", "BM_SawmillMetrics/1", "sawmill_all_metrics", saw["peak_balancing_torque"],
-         "as above, 17 of the 23 metrics (no n_d, k_d), each peak refined",
+         "as above, 17 of the 25 metrics (no n_d, k_d, min or max cam force), each peak refined",
          "sawmill, improved and original: all metrics (error of peak \\|M_b\\|)"),
     ]
 

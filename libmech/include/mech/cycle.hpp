@@ -183,16 +183,6 @@ double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std:
   return best_phi;
 }
 
-// Refined angle of the global maximum over the cycle of g(model, phi) (as
-// cycle_max_angles; global_max_angle picks among near-equal peaks).
-template <class M, class G>
-double cycle_peak_angle(const M& model, int n, G&& g) {
-  const auto md = model.template cast<double>();
-  const auto mv = model.template cast<Dual>();
-  return global_max_angle(
-      cycle_samples(md, n, g), [&](double phi) { return g(md, phi); }, [&](double phi) { return g(mv, seed(phi)).d; });
-}
-
 // Nodes and weights of the m-point Gauss-Legendre rule on [-1, 1] (Newton on
 // the Legendre recurrence; nodes to ~1e-16).
 inline std::vector<std::pair<double, double>> compute_gauss_legendre(int m) {
