@@ -77,8 +77,11 @@ Result LineDriver::minimize(const Problem& problem, const Objective& objective,
         result.status = DriverStatus::converged;
         result.message = "line: the derivative's sign change refined to xtol_rel";
         // Brent ends on its last evaluation: reuse it (finish() does too).
-        const double at_x = last.x[0] == x ? last.e[f.id].value : problem.evaluate(result.x, wanted, false)[f.id].value;
-        if (best_f < sign * at_x) {
+        // Values by the same path as the designs seen (with the gradient:
+        // a model may sum in another order without it), and "lower" by more
+        // than their roundoff.
+        const double at_x = last.x[0] == x ? last.e[f.id].value : problem.evaluate(result.x, wanted, true)[f.id].value;
+        if (best_f < sign * at_x - 1e-13 * std::abs(at_x)) {
           result.x = Eigen::VectorXd::Constant(1, best_x);  // a stationary point above a design seen: not a minimum
           result.status = DriverStatus::failure;
           result.message = "line: the derivative's zero is not a minimum (a design seen is lower); the best design seen";

@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "mech/autodiff.hpp"
+#include "mech/simd.hpp"
 
 namespace mech {
 
@@ -27,6 +29,24 @@ void for_each_grid_angle(int n, F&& f) {
     s = s * ch + c * sh;
     c = cn;
   }
+}
+
+// Calls f(k, m, c, s) for the grid angles phi = 2*pi*j/n, j = k..k+kLanes-1,
+// kLanes at a time (Lanes c = cos(phi), s = sin(phi)); the first m lanes are
+// on the grid (the last block may run past n - 1).
+template <class F>
+void for_each_grid_block(int n, F&& f) {
+  for (int k = 0; k < n; k += kLanes) {
+    Lanes c, s;
+    sincos(iota(k) * kTwoPi / n, s, c);
+    f(k, std::min(kLanes, n - k), c, s);
+  }
+}
+
+// v with its lanes from m on set to zero.
+inline Lanes first_lanes(Lanes v, int m) {
+  for (int i = m; i < kLanes; ++i) v[i] = 0.0;
+  return v;
 }
 
 // Brent's root finder (zeroin) for g on [a, b] with g(a), g(b) of opposite
@@ -232,8 +252,10 @@ struct ArcMeans {
 // exact when f is continuous there (the Leibniz boundary terms of adjacent
 // arcs cancel).
 // mean_abs is right when `ends` holds every sign change of f.
+// For S = double, an f that takes and returns Lanes gets kLanes nodes a call.
 template <class S, class F>
 ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
+  constexpr bool kLanesOfF = std::is_same_v<S, double> && std::is_invocable_r_v<Lanes, F&, Lanes, Lanes, Lanes>;
   std::sort(ends.begin(), ends.end());
   if (ends.empty()) ends.push_back(0.0);
   ArcMeans<S> out{S(0.0), S(0.0), S(0.0)};
@@ -247,23 +269,39 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
     const int panels = (m + kMaxGaussNodes - 1) / kMaxGaussNodes;
     const double half = 0.5 * (b - a) / panels;
     S arc(0.0);
-    auto add = [&](const S& v, double weight) {
-      arc += weight * v;
-      out.mean_square += weight * v * v;
-    };
     for (int p = 0; p < panels; ++p) {
-      const double mid = a + (2 * p + 1) * half, cm = std::cos(mid), sm = std::sin(mid);
+      const double mid = a + (2 * p + 1) * half;
       const auto& nodes = gauss_legendre((m + panels - 1) / panels);
       const std::size_t k = nodes.size();
-      // The nodes are +-x pairs (the table's first half holds x > 0; odd k
-      // has x = 0 in the middle): cos and sin of mid +- half x come from
-      // one cos and sin of half x.
-      for (std::size_t i = 0; i < (k + 1) / 2; ++i) {
-        const bool centre = 2 * i + 1 == k;
-        const double t = centre ? 0.0 : half * nodes[i].first, ct = std::cos(t), st = std::sin(t);
-        const double weight = nodes[i].second * half;
-        add(f(mid + t, cm * ct - sm * st, sm * ct + cm * st), weight);
-        if (!centre) add(f(mid - t, cm * ct + sm * st, sm * ct - cm * st), weight);
+      if constexpr (kLanesOfF) {  // kLanes nodes at a time; missing lanes weigh 0
+        Lanes sum_v(0.0), sum_v2(0.0);
+        for (std::size_t i = 0; i < k; i += kLanes) {
+          Lanes x, weight, c, s;
+          for (std::size_t j = 0; j < kLanes && i + j < k; ++j) x[j] = nodes[i + j].first, weight[j] = nodes[i + j].second;
+          const Lanes phi = mid + half * x;
+          sincos(phi, s, c);
+          const Lanes v = f(phi, c, s);
+          sum_v += weight * v;
+          sum_v2 += weight * v * v;
+        }
+        arc += half * mech::sum(sum_v);
+        out.mean_square += half * mech::sum(sum_v2);
+      } else {
+        auto add = [&](const S& v, double weight) {
+          arc += weight * v;
+          out.mean_square += weight * v * v;
+        };
+        const double cm = std::cos(mid), sm = std::sin(mid);
+        // The nodes are +-x pairs (the table's first half holds x > 0; odd k
+        // has x = 0 in the middle): cos and sin of mid +- half x come from
+        // one cos and sin of half x.
+        for (std::size_t i = 0; i < (k + 1) / 2; ++i) {
+          const bool centre = 2 * i + 1 == k;
+          const double t = centre ? 0.0 : half * nodes[i].first, ct = std::cos(t), st = std::sin(t);
+          const double weight = nodes[i].second * half;
+          add(f(mid + t, cm * ct - sm * st, sm * ct + cm * st), weight);
+          if (!centre) add(f(mid - t, cm * ct + sm * st, sm * ct - cm * st), weight);
+        }
       }
     }
     out.mean += arc;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 #include <vector>
 
 #include "mech/autodiff.hpp"
@@ -146,12 +147,25 @@ S mean_kinetic_energy(const TwinDrive<S>& d, int n) {
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
-  const auto m1 = d.mechanism(0), m2 = d.mechanism(1);
   S sum(0.0);
-  for_each_grid_angle(n, [&](int, double c, double s) {
-    sum += mass_velocity_squared(d, slider_crank_velocity(m1, S(c), S(s)),
-                                 slider_crank_velocity(m2, S(c * cd - s * sd), S(s * cd + c * sd)));
-  });
+  if constexpr (std::is_same_v<S, double>) {  // kLanes angles at a time
+    const auto dl = d.template cast<Lanes>();
+    const auto m1 = dl.mechanism(0), m2 = dl.mechanism(1);
+    const Lanes cdl(cd), sdl(sd);
+    Lanes sums(0.0);
+    for_each_grid_block(n, [&](int, int m, const Lanes& c, const Lanes& s) {
+      sums += first_lanes(mass_velocity_squared(dl, slider_crank_velocity(m1, c, s),
+                                                slider_crank_velocity(m2, c * cdl - s * sdl, s * cdl + c * sdl)),
+                          m);
+    });
+    sum = mech::sum(sums);
+  } else {
+    const auto m1 = d.mechanism(0), m2 = d.mechanism(1);
+    for_each_grid_angle(n, [&](int, double c, double s) {
+      sum += mass_velocity_squared(d, slider_crank_velocity(m1, S(c), S(s)),
+                                   slider_crank_velocity(m2, S(c * cd - s * sd), S(s * cd + c * sd)));
+    });
+  }
   return 0.5 * d.crank_speed * d.crank_speed * sum / double(n);
 }
 
@@ -209,9 +223,19 @@ std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
-  auto M = [&](double, double c, double s) { return drive_point(d, c, s, cd, sd).total_moment(); };
-  const auto r = piecewise_means<S>(M, centres, 2 * n);
-  return {r.mean, r.mean_square};
+  if constexpr (std::is_same_v<S, double>) {  // kLanes nodes at a time
+    const auto dl = d.template cast<Lanes>();
+    const Lanes cdl(cd), sdl(sd);
+    auto M = [&](const Lanes&, const Lanes& c, const Lanes& s) {
+      return drive_point(dl, c, s, cdl, sdl).total_moment();
+    };
+    const auto r = piecewise_means<S>(M, centres, 2 * n);
+    return {r.mean, r.mean_square};
+  } else {
+    auto M = [&](double, double c, double s) { return drive_point(d, c, s, cd, sd).total_moment(); };
+    const auto r = piecewise_means<S>(M, centres, 2 * n);
+    return {r.mean, r.mean_square};
+  }
 }
 
 // All cycle quantities with n grid points. A maximum over the cycle is
@@ -228,17 +252,34 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   CycleMetrics<S> m;
   S sumT(0.0), sumM(0.0), sumM2(0.0);
   std::vector<double> gridT(n), gridM(needs.moments ? n : 0);  // for the maxima
-  for_each_grid_angle(n, [&](int k, double c, double s) {
-    const auto p = drive_point(d, c, s, cd, sd);
-    sumT += p.kinetic_energy;
-    gridT[k] = value(p.kinetic_energy);
-    if (needs.moments) {
-      const S M = p.total_moment();
-      sumM += M;
-      sumM2 += M * M;
-      gridM[k] = abs(value(M));
-    }
-  });
+  if constexpr (std::is_same_v<S, double>) {  // kLanes angles at a time
+    const auto dl = d.template cast<Lanes>();
+    const Lanes cdl(cd), sdl(sd);
+    Lanes sT(0.0), sM(0.0), sM2(0.0);
+    for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {
+      const auto p = drive_point(dl, c, s, cdl, sdl);
+      const Lanes T = first_lanes(p.kinetic_energy, lanes), M = first_lanes(p.total_moment(), lanes);
+      sT += T;
+      sM += M;
+      sM2 += M * M;
+      for (int j = 0; j < lanes; ++j) gridT[k + j] = T[j];
+      if (needs.moments)
+        for (int j = 0; j < lanes; ++j) gridM[k + j] = std::abs(M[j]);
+    });
+    sumT = sum(sT), sumM = sum(sM), sumM2 = sum(sM2);
+  } else {
+    for_each_grid_angle(n, [&](int k, double c, double s) {
+      const auto p = drive_point(d, c, s, cd, sd);
+      sumT += p.kinetic_energy;
+      gridT[k] = value(p.kinetic_energy);
+      if (needs.moments) {
+        const S M = p.total_moment();
+        sumM += M;
+        sumM2 += M * M;
+        gridM[k] = abs(value(M));
+      }
+    });
+  }
   m.mean_kinetic_energy = sumT / double(n);
   m.least_mean_kinetic_energy = least_mean_kinetic_energy(d);
   m.k2 = m.mean_kinetic_energy / m.least_mean_kinetic_energy;
