@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -34,11 +35,30 @@ void for_each_grid_angle(int n, F&& f) {
 // Calls f(k, m, c, s) for the grid angles phi = 2*pi*j/n, j = k..k+kLanes-1,
 // kLanes at a time (Lanes c = cos(phi), s = sin(phi)); the first m lanes are
 // on the grid (the last block may run past n - 1).
+// The cosines and sines are tabulated once per n and thread (n up to 4096).
 template <class F>
 void for_each_grid_block(int n, F&& f) {
+  struct Table {
+    std::vector<Lanes> c, s;
+  };
+  static thread_local std::unordered_map<int, Table> tables;
+  Table* table = n <= 4096 ? &tables[n] : nullptr;
+  if (table && table->c.empty()) {
+    for (int k = 0; k < n; k += kLanes) {
+      Lanes c, s;
+      sincos(iota(k) * kTwoPi / n, s, c);
+      table->c.push_back(c);
+      table->s.push_back(s);
+    }
+  }
   for (int k = 0; k < n; k += kLanes) {
     Lanes c, s;
-    sincos(iota(k) * kTwoPi / n, s, c);
+    if (table) {
+      c = table->c[k / kLanes];
+      s = table->s[k / kLanes];
+    } else {
+      sincos(iota(k) * kTwoPi / n, s, c);
+    }
     f(k, std::min(kLanes, n - k), c, s);
   }
 }

@@ -69,54 +69,64 @@ inline Lanes iota(double k0) {
   return r;
 }
 
-// sin and cos of every lane (see the header comment).
-inline void sincos(const Lanes& x, Lanes& s, Lanes& c) {
-  using Raw = Lanes::Raw;
+namespace detail {
+// sin and cos of x, a double or a Lanes::Raw: the same operations either
+// way (see the header comment), valid for |x| <= kReducedRange.
+inline constexpr double kReducedRange = 823549.6551353541;  // 2^19 pi / 2
+template <class V>
+[[gnu::always_inline]] inline void sincos_reduced(const V& x, V& sin_x, V& cos_x) {
   // pi/2 in three 33-bit parts (fdlibm's pio2_1, pio2_2, pio2_3): q * part
   // is exact for |q| < 2^20.
   constexpr double kTwoOverPi = 6.36619772367581382433e-01, kP1 = 1.57079632673412561417e+00,
                    kP2 = 6.07710050630396597660e-11, kP3 = 2.02226624871116645580e-21,
                    kP3t = 8.47842766036889956997e-32,  // pi/2 - kP1 - kP2 - kP3
-                   kRound = 6755399441055744.0,  // 1.5 * 2^52: adding it rounds to an integer
-      kReduced = 823549.6551353541;               // 2^19 pi / 2
-  const Raw q = (x.v * kTwoOverPi + kRound) - kRound;
+                   kRound = 6755399441055744.0;        // 1.5 * 2^52: adding it rounds to an integer
+  const V q = (x * kTwoOverPi + kRound) - kRound;
   // r + y = x - q pi/2 to about 2^-100 relative: each part's product is
   // exact, each subtraction's rounding error is carried in y.
-  const Raw t = x.v - q * kP1, w1 = q * kP2, w2 = q * kP3;
-  const Raw r1 = t - w1, r = r1 - w2;
-  const Raw y = (((t - r1) - w1) + ((r1 - r) - w2)) - q * kP3t;
-  const Raw z = r * r, v = z * r;
+  const V t = x - q * kP1, w1 = q * kP2, w2 = q * kP3;
+  const V r1 = t - w1, r = r1 - w2;
+  const V y = (((t - r1) - w1) + ((r1 - r) - w2)) - q * kP3t;
+  const V z = r * r, v = z * r;
   // fdlibm __kernel_sin (S1..S6) and __kernel_cos (C1..C6) with the tail y.
-  const Raw ps = 8.33333333332248946124e-03 +
-                 z * (-1.98412698298579493134e-04 +
-                      z * (2.75573137070700676789e-06 +
-                           z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)));
-  const Raw sr = r - ((z * (0.5 * y - v * ps) - y) - v * -1.66666666666666324348e-01);
-  const Raw pc = z * (4.16666666666666019037e-02 +
-                      z * (-1.38888888888741095749e-03 +
-                           z * (2.48015872894767294178e-05 +
-                                z * (-2.75573143513906633035e-07 +
-                                     z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
-  const Raw hz = 0.5 * z, w = 1.0 - hz;
-  const Raw cr = w + (((1.0 - w) - hz) + (z * pc - r * y));
+  const V ps = 8.33333333332248946124e-03 +
+               z * (-1.98412698298579493134e-04 +
+                    z * (2.75573137070700676789e-06 +
+                         z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)));
+  const V sr = r - ((z * (0.5 * y - v * ps) - y) - v * -1.66666666666666324348e-01);
+  const V pc = z * (4.16666666666666019037e-02 +
+                    z * (-1.38888888888741095749e-03 +
+                         z * (2.48015872894767294178e-05 +
+                              z * (-2.75573143513906633035e-07 +
+                                   z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
+  const V hz = 0.5 * z, w = 1.0 - hz;
+  const V cr = w + (((1.0 - w) - hz) + (z * pc - r * y));
   // Quadrant q mod 4: 0 (s, c), 1 (c, -s), 2 (-s, -c), 3 (-c, s).
-  const Raw m = q - 4.0 * ((q * 0.25 + kRound) - kRound);  // in {-2, -1, 0, 1, 2}
+  const V m = q - 4.0 * ((q * 0.25 + kRound) - kRound);  // in {-2, -1, 0, 1, 2}
   const auto odd = (m == 1.0) | (m == -1.0);
   const auto sin_negative = (m == 2.0) | (m == -2.0) | (m == -1.0);
   const auto cos_negative = (m == 2.0) | (m == -2.0) | (m == 1.0);
-  const Raw s0 = odd ? cr : sr, c0 = odd ? sr : cr;
-  s.v = sin_negative ? -s0 : s0;
-  c.v = cos_negative ? -c0 : c0;
+  const V s0 = odd ? cr : sr, c0 = odd ? sr : cr;
+  sin_x = sin_negative ? V(-s0) : s0;
+  cos_x = cos_negative ? V(-c0) : c0;
+}
+}  // namespace detail
+
+// sin and cos of every lane (see the header comment).
+inline void sincos(const Lanes& x, Lanes& s, Lanes& c) {
+  detail::sincos_reduced(x.v, s.v, c.v);
   for (int i = 0; i < kLanes; ++i)
-    if (!(std::abs(x[i]) <= kReduced)) s[i] = std::sin(x[i]), c[i] = std::cos(x[i]);
+    if (!(std::abs(x[i]) <= detail::kReducedRange)) s[i] = std::sin(x[i]), c[i] = std::cos(x[i]);
 }
 
-// The same for one angle (lane 0).
+// The same for one angle: the same bits as in a lane.
 inline void sincos(double x, double& s, double& c) {
-  Lanes ls, lc;
-  sincos(Lanes(x), ls, lc);
-  s = ls[0];
-  c = lc[0];
+  if (std::abs(x) <= detail::kReducedRange) {
+    detail::sincos_reduced(x, s, c);
+  } else {
+    s = std::sin(x);
+    c = std::cos(x);
+  }
 }
 
 }  // namespace mech

@@ -288,7 +288,11 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   const TwinDrive<Dual> dv = d.template cast<Dual>();
   const TwinDrive<double> dd = d.template cast<double>();
   const double cdd = value(cd), sdd = value(sd);
-  auto at = [&](double phi) { return drive_point(dd, std::cos(phi), std::sin(phi), cdd, sdd); };
+  auto at = [&](double phi) {
+    double c, s;
+    sincos(phi, s, c);
+    return drive_point(dd, c, s, cdd, sdd);
+  };
   if (needs.peak_energy) {
     auto T = [&](double phi) { return at(phi).kinetic_energy; };
     auto dT = [&](double phi) { return at(phi).inertia_moment; };
@@ -311,7 +315,8 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     m.rms_total_moment = sqrt(sumM2 / double(n));
     auto absM = [&](double phi) { return abs(at(phi).total_moment()); };
     auto dabsM = [&](double phi) {  // cos and sin of the angle as Duals: slopes -sin, cos
-      const double c = std::cos(phi), s = std::sin(phi);
+      double c, s;
+      sincos(phi, s, c);
       const Dual M = drive_point(dv, Dual(c, -s), Dual(s, c), Dual(cdd), Dual(sdd)).total_moment();
       return (M.value() >= 0 ? 1.0 : -1.0) * M.d;
     };
