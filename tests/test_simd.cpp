@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "mech/simd.hpp"
 #include "mech/twin_slider_crank.hpp"
@@ -84,22 +85,63 @@ TEST(Lanes, ALaneDoesNotDependOnItsNeighbours) {
 }
 
 TEST(Lanes, TwinDriveLaneLoopsAgreeWithTheScalarLoops) {
-  // cycle_metrics<double> runs the grid and the Gauss nodes kLanes at a
-  // time; cycle_metrics<Dual> (the design-derivative path) one angle at a
-  // time with glibc's sin and cos. Same model, other rounding: the values
+  // The grid and the Gauss nodes run kLanes angles at a time for double,
+  // Dual and DualN<N>; DualX (a run-time derivative count) keeps the scalar
+  // loops with glibc's sin and cos. Same model, other rounding: the values
   // agree to a few ulps of their size. n = 30 is not a multiple of kLanes
   // (a partial last block).
   mech::TwinDrive<double> d{0.2, 0.8, 1.1, 0.03, 100 * M_PI / 30, 1000, 80, 0.9, 3562};
   d.resistance = mech::Resistance::opposes_motion;
   for (const int n : {16, 30, 64}) {
     const auto a = mech::cycle_metrics(d, n);
-    const auto b = mech::cycle_metrics(d.cast<mech::Dual>(), n);
-    EXPECT_NEAR(a.mean_kinetic_energy / b.mean_kinetic_energy.v, 1, 1e-14) << n;
-    EXPECT_NEAR(a.peak_kinetic_energy / b.peak_kinetic_energy.v, 1, 1e-14) << n;
-    EXPECT_NEAR(a.mean_total_moment, b.mean_total_moment.v, 1e-14 * a.rms_total_moment) << n;
-    EXPECT_NEAR(a.rms_total_moment / b.rms_total_moment.v, 1, 1e-14) << n;
-    EXPECT_NEAR(a.peak_total_moment / b.peak_total_moment.v, 1, 1e-14) << n;
-    EXPECT_NEAR(mech::mean_kinetic_energy(d, n) / mech::mean_kinetic_energy(d.cast<mech::Dual>(), n).v, 1, 1e-14);
+    const auto b = mech::cycle_metrics(d.cast<mech::DualX>(), n);
+    EXPECT_NEAR(a.mean_kinetic_energy / b.mean_kinetic_energy.value(), 1, 1e-14) << n;
+    EXPECT_NEAR(a.peak_kinetic_energy / b.peak_kinetic_energy.value(), 1, 1e-14) << n;
+    EXPECT_NEAR(a.mean_total_moment, b.mean_total_moment.value(), 1e-14 * a.rms_total_moment) << n;
+    EXPECT_NEAR(a.rms_total_moment / b.rms_total_moment.value(), 1, 1e-14) << n;
+    EXPECT_NEAR(a.peak_total_moment / b.peak_total_moment.value(), 1, 1e-14) << n;
+    EXPECT_NEAR(mech::mean_kinetic_energy(d, n) / mech::mean_kinetic_energy(d.cast<mech::DualX>(), n).value(), 1,
+                1e-14);
+  }
+}
+
+TEST(Lanes, AValueIsTheSameBitsWithOrWithoutItsGradient) {
+  // A driver asks for the value alone in its line searches and with the
+  // gradient elsewhere: both must be one function, or it sees roundoff
+  // noise as slope (LD_SLSQP took 34 evaluations for the rod length, not
+  // 24, while the two paths summed in different orders).
+  mech::TwinDrive<double> d{0.2, 0.8, 1.1, 0.03, 100 * M_PI / 30, 1000, 80, 0.9, 3562};
+  d.resistance = mech::Resistance::opposes_motion;
+  auto with_two = d.cast<mech::DualN<2>>();
+  with_two.rod_length = mech::seed<2>(d.rod_length, 0);
+  with_two.phase_shift = mech::seed<2>(d.phase_shift, 1);
+  auto with_one = d.cast<mech::Dual>();
+  with_one.rod_length = mech::Dual(d.rod_length, 1.0);
+  for (const int n : {16, 30}) {
+    const double mean = mech::mean_kinetic_energy(d, n);
+    EXPECT_EQ(mean, mech::mean_kinetic_energy(with_one, n).v);
+    EXPECT_EQ(mean, mech::mean_kinetic_energy(with_two, n).value());
+    const auto a = mech::cycle_metrics(d, n);
+    const auto b = mech::cycle_metrics(with_one, n);
+    const auto c = mech::cycle_metrics(with_two, n);
+    for (const auto& [x, y, z] : {std::tuple{a.mean_kinetic_energy, b.mean_kinetic_energy.v, c.mean_kinetic_energy.value()},
+                                  std::tuple{a.mean_total_moment, b.mean_total_moment.v, c.mean_total_moment.value()},
+                                  std::tuple{a.rms_total_moment, b.rms_total_moment.v, c.rms_total_moment.value()},
+                                  std::tuple{a.peak_total_moment, b.peak_total_moment.v, c.peak_total_moment.value()},
+                                  std::tuple{a.k1, b.k1.v, c.k1.value()}}) {
+      EXPECT_EQ(x, y) << n;
+      EXPECT_EQ(x, z) << n;
+    }
+    // The derivative in the rod length: central differences (step 1e-6 m).
+    const double h = 1e-6;
+    auto at = [&](double l) {
+      auto e = d;
+      e.rod_length = l;
+      return mech::mean_kinetic_energy(e, n);
+    };
+    const double fd = (at(d.rod_length + h) - at(d.rod_length - h)) / (2 * h);
+    EXPECT_NEAR(mech::mean_kinetic_energy(with_one, n).d, fd, 1e-6 * std::abs(fd));
+    EXPECT_EQ(mech::mean_kinetic_energy(with_one, n).d, mech::mean_kinetic_energy(with_two, n).derivatives()[0]);
   }
 }
 

@@ -63,12 +63,6 @@ void for_each_grid_block(int n, F&& f) {
   }
 }
 
-// v with its lanes from m on set to zero.
-inline Lanes first_lanes(Lanes v, int m) {
-  for (int i = m; i < kLanes; ++i) v[i] = 0.0;
-  return v;
-}
-
 // Brent's root finder (zeroin) for g on [a, b] with g(a), g(b) of opposite
 // signs; returns the root to within rel_tol |root| (by default a few ulps).
 template <class G>
@@ -272,10 +266,14 @@ struct ArcMeans {
 // exact when f is continuous there (the Leibniz boundary terms of adjacent
 // arcs cancel).
 // mean_abs is right when `ends` holds every sign change of f.
-// For S = double, an f that takes and returns Lanes gets kLanes nodes a call.
+// An f that takes Lanes and returns the lane form of S (simd.hpp) gets
+// kLanes nodes a call.
 template <class S, class F>
 ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
-  constexpr bool kLanesOfF = std::is_same_v<S, double> && std::is_invocable_r_v<Lanes, F&, Lanes, Lanes, Lanes>;
+  constexpr bool kLanesOfF = [] {
+    if constexpr (has_lanes<S>) return std::is_invocable_r_v<lanes_of<S>, F&, Lanes, Lanes, Lanes>;
+    return false;
+  }();
   std::sort(ends.begin(), ends.end());
   if (ends.empty()) ends.push_back(0.0);
   ArcMeans<S> out{S(0.0), S(0.0), S(0.0)};
@@ -294,18 +292,19 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
       const auto& nodes = gauss_legendre((m + panels - 1) / panels);
       const std::size_t k = nodes.size();
       if constexpr (kLanesOfF) {  // kLanes nodes at a time; missing lanes weigh 0
-        Lanes sum_v(0.0), sum_v2(0.0);
+        using L = lanes_of<S>;
+        L sum_v(0.0), sum_v2(0.0);
         for (std::size_t i = 0; i < k; i += kLanes) {
           Lanes x, weight, c, s;
           for (std::size_t j = 0; j < kLanes && i + j < k; ++j) x[j] = nodes[i + j].first, weight[j] = nodes[i + j].second;
           const Lanes phi = mid + half * x;
           sincos(phi, s, c);
-          const Lanes v = f(phi, c, s);
-          sum_v += weight * v;
-          sum_v2 += weight * v * v;
+          const L v = f(phi, c, s);
+          sum_v += L(weight) * v;
+          sum_v2 += L(weight) * v * v;
         }
-        arc += half * mech::sum(sum_v);
-        out.mean_square += half * mech::sum(sum_v2);
+        arc += half * LaneForm<S>::sum(sum_v);
+        out.mean_square += half * LaneForm<S>::sum(sum_v2);
       } else {
         auto add = [&](const S& v, double weight) {
           arc += weight * v;

@@ -130,3 +130,118 @@ inline void sincos(double x, double& s, double& c) {
 }
 
 }  // namespace mech
+
+#include <array>
+#include <type_traits>
+
+#include "mech/autodiff.hpp"
+
+namespace mech {
+
+// A value and N derivatives, kLanes at a time: the lane form of Dual (N = 1)
+// and DualN<N>. Its values are computed exactly as Lanes computes them, so a
+// model's value is the same bits with or without its gradient.
+template <int N>
+struct LaneDual {
+  Lanes v;
+  std::array<Lanes, N> d{};
+  LaneDual() = default;
+  LaneDual(double x) : v(x) {}        // NOLINT: constants convert
+  LaneDual(const Lanes& x) : v(x) {}  // NOLINT
+  LaneDual operator-() const {
+    LaneDual r(-v);
+    for (int i = 0; i < N; ++i) r.d[i] = -d[i];
+    return r;
+  }
+  LaneDual& operator+=(const LaneDual& o) {
+    v += o.v;
+    for (int i = 0; i < N; ++i) d[i] += o.d[i];
+    return *this;
+  }
+  LaneDual& operator-=(const LaneDual& o) { return *this += -o; }
+  friend LaneDual operator+(LaneDual a, const LaneDual& b) { return a += b; }
+  friend LaneDual operator-(LaneDual a, const LaneDual& b) { return a -= b; }
+  friend LaneDual operator*(const LaneDual& a, const LaneDual& b) {
+    LaneDual r(a.v * b.v);
+    for (int i = 0; i < N; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+    return r;
+  }
+  friend LaneDual operator/(const LaneDual& a, const LaneDual& b) {
+    LaneDual r(a.v / b.v);
+    for (int i = 0; i < N; ++i) r.d[i] = (a.d[i] - r.v * b.d[i]) / b.v;
+    return r;
+  }
+  friend LaneDual sqrt(const LaneDual& a) {
+    LaneDual r(mech::sqrt(a.v));
+    for (int i = 0; i < N; ++i) r.d[i] = a.d[i] / (2.0 * r.v);
+    return r;
+  }
+  friend LaneDual abs(const LaneDual& a) {
+    Lanes sign;
+    for (int j = 0; j < kLanes; ++j) sign[j] = a.v[j] < 0 ? -1.0 : 1.0;
+    LaneDual r(mech::abs(a.v));
+    for (int i = 0; i < N; ++i) r.d[i] = sign * a.d[i];
+    return r;
+  }
+};
+
+// The lane form of a scalar type (double: Lanes; Dual, DualN<N>: LaneDual);
+// void where there is none (DualX: the scalar loops serve it).
+template <class S>
+struct LaneForm {
+  using type = void;
+};
+template <>
+struct LaneForm<double> {
+  using type = Lanes;
+  static Lanes broadcast(double x) { return Lanes(x); }
+  static double sum(const Lanes& a) { return mech::sum(a); }
+};
+template <>
+struct LaneForm<Dual> {
+  using type = LaneDual<1>;
+  static type broadcast(const Dual& x) {
+    type r(x.v);
+    r.d[0] = Lanes(x.d);
+    return r;
+  }
+  static Dual sum(const type& a) { return {mech::sum(a.v), mech::sum(a.d[0])}; }
+};
+template <int N>
+  requires(N > 0)  // not DualX
+struct LaneForm<DualN<N>> {
+  using type = LaneDual<N>;
+  static type broadcast(const DualN<N>& x) {
+    type r(x.value());
+    for (int i = 0; i < N; ++i) r.d[i] = Lanes(x.derivatives()[i]);
+    return r;
+  }
+  static DualN<N> sum(const type& a) {
+    Eigen::Matrix<double, N, 1> g;
+    for (int i = 0; i < N; ++i) g[i] = mech::sum(a.d[i]);
+    return DualN<N>(mech::sum(a.v), g);
+  }
+};
+template <class S>
+using lanes_of = typename LaneForm<S>::type;
+template <class S>
+inline constexpr bool has_lanes = !std::is_void_v<lanes_of<S>>;
+
+// Lane j's value.
+inline double lane_value(const Lanes& a, int j) { return a[j]; }
+template <int N>
+double lane_value(const LaneDual<N>& a, int j) { return a.v[j]; }
+
+// a with its lanes from m on set to zero.
+inline Lanes first_lanes(Lanes a, int m) {
+  for (int j = m; j < kLanes; ++j) a[j] = 0.0;
+  return a;
+}
+template <int N>
+LaneDual<N> first_lanes(LaneDual<N> a, int m) {
+  a.v = first_lanes(a.v, m);
+  for (auto& d : a.d) d = first_lanes(d, m);
+  return a;
+}
+
+}  // namespace mech

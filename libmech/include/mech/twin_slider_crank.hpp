@@ -46,13 +46,18 @@ struct TwinDrive {
     const int sigma = (i == 1 && layout == Layout::opposed) ? -1 : 1;
     return {crank_radius, rod_length, offset, sigma, kinematics};
   }
+  // The same drive with f applied to every number.
+  template <class F>
+  auto map(F&& f) const -> TwinDrive<decltype(f(crank_radius))> {
+    return {f(crank_radius), f(rod_length), f(phase_shift), f(offset), f(crank_speed), f(cart_mass),
+            f(rod_mass_per_length), f(efficiency), f(cart_resistance), layout, kinematics, rod, resistance};
+  }
   template <class T>
   TwinDrive<T> cast() const {
-    return {T(value(crank_radius)), T(value(rod_length)), T(value(phase_shift)),
-            T(value(offset)), T(value(crank_speed)), T(value(cart_mass)),
-            T(value(rod_mass_per_length)), T(value(efficiency)),
-            T(value(cart_resistance)), layout, kinematics, rod, resistance};
+    return map([](const S& x) { return T(value(x)); });
   }
+  // kLanes copies of the drive, derivatives kept (S must have lanes_of<S>).
+  TwinDrive<lanes_of<S>> lanes() const { return map(LaneForm<S>::broadcast); }
 };
 
 // Physical domain and assembly over the whole revolution.
@@ -148,17 +153,18 @@ S mean_kinetic_energy(const TwinDrive<S>& d, int n) {
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
   S sum(0.0);
-  if constexpr (std::is_same_v<S, double>) {  // kLanes angles at a time
-    const auto dl = d.template cast<Lanes>();
+  if constexpr (has_lanes<S>) {  // kLanes angles at a time
+    using L = lanes_of<S>;
+    const auto dl = d.lanes();
     const auto m1 = dl.mechanism(0), m2 = dl.mechanism(1);
-    const Lanes cdl(cd), sdl(sd);
-    Lanes sums(0.0);
+    const L cdl = LaneForm<S>::broadcast(cd), sdl = LaneForm<S>::broadcast(sd);
+    L sums(0.0);
     for_each_grid_block(n, [&](int, int m, const Lanes& c, const Lanes& s) {
-      sums += first_lanes(mass_velocity_squared(dl, slider_crank_velocity(m1, c, s),
+      sums += first_lanes(mass_velocity_squared(dl, slider_crank_velocity(m1, L(c), L(s)),
                                                 slider_crank_velocity(m2, c * cdl - s * sdl, s * cdl + c * sdl)),
                           m);
     });
-    sum = mech::sum(sums);
+    sum = LaneForm<S>::sum(sums);
   } else {
     const auto m1 = d.mechanism(0), m2 = d.mechanism(1);
     for_each_grid_angle(n, [&](int, double c, double s) {
@@ -223,9 +229,9 @@ std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
-  if constexpr (std::is_same_v<S, double>) {  // kLanes nodes at a time
-    const auto dl = d.template cast<Lanes>();
-    const Lanes cdl(cd), sdl(sd);
+  if constexpr (has_lanes<S>) {  // kLanes nodes at a time
+    const auto dl = d.lanes();
+    const auto cdl = LaneForm<S>::broadcast(cd), sdl = LaneForm<S>::broadcast(sd);
     auto M = [&](const Lanes&, const Lanes& c, const Lanes& s) {
       return drive_point(dl, c, s, cdl, sdl).total_moment();
     };
@@ -252,21 +258,22 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   CycleMetrics<S> m;
   S sumT(0.0), sumM(0.0), sumM2(0.0);
   std::vector<double> gridT(n), gridM(needs.moments ? n : 0);  // for the maxima
-  if constexpr (std::is_same_v<S, double>) {  // kLanes angles at a time
-    const auto dl = d.template cast<Lanes>();
-    const Lanes cdl(cd), sdl(sd);
-    Lanes sT(0.0), sM(0.0), sM2(0.0);
+  if constexpr (has_lanes<S>) {  // kLanes angles at a time
+    using L = lanes_of<S>;
+    const auto dl = d.lanes();
+    const L cdl = LaneForm<S>::broadcast(cd), sdl = LaneForm<S>::broadcast(sd);
+    L sT(0.0), sM(0.0), sM2(0.0);
     for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {
       const auto p = drive_point(dl, c, s, cdl, sdl);
-      const Lanes T = first_lanes(p.kinetic_energy, lanes), M = first_lanes(p.total_moment(), lanes);
+      const L T = first_lanes(p.kinetic_energy, lanes), M = first_lanes(p.total_moment(), lanes);
       sT += T;
       sM += M;
       sM2 += M * M;
-      for (int j = 0; j < lanes; ++j) gridT[k + j] = T[j];
+      for (int j = 0; j < lanes; ++j) gridT[k + j] = lane_value(T, j);
       if (needs.moments)
-        for (int j = 0; j < lanes; ++j) gridM[k + j] = std::abs(M[j]);
+        for (int j = 0; j < lanes; ++j) gridM[k + j] = std::abs(lane_value(M, j));
     });
-    sumT = sum(sT), sumM = sum(sM), sumM2 = sum(sM2);
+    sumT = LaneForm<S>::sum(sT), sumM = LaneForm<S>::sum(sM), sumM2 = LaneForm<S>::sum(sM2);
   } else {
     for_each_grid_angle(n, [&](int k, double c, double s) {
       const auto p = drive_point(d, c, s, cd, sd);
