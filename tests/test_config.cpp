@@ -50,7 +50,7 @@ TEST_P(BadConfig, ExitsWithCode2AndNamesFileLineKey) {
   const std::string prefix = "# expect: ";
   ASSERT_EQ(first.rfind(prefix, 0), 0u) << "first line must be '# expect: ...'";
   const std::string expect = first.substr(prefix.size());
-  const Outcome o = run("run " + file + " --output " + testing::TempDir() + "/bad");
+  const Outcome o = run("run " + file + " --output " + testing::TempDir() + "/bad_" + GetParam());  // one per test process
   EXPECT_EQ(o.exit_code, 2) << o.output;
   EXPECT_NE(o.output.find("mechopt: error: " + file + ":"), std::string::npos) << o.output;
   EXPECT_NE(o.output.find(expect), std::string::npos) << "expected: " << expect << "\ngot: " << o.output;
@@ -251,7 +251,10 @@ namespace {
 // the start point. The change is computed here from two configs that name
 // the levels outright.
 opt::ConfigNode rod_length_with(const std::string& fidelity) {
-  const std::string file = testing::TempDir() + "/fidelity_auto.yaml";
+  // One file per test: ctest runs the tests of this suite as processes side
+  // by side, and a shared file was once rewritten under a reader.
+  const std::string file = testing::TempDir() + "/fidelity_auto_" +
+                           testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml";
   std::ofstream(file) << "base: " << MECHOPT_SOURCE_DIR << "/configs/recuperative_drive/rod_length.yaml\n"
                       << "model: {fidelity: " << fidelity << "}\n";
   return opt::ConfigNode::load(file);

@@ -11,8 +11,15 @@
 // polynomials on [-pi/4, pi/4], under 1 ulp) after a three-part Cody-Waite
 // reduction by pi/2; lanes beyond |x| = 2^19 pi/2 (or not finite) take
 // std::sin and std::cos.
+//
+// LaneDual<N>: the lane form of the dual numbers (autodiff.hpp), so the
+// same loops carry design derivatives.
 #pragma once
+#include <array>
 #include <cmath>
+#include <type_traits>
+
+#include "mech/autodiff.hpp"
 
 namespace mech {
 
@@ -60,7 +67,6 @@ inline double sum(const Lanes& a) {
   for (int i = 0; i < kLanes; ++i) s += a[i];
   return s;
 }
-inline double value(const Lanes& a) { return a[0]; }  // for code that reads a scalar's value
 
 // Lanes k0, k0 + 1, ..., k0 + kLanes - 1.
 inline Lanes iota(double k0) {
@@ -128,15 +134,6 @@ inline void sincos(double x, double& s, double& c) {
     c = std::cos(x);
   }
 }
-
-}  // namespace mech
-
-#include <array>
-#include <type_traits>
-
-#include "mech/autodiff.hpp"
-
-namespace mech {
 
 // A value and N derivatives, kLanes at a time: the lane form of Dual (N = 1)
 // and DualN<N>. Its values are computed exactly as Lanes computes them, so a
