@@ -5,6 +5,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <type_traits>
 #include <unordered_map>
@@ -120,21 +121,28 @@ void sign_changes(DF&& df, double a, double b, double ga, double gb, int parts, 
 // both sides of phi_k, each side cut at the kinks of f inside it (where df
 // jumps: a kink may part two maxima, or be one). Where nothing shows (two
 // maxima closer than a step), each piece is searched again in 4 parts.
-// None found: phi_k.
+// None found: phi_k. `slopes`, when given, holds df at phi_k - h, phi_k and
+// phi_k + h (the grid's own derivative values: three evaluations saved).
 template <class DF>
-void refine_max(DF&& df, double phi_k, double h, const std::vector<double>& kinks, std::vector<double>& out) {
+void refine_max(DF&& df, double phi_k, double h, const std::vector<double>& kinks, std::vector<double>& out,
+                const double* slopes = nullptr) {
   const std::size_t before = out.size();
-  std::vector<double> x = {phi_k - h, phi_k, phi_k + h};
+  const double unknown = std::numeric_limits<double>::quiet_NaN();
+  static thread_local std::vector<std::pair<double, double>> xg;  // (angle, df there): no allocation per call
+  xg.assign({{phi_k - h, slopes ? slopes[0] : unknown},
+             {phi_k, slopes ? slopes[1] : unknown},
+             {phi_k + h, slopes ? slopes[2] : unknown}});
   const double eps = 1e-9 * h;  // either side of a kink: its one-sided slopes
   for (double kink : kinks) {
     const double k = kink + kTwoPi * std::round((phi_k - kink) / kTwoPi);  // the copy nearest phi_k
-    if (k - eps > phi_k - h && k + eps < phi_k + h) x.insert(x.end(), {k - eps, k + eps});
+    if (k - eps > phi_k - h && k + eps < phi_k + h) xg.insert(xg.end(), {{k - eps, unknown}, {k + eps, unknown}});
   }
-  std::sort(x.begin(), x.end());
-  std::vector<double> g(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) g[i] = df(x[i]);
+  std::sort(xg.begin(), xg.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [x, g] : xg)
+    if (std::isnan(g)) g = df(x);
   for (int parts : {1, 4}) {
-    for (std::size_t i = 0; i + 1 < x.size(); ++i) sign_changes(df, x[i], x[i + 1], g[i], g[i + 1], parts, out);
+    for (std::size_t i = 0; i + 1 < xg.size(); ++i)
+      sign_changes(df, xg[i].first, xg[i + 1].first, xg[i].second, xg[i + 1].second, parts, out);
     if (out.size() > before) return;
   }
   out.push_back(phi_k);
@@ -143,18 +151,21 @@ void refine_max(DF&& df, double phi_k, double h, const std::vector<double>& kink
 // Refined angles of the local maxima of a periodic f sampled as
 // v[k] = f(2 pi k / n), given its derivative df and f's kinks: the maxima
 // near every grid local maximum no lower than max(v) - margin, sorted by
-// angle.
+// angle. `slopes`, when not empty, holds df on the same grid.
 template <class DF>
 std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df, double margin = HUGE_VAL,
-                                     const std::vector<double>& kinks = {}) {
+                                     const std::vector<double>& kinks = {}, const std::vector<double>& slopes = {}) {
   const int n = static_cast<int>(v.size());
   const double h = kTwoPi / n, vmax = *std::max_element(v.begin(), v.end());
   std::vector<double> out;
   for (int k = 0; k < n; ++k) {
-    const double prev = v[(k + n - 1) % n], next = v[(k + 1) % n];
+    const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
+    const double prev = v[before], next = v[after];
     if (v[k] < prev || v[k] < next || v[k] < vmax - margin) continue;
     if (next == v[k] && k + 1 < n) continue;  // a flat top: refine it once
-    refine_max(df, k * h, h, kinks, out);
+    const double around[3] = {slopes.empty() ? 0.0 : slopes[before], slopes.empty() ? 0.0 : slopes[k],
+                              slopes.empty() ? 0.0 : slopes[after]};
+    refine_max(df, k * h, h, kinks, out, slopes.empty() ? nullptr : around);
   }
   for (double& phi : out) phi = phi < 0 ? phi + kTwoPi : phi >= kTwoPi ? phi - kTwoPi : phi;
   std::sort(out.begin(), out.end());
@@ -188,19 +199,21 @@ std::vector<double> cycle_max_angles(const M& model, int n, G&& g) {
 // skipped. `kinks` are the angles where f has kinks (a slider's dead centres
 // for |M|): they cut the searches and are candidates themselves, as is the
 // best grid point, so the answer is never below a value the grid has seen.
+// `slopes` (optional): df on the grid, where the caller has it.
 template <class F, class DF>
-double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std::vector<double>& kinks = {}) {
+double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std::vector<double>& kinks = {},
+                        const std::vector<double>& slopes = {}) {
   const int n = static_cast<int>(v.size());
   double curvature = 0;
   for (int k = 0; k < n; ++k)
-    curvature = std::max(curvature, std::abs(v[(k + 1) % n] - 2 * v[k] + v[(k + n - 1) % n]));
+    curvature = std::max(curvature, std::abs(v[k + 1 == n ? 0 : k + 1] - 2 * v[k] + v[k == 0 ? n - 1 : k - 1]));
   const auto top = std::max_element(v.begin(), v.end());
   double best_phi = kTwoPi * static_cast<double>(top - v.begin()) / n, best = *top;
   auto consider = [&](double phi) {
     if (const double fv = f(phi); fv > best) best = fv, best_phi = phi;
   };
   const double margin = 0.25 * curvature, h = kTwoPi / n, eps = 1e-9 * h;
-  for (double phi : local_max_angles(v, df, margin, kinks)) consider(phi);
+  for (double phi : local_max_angles(v, df, margin, kinks, slopes)) consider(phi);
   // A smooth maximum beside a kink need not show on the grid as a local
   // maximum (the grid point past the kink may be higher): where the grid
   // rises into a kink, search the two cells before it (or after it).

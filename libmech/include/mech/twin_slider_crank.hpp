@@ -201,6 +201,7 @@ template <class S>
 std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
   const TwinDrive<double> dv = d.template cast<double>();
   std::vector<double> out;
+  out.reserve(4);
   for (int i = 0; i < 2; ++i) {
     const auto m = dv.mechanism(i);
     const double shift = i == 0 ? 0.0 : dv.phase_shift;
@@ -257,7 +258,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
   CycleMetrics<S> m;
   S sumT(0.0), sumM(0.0), sumM2(0.0);
-  std::vector<double> gridT(n), gridM(needs.moments ? n : 0);  // for the maxima
+  std::vector<double> gridT(n), gridDT(n), gridM(needs.moments ? n : 0);  // for the maxima
   if constexpr (has_lanes<S>) {  // kLanes angles at a time
     using L = lanes_of<S>;
     const auto dl = d.lanes();
@@ -269,7 +270,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
       sT += T;
       sM += M;
       sM2 += M * M;
-      for (int j = 0; j < lanes; ++j) gridT[k + j] = lane_value(T, j);
+      for (int j = 0; j < lanes; ++j) gridT[k + j] = lane_value(T, j), gridDT[k + j] = lane_value(p.inertia_moment, j);
       if (needs.moments)
         for (int j = 0; j < lanes; ++j) gridM[k + j] = std::abs(lane_value(M, j));
     });
@@ -279,6 +280,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
       const auto p = drive_point(d, c, s, cd, sd);
       sumT += p.kinetic_energy;
       gridT[k] = value(p.kinetic_energy);
+      gridDT[k] = value(p.inertia_moment);
       if (needs.moments) {
         const S M = p.total_moment();
         sumM += M;
@@ -303,7 +305,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   if (needs.peak_energy) {
     auto T = [&](double phi) { return at(phi).kinetic_energy; };
     auto dT = [&](double phi) { return at(phi).inertia_moment; };
-    m.phi_peak_energy = global_max_angle(gridT, T, dT);
+    m.phi_peak_energy = global_max_angle(gridT, T, dT, {}, gridDT);  // dT/dphi on the grid: the inertia moment
     m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
     m.k1 = m.peak_kinetic_energy / m.mean_kinetic_energy;
     m.k3 = m.peak_kinetic_energy / m.least_mean_kinetic_energy;
