@@ -327,6 +327,15 @@ double constraint_cb(unsigned n, const double* x, double* grad, void* data) {
   }
 }
 
+// NLopt's algorithms that draw from its random-number generator: the
+// stochastic global ones, MLSL's random starts, PRAXIS and StoGO's
+// randomised variant.
+bool draws_random_numbers(const std::string& algorithm) {
+  for (const char* word : {"CRS", "ISRES", "ESCH", "MLSL", "PRAXIS", "STOGO_RAND"})
+    if (algorithm.find(word) != std::string::npos) return true;
+  return false;
+}
+
 DriverStatus map_status(nlopt_result r) {
   switch (r) {
     case NLOPT_SUCCESS:
@@ -573,7 +582,9 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     nlopt_destroy(local);  // NLopt keeps its own copy
   }
 
-  nlopt_srand(options_.seed);
+  // Seeding costs about as much as a dozen model evaluations (NLopt's
+  // Mersenne twister): only the algorithms that draw random numbers need it.
+  if (draws_random_numbers(algorithm)) nlopt_srand(options_.seed);
   double f = 0;
   const nlopt_result code = stop.reason ? NLOPT_FORCED_STOP : nlopt_optimize(opt, x.data(), &f);
   nlopt_destroy(opt);

@@ -33,25 +33,32 @@ void for_each_grid_angle(int n, F&& f) {
   }
 }
 
-// Calls f(k, m, c, s) for the grid angles phi = 2*pi*j/n, j = k..k+kLanes-1,
-// kLanes at a time (Lanes c = cos(phi), s = sin(phi)); the first m lanes are
-// on the grid (the last block may run past n - 1).
-// The cosines and sines are tabulated once per n and thread (n up to 4096).
-template <class F>
-void for_each_grid_block(int n, F&& f) {
-  struct Table {
-    std::vector<Lanes> c, s;
-  };
-  static thread_local std::unordered_map<int, Table> tables;
-  Table* table = n <= 4096 ? &tables[n] : nullptr;
-  if (table && table->c.empty()) {
+// cos and sin of the grid angles 2*pi*k/n, kLanes at a time, computed once
+// per n and thread (n up to 4096; nullptr beyond).
+struct GridTable {
+  std::vector<Lanes> c, s;
+};
+inline const GridTable* grid_table(int n) {
+  if (n > 4096) return nullptr;
+  static thread_local std::unordered_map<int, GridTable> tables;
+  GridTable& t = tables[n];
+  if (t.c.empty()) {
     for (int k = 0; k < n; k += kLanes) {
       Lanes c, s;
       sincos(iota(k) * kTwoPi / n, s, c);
-      table->c.push_back(c);
-      table->s.push_back(s);
+      t.c.push_back(c);
+      t.s.push_back(s);
     }
   }
+  return &t;
+}
+
+// Calls f(k, m, c, s) for the grid angles phi = 2*pi*j/n, j = k..k+kLanes-1,
+// kLanes at a time (Lanes c = cos(phi), s = sin(phi)); the first m lanes are
+// on the grid (the last block may run past n - 1).
+template <class F>
+void for_each_grid_block(int n, F&& f) {
+  const GridTable* table = grid_table(n);
   for (int k = 0; k < n; k += kLanes) {
     Lanes c, s;
     if (table) {
