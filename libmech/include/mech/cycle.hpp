@@ -5,6 +5,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <type_traits>
@@ -311,17 +312,48 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
       const double mid = a + (2 * p + 1) * half;
       const auto& nodes = gauss_legendre((m + panels - 1) / panels);
       const std::size_t k = nodes.size();
-      if constexpr (kLanesOfF) {  // kLanes nodes at a time; missing lanes weigh 0
+      if constexpr (kLanesOfF) {
+        // The nodes are +-x pairs (the table's first (k+1)/2 hold x >= 0;
+        // odd k has x = 0 last among them): one sincos of t = half x, kLanes
+        // pairs at a time, gives mid + t and mid - t by the angle sum. The
+        // nodes are packed in order into blocks of kLanes for f; the last
+        // block's missing lanes weigh 0.
         using L = lanes_of<S>;
+        using Raw = Lanes::Raw;
+        constexpr std::size_t kRoom = kMaxGaussNodes + 2 * kLanes;
+        alignas(sizeof(Raw)) double node_c[kRoom], node_s[kRoom], node_phi[kRoom], node_w[kRoom];
+        auto put = [](double* to, const Lanes& v) { std::memcpy(to, &v.v, sizeof(Raw)); };
+        auto get = [](const double* from) {
+          Lanes v;
+          std::memcpy(&v.v, from, sizeof(Raw));
+          return v;
+        };
+        const std::size_t pairs = (k + 1) / 2;
+        const Lanes cm(std::cos(mid)), sm(std::sin(mid));
+        std::size_t count = 0;
+        for (std::size_t i = 0; i < pairs; i += kLanes) {
+          const std::size_t valid = std::min<std::size_t>(kLanes, pairs - i);
+          Lanes t, weight, ct, st;
+          for (std::size_t j = 0; j < valid; ++j)
+            t[j] = 2 * (i + j) + 1 == k ? 0.0 : half * nodes[i + j].first, weight[j] = nodes[i + j].second;
+          sincos(t, st, ct);
+          put(node_c + count, cm * ct - sm * st), put(node_s + count, sm * ct + cm * st);
+          put(node_phi + count, mid + t), put(node_w + count, weight);
+          count += valid;
+          const std::size_t minus = 2 * (i + valid) - 1 == k ? valid - 1 : valid;  // not the centre twice
+          put(node_c + count, cm * ct + sm * st), put(node_s + count, sm * ct - cm * st);
+          put(node_phi + count, mid - t), put(node_w + count, weight);
+          count += minus;
+        }
+        // The last block's missing lanes: weight 0 at a valid angle (mid).
+        put(node_c + count, cm), put(node_s + count, sm), put(node_phi + count, Lanes(mid));
+        put(node_w + count, Lanes(0.0));
         L sum_v(0.0), sum_v2(0.0);
-        for (std::size_t i = 0; i < k; i += kLanes) {
-          Lanes x, weight, c, s;
-          for (std::size_t j = 0; j < kLanes && i + j < k; ++j) x[j] = nodes[i + j].first, weight[j] = nodes[i + j].second;
-          const Lanes phi = mid + half * x;
-          sincos(phi, s, c);
-          const L v = f(phi, c, s);
-          sum_v += L(weight) * v;
-          sum_v2 += L(weight) * v * v;
+        for (std::size_t i = 0; i < count; i += kLanes) {
+          const L v = f(get(node_phi + i), get(node_c + i), get(node_s + i));
+          const L weight(get(node_w + i));
+          sum_v += weight * v;
+          sum_v2 += weight * v * v;
         }
         arc += half * LaneForm<S>::sum(sum_v);
         out.mean_square += half * LaneForm<S>::sum(sum_v2);
