@@ -329,7 +329,9 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
           return v;
         };
         const std::size_t pairs = (k + 1) / 2;
-        const Lanes cm(std::cos(mid)), sm(std::sin(mid));
+        double cos_mid, sin_mid;
+        sincos(mid, sin_mid, cos_mid);
+        const Lanes cm(cos_mid), sm(sin_mid);
         std::size_t count = 0;
         for (std::size_t i = 0; i < pairs; i += kLanes) {
           const std::size_t valid = std::min<std::size_t>(kLanes, pairs - i);
