@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <limits>
 #include <random>
 #include <tuple>
@@ -144,5 +146,31 @@ TEST(Lanes, AValueIsTheSameBitsWithOrWithoutItsGradient) {
     EXPECT_EQ(mech::mean_kinetic_energy(with_one, n).d, mech::mean_kinetic_energy(with_two, n).derivatives()[0]);
   }
 }
+
+#ifdef MECHOPT_LANES_HASH_DIR
+// tests/isa/lanes_hash.cpp built three ways (tests/CMakeLists.txt): the
+// cycle metrics and gradients of 20 000 designs hash to the same bits with
+// SSE2 (two instructions a lane operation), AVX2 (one) and this machine's
+// own instruction set (on AVX-512 machines: FMA available, not used).
+std::string first_line_of(const std::string& command) {
+  std::string line;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[128];
+    if (std::fgets(buffer, sizeof buffer, pipe)) line = buffer;
+    EXPECT_EQ(pclose(pipe), 0) << command;
+  }
+  return line;
+}
+
+TEST(Lanes, EveryInstructionSetGivesTheSameBits) {
+  const std::string dir = MECHOPT_LANES_HASH_DIR;
+  const std::string sse2 = first_line_of(dir + "/lanes_hash_sse2");
+  ASSERT_EQ(sse2.size(), 17u) << sse2;  // 16 hex digits and a newline
+  EXPECT_EQ(first_line_of(dir + "/lanes_hash_native"), sse2);
+  if (__builtin_cpu_supports("avx2")) {
+    EXPECT_EQ(first_line_of(dir + "/lanes_hash_avx2"), sse2);
+  }
+}
+#endif
 
 }  // namespace
