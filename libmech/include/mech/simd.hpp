@@ -158,7 +158,10 @@ struct LaneDual {
   LaneDual& operator-=(const LaneDual& o) { return *this += -o; }
   friend LaneDual operator+(LaneDual a, const LaneDual& b) { return a += b; }
   friend LaneDual operator-(LaneDual a, const LaneDual& b) { return a -= b; }
-  friend LaneDual operator*(const LaneDual& a, const LaneDual& b) {
+  // Always inlined: in a translation unit with many model instantiations
+  // GCC's growth limits left it out of line, and the two-variable cycle mean
+  // with its gradient ran 0.44 us instead of 0.31 (bench_recuperative).
+  [[gnu::always_inline]] friend LaneDual operator*(const LaneDual& a, const LaneDual& b) {
     LaneDual r(a.v * b.v);
     for (int i = 0; i < N; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
