@@ -572,6 +572,12 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   nlopt_set_xtol_rel(opt, options_.xtol_rel);
   if (options_.ftol_rel > 0) nlopt_set_ftol_rel(opt, options_.ftol_rel);
   nlopt_set_maxeval(opt, options_.max_evaluations);
+  // L-BFGS and the other Luksan methods keep this many past steps (NLopt's
+  // heuristic keeps up to max_evaluations of them for a few variables:
+  // 2000, a 32 kB work array zeroed on every run, more time than the
+  // seed-000 rod length's 8 evaluations). 20 is more than SciPy's L-BFGS-B
+  // default of 10; a run of 20 steps or fewer takes the same steps.
+  nlopt_set_vector_storage(opt, 20);
   // NLopt's own clock as well, for the work between evaluations; the
   // callbacks check the wall clock around every evaluation.
   nlopt_set_maxtime(opt, std::max(options_.max_seconds - stop.seconds(), 1e-9));
