@@ -35,12 +35,14 @@ void for_each_grid_angle(int n, F&& f) {
 }
 
 // cos and sin of the grid angles 2*pi*k/n, kLanes at a time, computed once
-// per n and thread (n up to 4096; nullptr beyond).
+// per n and thread for n up to 512 (nullptr beyond: such a design's cycle
+// costs far more than its sincos). All tables together stay under 2.1 MB a
+// thread (every n from 4 to 512), however many designs a batch runs.
 struct GridTable {
   std::vector<Lanes> c, s;
 };
 inline const GridTable* grid_table(int n) {
-  if (n > 4096) return nullptr;
+  if (n > 512) return nullptr;
   static thread_local std::unordered_map<int, GridTable> tables;
   GridTable& t = tables[n];
   if (t.c.empty()) {
