@@ -230,18 +230,18 @@ std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
+  auto means = [&](auto&& M) {
+    const auto r = piecewise_means<S>(M, centres, 2 * n);
+    return std::pair<S, S>{r.mean, r.mean_square};
+  };
   if constexpr (has_lanes<S>) {  // kLanes nodes at a time
     const auto dl = d.lanes();
     const auto cdl = LaneForm<S>::broadcast(cd), sdl = LaneForm<S>::broadcast(sd);
-    auto M = [&](const Lanes&, const Lanes& c, const Lanes& s) {
+    return means([&](const Lanes&, const Lanes& c, const Lanes& s) {
       return drive_point(dl, c, s, cdl, sdl).total_moment();
-    };
-    const auto r = piecewise_means<S>(M, centres, 2 * n);
-    return {r.mean, r.mean_square};
+    });
   } else {
-    auto M = [&](double, double c, double s) { return drive_point(d, c, s, cd, sd).total_moment(); };
-    const auto r = piecewise_means<S>(M, centres, 2 * n);
-    return {r.mean, r.mean_square};
+    return means([&](double, double c, double s) { return drive_point(d, c, s, cd, sd).total_moment(); });
   }
 }
 
