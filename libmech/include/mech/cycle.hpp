@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <type_traits>
 #include <unordered_map>
 #include <utility>
@@ -75,111 +76,335 @@ void for_each_grid_block(int n, F&& f) {
 }
 
 // Brent's root finder (zeroin) for g on [a, b] with g(a), g(b) of opposite
-// signs; returns the root to within rel_tol |root| (by default a few ulps).
-template <class G>
-double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter = 100, double rel_tol = 4.4e-16) {
-  double c = a, gc = ga, d = b - a, e = d;
-  for (int it = 0; it < max_iter; ++it) {
-    if ((gb > 0) == (gc > 0)) { c = a; gc = ga; d = e = b - a; }
-    if (std::abs(gc) < std::abs(gb)) {
-      a = b; b = c; c = a;
-      ga = gb; gb = gc; gc = ga;
+// signs, as a search that asks for one value at a time: while !done(), feed
+// it g(x()). The root comes to within rel_tol |root| (by default a few
+// ulps). Searches side by side (find_cycle_maxima) share each evaluation.
+class BrentSearch {
+ public:
+  BrentSearch(double a, double b, double ga, double gb, int max_iter = 100, double rel_tol = 4.4e-16)
+      : a_(a), b_(b), c_(a), ga_(ga), gb_(gb), gc_(ga), d_(b - a), e_(b - a), left_(max_iter), rel_tol_(rel_tol) {
+    step();
+  }
+  bool done() const { return done_; }
+  double x() const { return b_; }     // where g is wanted next
+  double root() const { return b_; }  // once done()
+  void feed(double g) {
+    gb_ = g;
+    if (--left_ == 0) done_ = true;
+    else step();
+  }
+
+ private:
+  // Brent's step: done_, or b_ moved to the next point to evaluate.
+  void step() {
+    if ((gb_ > 0) == (gc_ > 0)) { c_ = a_; gc_ = ga_; d_ = e_ = b_ - a_; }
+    if (std::abs(gc_) < std::abs(gb_)) {
+      a_ = b_; b_ = c_; c_ = a_;
+      ga_ = gb_; gb_ = gc_; gc_ = ga_;
     }
-    const double tol = rel_tol * std::abs(b) + 1e-300;
-    const double m = 0.5 * (c - b);
-    if (std::abs(m) <= tol || gb == 0.0) return b;
-    if (std::abs(e) >= tol && std::abs(ga) > std::abs(gb)) {
-      double p, q, s = gb / ga;
-      if (a == c) {
+    const double tol = rel_tol_ * std::abs(b_) + 1e-300;
+    const double m = 0.5 * (c_ - b_);
+    if (std::abs(m) <= tol || gb_ == 0.0 || left_ <= 0) {
+      done_ = true;
+      return;
+    }
+    if (std::abs(e_) >= tol && std::abs(ga_) > std::abs(gb_)) {
+      double p, q, s = gb_ / ga_;
+      if (a_ == c_) {
         p = 2.0 * m * s; q = 1.0 - s;
       } else {
-        const double r = gb / gc, t = ga / gc;
-        p = s * (2.0 * m * t * (t - r) - (b - a) * (r - 1.0));
+        const double r = gb_ / gc_, t = ga_ / gc_;
+        p = s * (2.0 * m * t * (t - r) - (b_ - a_) * (r - 1.0));
         q = (t - 1.0) * (r - 1.0) * (s - 1.0);
       }
       if (p > 0) q = -q; else p = -p;
-      if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e * q))) {
-        e = d; d = p / q;
+      if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e_ * q))) {
+        e_ = d_; d_ = p / q;
       } else {
-        d = m; e = m;
+        d_ = m; e_ = m;
       }
     } else {
-      d = m; e = m;
+      d_ = m; e_ = m;
     }
-    a = b; ga = gb;
-    b += (std::abs(d) > tol) ? d : (m > 0 ? tol : -tol);
-    gb = g(b);
+    a_ = b_; ga_ = gb_;
+    b_ += (std::abs(d_) > tol) ? d_ : (m > 0 ? tol : -tol);
   }
-  return b;
+  double a_, b_, c_, ga_, gb_, gc_, d_, e_;
+  int left_;  // evaluations still allowed
+  double rel_tol_;
+  bool done_ = false;
+};
+
+template <class G>
+double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter = 100, double rel_tol = 4.4e-16) {
+  BrentSearch s(a, b, ga, gb, max_iter, rel_tol);
+  while (!s.done()) s.feed(g(s.x()));
+  return s.root();
 }
+
+// Whether a slope going from ga to gb crosses + to - (a maximum between):
+// 1 inside (a root search), 2 at the right end (gb = 0), 0 none.
+inline int falls_through_zero(double ga, double gb) { return ga > 0 ? (gb < 0 ? 1 : gb == 0 ? 2 : 0) : 0; }
 
 // + to - sign changes of df on [a, b] (df(a) = ga, df(b) = gb) split into
 // `parts` equal pieces, each refined by Brent, appended to out.
 template <class DF>
 void sign_changes(DF&& df, double a, double b, double ga, double gb, int parts, std::vector<double>& out) {
+  const double start = a;
   for (int i = 1; i <= parts; ++i) {
-    const double x = i == parts ? b : a + (b - a) * i / parts, gx = i == parts ? gb : df(x);
-    if (ga > 0 && gx < 0) out.push_back(brent_root(df, a, x, ga, gx));
-    else if (ga > 0 && gx == 0) out.push_back(x);
+    const double x = i == parts ? b : start + (b - start) * i / parts, gx = i == parts ? gb : df(x);
+    if (const int fall = falls_through_zero(ga, gx); fall == 1) out.push_back(brent_root(df, a, x, ga, gx));
+    else if (fall == 2) out.push_back(x);
     a = x;
     ga = gx;
   }
 }
 
-// Angles of the maxima of a periodic f within one grid step h of the grid
-// point phi_k, given its derivative df: the + to - sign changes of df on
-// both sides of phi_k, each side cut at the kinks of f inside it (where df
-// jumps: a kink may part two maxima, or be one). Where nothing shows (two
-// maxima closer than a step), each piece is searched again in 4 parts.
-// None found: phi_k. `slopes`, when given, holds df at phi_k - h, phi_k and
-// phi_k + h (the grid's own derivative values: three evaluations saved).
-template <class DF>
-void refine_max(DF&& df, double phi_k, double h, const std::vector<double>& kinks, std::vector<double>& out,
-                const double* slopes = nullptr) {
-  const std::size_t before = out.size();
-  const double unknown = std::numeric_limits<double>::quiet_NaN();
-  static thread_local std::vector<std::pair<double, double>> xg;  // (angle, df there): no allocation per call
-  xg.assign({{phi_k - h, slopes ? slopes[0] : unknown},
-             {phi_k, slopes ? slopes[1] : unknown},
-             {phi_k + h, slopes ? slopes[2] : unknown}});
-  const double eps = 1e-9 * h;  // either side of a kink: its one-sided slopes
-  for (double kink : kinks) {
-    const double k = kink + kTwoPi * std::round((phi_k - kink) / kTwoPi);  // the copy nearest phi_k
-    if (k - eps > phi_k - h && k + eps < phi_k + h) xg.insert(xg.end(), {{k - eps, unknown}, {k + eps, unknown}});
+// One evaluation a batched search asks for: f of search `fn` at the angle
+// phi, or its angle derivative (slope); the evaluator writes `out`.
+struct AngleQuery {
+  double phi;
+  int fn;
+  bool slope;
+  double out = 0;
+};
+
+// The maxima over the cycle of a periodic f sampled as v[k] = f(2 pi k / n),
+// found by find_cycle_maxima. `kinks`: the angles where f has kinks (a
+// slider's dead centres for |M|); `slopes`: df on the grid, where the caller
+// has it (its evaluations saved).
+struct CycleMaxSearch {
+  std::span<const double> v, kinks = {}, slopes = {};
+  bool global = true;        // the global maximum; else every local one within `margin`
+  double margin = HUGE_VAL;  // local ones: no lower than max(v) - margin
+  std::vector<double> maxima;  // out: the refined local maxima, sorted by angle
+  double phi = 0;              // out (global): the angle of the largest value
+};
+
+// Finds the maxima of several periodic functions of the crank angle together,
+// asking for their values and slopes in batches: eval(std::span<AngleQuery>)
+// fills every query's out (a model can answer kLanes at a time). The answers
+// do not depend on how the searches are grouped.
+//
+// Local maxima: next to every grid local maximum (no lower than max(v) -
+// margin) the + to - sign changes of df one grid step h either side, each
+// side cut at the kinks of f inside it (where df jumps: a kink may part two
+// maxima, or be one), each refined by Brent. Where nothing shows (two maxima
+// closer than a step), each piece is searched again in 4 parts; none found:
+// the grid point.
+//
+// Global maximum: two nearly equal peaks can swap order between the grid
+// and the truth, so every grid local maximum that could be the highest is
+// refined and the largest kept. A peak lies at most h^2 |f''| / 8 above its
+// best grid value; |f''| h^2 is estimated by the largest second difference,
+// and peaks more than twice that bound below the grid maximum are skipped.
+// Kinks are candidates themselves, as is the best grid point (the answer is
+// never below a value the grid has seen). A smooth maximum beside a kink
+// need not show on the grid as a local maximum (the grid point past the kink
+// may be higher): where the grid rises into a kink, the two cells before it
+// (or after it) are searched too.
+template <class Eval>
+void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Point {
+    double x, g;
+    int query = -1;  // g comes from this query
+  };
+  struct Candidate {
+    int fn;
+    double phi_k;
+    int first, count;  // its points: phi_k -+ h, phi_k, and kink -+ eps
+    int quarter = -1;  // the 4-part search's first query
+  };
+  struct Root {  // a maximum: known, or where a Brent search ends
+    int fn;
+    double phi;
+    int brent = -1;
+  };
+  struct Bracket {  // a cell beside a kink
+    int fn;
+    Point a, b;
+  };
+  // Working storage reused by every call on a thread (eval must not call
+  // find_cycle_maxima): no allocation per design once warm.
+  static thread_local std::vector<AngleQuery> batch;
+  static thread_local std::vector<Point> points;
+  static thread_local std::vector<Candidate> cands;
+  static thread_local std::vector<Root> roots, beside_roots;
+  static thread_local std::vector<Bracket> beside;
+  static thread_local std::vector<int> kink_queries, asked, brent_fn;
+  static thread_local std::vector<double> kink_f;
+  static thread_local std::vector<BrentSearch> brents;
+  points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
+  kink_queries.clear(), kink_f.clear(), brents.clear(), brent_fn.clear();
+  auto ask = [&](double phi, int fn, bool slope) {
+    batch.push_back({phi, fn, slope});
+    return static_cast<int>(batch.size()) - 1;
+  };
+  auto run = [&] {
+    if (!batch.empty()) eval(std::span<AngleQuery>(batch));
+  };
+  auto root_of = [&](int fn, const Point& a, const Point& b, std::vector<Root>& to) {
+    if (const int fall = falls_through_zero(a.g, b.g); fall == 1) {
+      to.push_back({fn, nan, static_cast<int>(brents.size())});
+      brents.emplace_back(a.x, b.x, a.g, b.g);
+      brent_fn.push_back(fn);
+    } else if (fall == 2) {
+      to.push_back({fn, b.x});
+    }
+  };
+  auto fill = [&](Point& p) {
+    if (p.query >= 0) p.g = batch[p.query].out;
+  };
+
+  // 1. Candidates; df where not known (and, for the global maximum, f at the
+  // kinks and df at the ends of the cells beside them).
+  batch.clear();
+  for (std::size_t fn = 0; fn < searches.size(); ++fn) {
+    const CycleMaxSearch& s = searches[fn];
+    const auto& v = s.v;
+    const int n = static_cast<int>(v.size()), f = static_cast<int>(fn);
+    const double h = kTwoPi / n, eps = 1e-9 * h;  // eps: either side of a kink, its one-sided slopes
+    const double vmax = *std::max_element(v.begin(), v.end());
+    double margin = s.margin;
+    if (s.global) {
+      double curvature = 0;
+      for (int k = 0; k < n; ++k)
+        curvature = std::max(curvature, std::abs(v[k + 1 == n ? 0 : k + 1] - 2 * v[k] + v[k == 0 ? n - 1 : k - 1]));
+      margin = 0.25 * curvature;
+    }
+    for (int k = 0; k < n; ++k) {
+      const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
+      if (v[k] < v[before] || v[k] < v[after] || v[k] < vmax - margin) continue;
+      if (v[after] == v[k] && k + 1 < n) continue;  // a flat top: refine it once
+      const double phi_k = k * h;
+      const int first = static_cast<int>(points.size()), around[3] = {before, k, after};
+      for (int i = 0; i < 3; ++i) points.push_back({phi_k + (i - 1) * h, s.slopes.empty() ? nan : s.slopes[around[i]]});
+      for (double kink : s.kinks) {
+        const double kc = kink + kTwoPi * std::round((phi_k - kink) / kTwoPi);  // the copy nearest phi_k
+        if (kc - eps > phi_k - h && kc + eps < phi_k + h) points.insert(points.end(), {{kc - eps, nan}, {kc + eps, nan}});
+      }
+      std::sort(points.begin() + first, points.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
+      for (auto p = points.begin() + first; p != points.end(); ++p)
+        if (std::isnan(p->g)) p->query = ask(p->x, f, true);
+      cands.push_back({f, phi_k, first, static_cast<int>(points.size()) - first});
+    }
+    if (!s.global) continue;
+    auto at = [&](int i) { return v[static_cast<std::size_t>(((i % n) + n) % n)]; };
+    for (double kink : s.kinks) {
+      kink_queries.push_back(ask(kink, f, false));
+      const int j = static_cast<int>(std::floor(kink / h));  // grid points j <= kink < j + 1
+      if (std::max(at(j), at(j + 1)) < vmax - margin) continue;
+      auto cell = [&](double a, double b) {
+        beside.push_back({f, {a, nan, ask(a, f, true)}, {b, nan, ask(b, f, true)}});
+      };
+      if (at(j) > at(j - 1)) cell((j - 1) * h, kink - eps);
+      if (at(j + 1) > at(j + 2)) cell(kink + eps, (j + 2) * h);
+    }
   }
-  std::sort(xg.begin(), xg.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (auto& [x, g] : xg)
-    if (std::isnan(g)) g = df(x);
-  for (int parts : {1, 4}) {
-    for (std::size_t i = 0; i + 1 < xg.size(); ++i)
-      sign_changes(df, xg[i].first, xg[i + 1].first, xg[i].second, xg[i + 1].second, parts, out);
-    if (out.size() > before) return;
+  run();
+  for (int q : kink_queries) kink_f.push_back(batch[q].out);
+  for (Point& p : points) fill(p);
+  for (Bracket& b : beside) {
+    fill(b.a), fill(b.b);
+    root_of(b.fn, b.a, b.b, beside_roots);
   }
-  out.push_back(phi_k);
+
+  // 2. Sign changes of df in each candidate's pieces; the 4-part search
+  // where none shows (two maxima closer than a step)...
+  batch.clear();
+  for (Candidate& c : cands) {
+    const std::size_t before = roots.size();
+    const Point* p = &points[c.first];
+    for (int i = 0; i + 1 < c.count; ++i) root_of(c.fn, p[i], p[i + 1], roots);
+    if (roots.size() > before) continue;
+    c.quarter = static_cast<int>(batch.size());
+    for (int i = 0; i + 1 < c.count; ++i)
+      for (int part = 1; part < 4; ++part) ask(p[i].x + (p[i + 1].x - p[i].x) * part / 4, c.fn, true);
+  }
+  run();
+  for (const Candidate& c : cands) {  // ... and where that finds none, the grid point
+    if (c.quarter < 0) continue;
+    const std::size_t before = roots.size();
+    const Point* p = &points[c.first];
+    for (int i = 0, q = c.quarter; i + 1 < c.count; ++i) {
+      Point a = p[i];
+      for (int part = 1; part <= 4; ++part) {
+        const Point x = part == 4 ? p[i + 1] : Point{batch[q].phi, batch[q].out};
+        q += part < 4;
+        root_of(c.fn, a, x, roots);
+        a = x;
+      }
+    }
+    if (roots.size() == before) roots.push_back({c.fn, c.phi_k});
+  }
+
+  // 3. Every Brent search side by side, one batch a step.
+  while (true) {
+    batch.clear(), asked.clear();
+    for (std::size_t i = 0; i < brents.size(); ++i)
+      if (!brents[i].done()) asked.push_back(static_cast<int>(i)), ask(brents[i].x(), brent_fn[i], true);
+    if (asked.empty()) break;
+    run();
+    for (std::size_t i = 0; i < asked.size(); ++i) brents[asked[i]].feed(batch[i].out);
+  }
+  auto resolved = [&](const Root& r) { return r.brent >= 0 ? brents[r.brent].root() : r.phi; };
+
+  // 4. The local maxima in [0, 2 pi) by angle; for the global maximum, f at
+  // each of them, at the kinks and beside them, the largest kept (the first
+  // of equal values, in that order).
+  for (CycleMaxSearch& s : searches) s.maxima.clear();
+  for (const Root& r : roots) searches[r.fn].maxima.push_back(resolved(r));
+  batch.clear();
+  for (std::size_t fn = 0; fn < searches.size(); ++fn) {
+    auto& m = searches[fn].maxima;
+    for (double& phi : m) phi = phi < 0 ? phi + kTwoPi : phi >= kTwoPi ? phi - kTwoPi : phi;
+    std::sort(m.begin(), m.end());
+    if (searches[fn].global)
+      for (double phi : m) ask(phi, static_cast<int>(fn), false);
+  }
+  const std::size_t beside_first = batch.size();
+  for (const Root& r : beside_roots) ask(resolved(r), r.fn, false);
+  run();
+  std::size_t q = 0, kink = 0;
+  for (std::size_t fn = 0; fn < searches.size(); ++fn) {
+    CycleMaxSearch& s = searches[fn];
+    if (!s.global) continue;
+    const auto top = std::max_element(s.v.begin(), s.v.end());
+    double best = *top;
+    s.phi = kTwoPi * static_cast<double>(top - s.v.begin()) / static_cast<double>(s.v.size());
+    auto consider = [&](double phi, double fv) {
+      if (fv > best) best = fv, s.phi = phi;
+    };
+    for (std::size_t i = 0; i < s.maxima.size(); ++i, ++q) consider(batch[q].phi, batch[q].out);
+    for (double k : s.kinks) consider(k, kink_f[kink++]);
+    for (std::size_t i = 0; i < beside_roots.size(); ++i)
+      if (beside_roots[i].fn == static_cast<int>(fn)) consider(batch[beside_first + i].phi, batch[beside_first + i].out);
+  }
 }
 
-// Refined angles of the local maxima of a periodic f sampled as
-// v[k] = f(2 pi k / n), given its derivative df and f's kinks: the maxima
-// near every grid local maximum no lower than max(v) - margin, sorted by
-// angle. `slopes`, when not empty, holds df on the same grid.
+// find_cycle_maxima for one function f, evaluated one angle at a time: the
+// refined local maxima of f (given its derivative df) no lower than max(v) -
+// margin, sorted by angle...
 template <class DF>
 std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df, double margin = HUGE_VAL,
                                      const std::vector<double>& kinks = {}, const std::vector<double>& slopes = {}) {
-  const int n = static_cast<int>(v.size());
-  const double h = kTwoPi / n, vmax = *std::max_element(v.begin(), v.end());
-  std::vector<double> out;
-  for (int k = 0; k < n; ++k) {
-    const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
-    const double prev = v[before], next = v[after];
-    if (v[k] < prev || v[k] < next || v[k] < vmax - margin) continue;
-    if (next == v[k] && k + 1 < n) continue;  // a flat top: refine it once
-    const double around[3] = {slopes.empty() ? 0.0 : slopes[before], slopes.empty() ? 0.0 : slopes[k],
-                              slopes.empty() ? 0.0 : slopes[after]};
-    refine_max(df, k * h, h, kinks, out, slopes.empty() ? nullptr : around);
-  }
-  for (double& phi : out) phi = phi < 0 ? phi + kTwoPi : phi >= kTwoPi ? phi - kTwoPi : phi;
-  std::sort(out.begin(), out.end());
-  return out;
+  CycleMaxSearch s{.v = v, .kinks = kinks, .slopes = slopes, .global = false, .margin = margin, .maxima = {}};
+  find_cycle_maxima(std::span(&s, 1), [&](std::span<AngleQuery> qs) {
+    for (AngleQuery& q : qs) q.out = df(q.phi);
+  });
+  return std::move(s.maxima);
+}
+
+// ... and the angle of its global maximum, given f and df.
+template <class F, class DF>
+double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std::vector<double>& kinks = {},
+                        const std::vector<double>& slopes = {}) {
+  CycleMaxSearch s{.v = v, .kinks = kinks, .slopes = slopes, .maxima = {}};
+  find_cycle_maxima(std::span(&s, 1), [&](std::span<AngleQuery> qs) {
+    for (AngleQuery& q : qs) q.out = q.slope ? df(q.phi) : f(q.phi);
+  });
+  return s.phi;
 }
 
 // g(model, phi) on an n-point grid, for a model of doubles.
@@ -198,46 +423,6 @@ std::vector<double> cycle_max_angles(const M& model, int n, G&& g) {
   const auto md = model.template cast<double>();
   const auto mv = model.template cast<Dual>();
   return local_max_angles(cycle_samples(md, n, g), [&](double phi) { return g(mv, seed(phi)).d; });
-}
-
-// Angle of the global maximum of a periodic f sampled as v[k] = f(2 pi k / n),
-// given f and its derivative df. Two nearly equal peaks can swap order between
-// the grid and the truth, so every grid local maximum that could be the
-// highest is refined and the largest kept. A peak lies at most h^2 |f''| / 8
-// above its best grid value; |f''| h^2 is estimated by the largest second
-// difference, and peaks more than twice that bound below the grid maximum are
-// skipped. `kinks` are the angles where f has kinks (a slider's dead centres
-// for |M|): they cut the searches and are candidates themselves, as is the
-// best grid point, so the answer is never below a value the grid has seen.
-// `slopes` (optional): df on the grid, where the caller has it.
-template <class F, class DF>
-double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std::vector<double>& kinks = {},
-                        const std::vector<double>& slopes = {}) {
-  const int n = static_cast<int>(v.size());
-  double curvature = 0;
-  for (int k = 0; k < n; ++k)
-    curvature = std::max(curvature, std::abs(v[k + 1 == n ? 0 : k + 1] - 2 * v[k] + v[k == 0 ? n - 1 : k - 1]));
-  const auto top = std::max_element(v.begin(), v.end());
-  double best_phi = kTwoPi * static_cast<double>(top - v.begin()) / n, best = *top;
-  auto consider = [&](double phi) {
-    if (const double fv = f(phi); fv > best) best = fv, best_phi = phi;
-  };
-  const double margin = 0.25 * curvature, h = kTwoPi / n, eps = 1e-9 * h;
-  for (double phi : local_max_angles(v, df, margin, kinks, slopes)) consider(phi);
-  // A smooth maximum beside a kink need not show on the grid as a local
-  // maximum (the grid point past the kink may be higher): where the grid
-  // rises into a kink, search the two cells before it (or after it).
-  std::vector<double> beside;
-  for (double kink : kinks) {
-    consider(kink);
-    const int j = static_cast<int>(std::floor(kink / h));  // grid points j <= kink < j + 1
-    auto at = [&](int i) { return v[static_cast<std::size_t>(((i % n) + n) % n)]; };
-    if (std::max(at(j), at(j + 1)) < *top - margin) continue;
-    if (at(j) > at(j - 1)) sign_changes(df, (j - 1) * h, kink - eps, df((j - 1) * h), df(kink - eps), 1, beside);
-    if (at(j + 1) > at(j + 2)) sign_changes(df, kink + eps, (j + 2) * h, df(kink + eps), df((j + 2) * h), 1, beside);
-  }
-  for (double phi : beside) consider(phi);
-  return best_phi;
 }
 
 // Nodes and weights of the m-point Gauss-Legendre rule on [-1, 1] (Newton on

@@ -292,26 +292,8 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   m.mean_kinetic_energy = sumT / double(n);
   m.least_mean_kinetic_energy = least_mean_kinetic_energy(d);
   m.k2 = m.mean_kinetic_energy / m.least_mean_kinetic_energy;
-  // Angle derivatives for locating the maxima: dT/dphi is the inertia
-  // moment (eqs 18-20, constant speed); d|M|/dphi by autodiff in phi.
-  const TwinDrive<Dual> dv = d.template cast<Dual>();
-  const TwinDrive<double> dd = d.template cast<double>();
-  const double cdd = value(cd), sdd = value(sd);
-  auto at = [&](double phi) {
-    double c, s;
-    sincos(phi, s, c);
-    return drive_point(dd, c, s, cdd, sdd);
-  };
-  if (needs.peak_energy) {
-    auto T = [&](double phi) { return at(phi).kinetic_energy; };
-    auto dT = [&](double phi) { return at(phi).inertia_moment; };
-    m.phi_peak_energy = global_max_angle(gridT, T, dT, {}, gridDT);  // dT/dphi on the grid: the inertia moment
-    m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
-    m.k1 = m.peak_kinetic_energy / m.mean_kinetic_energy;
-    m.k3 = m.peak_kinetic_energy / m.least_mean_kinetic_energy;
-  }
+  std::vector<double> kinks;  // of M: where a cart stops and its resistance flips
   if (needs.moments) {
-    std::vector<double> kinks;  // of M: where a cart stops and its resistance flips
     if (d.resistance == Resistance::opposes_motion) {
       // |dx/dphi| has kinks at the dead centres, where the trapezoidal rule
       // drops to O(h^2): integrate piecewise between them instead.
@@ -322,14 +304,66 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     }
     m.mean_total_moment = sumM / double(n);
     m.rms_total_moment = sqrt(sumM2 / double(n));
-    auto absM = [&](double phi) { return abs(at(phi).total_moment()); };
-    auto dabsM = [&](double phi) {  // cos and sin of the angle as Duals: slopes -sin, cos
-      double c, s;
+  }
+  // The peaks of T and |M|, searched together (find_cycle_maxima), kLanes
+  // angles an evaluation: dT/dphi is the inertia moment (eqs 18-20, constant
+  // speed; the grid has it), d|M|/dphi by a dual number in phi.
+  CycleMaxSearch searches[2];
+  int count = 0, energy = -1, moment = -1;
+  if (needs.peak_energy) energy = count, searches[count++] = {.v = gridT, .slopes = gridDT, .maxima = {}};
+  if (needs.moments) moment = count, searches[count++] = {.v = gridM, .kinks = kinks, .maxima = {}};
+  if (count == 0) return m;
+  using LD = LaneDual<1>;
+  const TwinDrive<double> dd = d.template cast<double>();
+  const TwinDrive<Lanes> dl = dd.lanes();
+  const TwinDrive<LD> dl1 = dd.map([](double x) { return LD(x); });
+  const Lanes cdl(value(cd)), sdl(value(sd));
+  const LD cdl1(cdl), sdl1(sdl);
+  find_cycle_maxima(std::span(searches, count), [&](std::span<AngleQuery> qs) {
+    // The slopes of |M| need the dual number: they go first, and a block of
+    // kLanes queries with one of them answers all from the dual (its values
+    // are the plain evaluation's bits).
+    static thread_local std::vector<AngleQuery*> order;
+    order.clear();
+    for (AngleQuery& q : qs)
+      if (q.fn == moment && q.slope) order.push_back(&q);
+    const std::size_t duals = order.size();
+    for (AngleQuery& q : qs)
+      if (!(q.fn == moment && q.slope)) order.push_back(&q);
+    for (std::size_t i = 0; i < order.size(); i += kLanes) {
+      AngleQuery* const* q = &order[i];
+      const int lanes = static_cast<int>(std::min<std::size_t>(kLanes, order.size() - i));
+      Lanes phi(q[0]->phi), c, s;  // missing lanes: the first angle again
+      for (int j = 1; j < lanes; ++j) phi[j] = q[j]->phi;
       sincos(phi, s, c);
-      const Dual M = drive_point(dv, Dual(c, -s), Dual(s, c), Dual(cdd), Dual(sdd)).total_moment();
-      return (M.value() >= 0 ? 1.0 : -1.0) * M.d;
-    };
-    m.phi_peak_moment = global_max_angle(gridM, absM, dabsM, kinks);
+      auto answer = [&](const Lanes& T, const Lanes& I, const Lanes& M, const Lanes* dM) {
+        for (int j = 0; j < lanes; ++j) {
+          AngleQuery& a = *q[j];
+          a.out = a.fn == energy ? (a.slope ? I[j] : T[j])
+                  : a.slope      ? (M[j] >= 0 ? 1.0 : -1.0) * (*dM)[j]
+                                 : std::abs(M[j]);
+        }
+      };
+      if (i < duals) {
+        LD cl(c), sl(s);  // slopes -sin, cos
+        cl.d[0] = -s, sl.d[0] = c;
+        const auto p = drive_point(dl1, cl, sl, cdl1, sdl1);
+        const LD M = p.total_moment();
+        answer(p.kinetic_energy.v, p.inertia_moment.v, M.v, &M.d[0]);
+      } else {
+        const auto p = drive_point(dl, c, s, cdl, sdl);
+        answer(p.kinetic_energy, p.inertia_moment, p.total_moment(), nullptr);
+      }
+    }
+  });
+  if (needs.peak_energy) {
+    m.phi_peak_energy = searches[energy].phi;
+    m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
+    m.k1 = m.peak_kinetic_energy / m.mean_kinetic_energy;
+    m.k3 = m.peak_kinetic_energy / m.least_mean_kinetic_energy;
+  }
+  if (needs.moments) {
+    m.phi_peak_moment = searches[moment].phi;
     m.peak_total_moment = abs(drive_point(d, S(m.phi_peak_moment)).total_moment());
   }
   return m;

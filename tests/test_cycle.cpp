@@ -1,0 +1,131 @@
+// The cycle helpers of libmech/include/mech/cycle.hpp: Brent's root finder,
+// the sign-change scan and the batched maxima search, against closed forms;
+// and the twin drive's peaks searched together in lanes against the same
+// search evaluated one angle at a time with scalar (Dual) evaluations.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "mech/cycle.hpp"
+#include "mech/twin_slider_crank.hpp"
+
+namespace {
+
+using mech::kTwoPi;
+
+TEST(Cycle, BrentFindsPiOverTwo) {
+  // cos on [1, 2] vanishes at pi/2: the root to within a couple of ulps.
+  int evaluations = 0;
+  const double root = mech::brent_root([&](double x) { return ++evaluations, std::cos(x); }, 1.0, 2.0,
+                                       std::cos(1.0), std::cos(2.0));
+  EXPECT_NEAR(root, M_PI / 2, 4.5e-16);
+  EXPECT_LT(evaluations, 12);
+}
+
+TEST(Cycle, SignChangesSplitIntoEqualParts) {
+  // df = -(x - 0.4)(x - 0.55)(x - 0.7): + to - at 0.4 and 0.7 (maxima of
+  // f), - to + at 0.55. Eight equal parts of [0, 1] put each in a part of
+  // its own, so both maxima are found. (Taking each part as a fraction of
+  // what was left gave the parts [0.344, 0.590] and [0.590, 0.795]: the
+  // first holds 0.4 and 0.55, df > 0 at both its ends, and 0.4 was missed.)
+  auto df = [](double x) { return -(x - 0.4) * (x - 0.55) * (x - 0.7); };
+  std::vector<double> roots;
+  mech::sign_changes(df, 0.0, 1.0, df(0.0), df(1.0), 8, roots);
+  ASSERT_EQ(roots.size(), 2u);
+  EXPECT_NEAR(roots[0], 0.4, 1e-15);
+  EXPECT_NEAR(roots[1], 0.7, 1e-15);
+}
+
+// f = cos(phi - a) + b cos(2 (phi - a)): for |b| < 1/4 its only maximum is
+// at phi = a (f' = -sin(u) (1 + 4 b cos u), u = phi - a).
+struct Bump {
+  double a, b;
+  double f(double phi) const { return std::cos(phi - a) + b * std::cos(2 * (phi - a)); }
+  double df(double phi) const { return -std::sin(phi - a) - 2 * b * std::sin(2 * (phi - a)); }
+  std::vector<double> grid(int n) const {
+    std::vector<double> v(n);
+    for (int k = 0; k < n; ++k) v[k] = f(kTwoPi * k / n);
+    return v;
+  }
+};
+
+TEST(Cycle, MaximaSearchedTogetherOrAloneAgree) {
+  const Bump bumps[3] = {{1.234, 0.1}, {5.9, -0.2}, {0.01, 0.05}};
+  const int n = 24;
+  std::vector<double> grids[3];
+  std::vector<mech::CycleMaxSearch> together;
+  for (int i = 0; i < 3; ++i) {
+    grids[i] = bumps[i].grid(n);
+    together.push_back({.v = grids[i], .maxima = {}});
+  }
+  int batches = 0;
+  mech::find_cycle_maxima(std::span(together), [&](std::span<mech::AngleQuery> qs) {
+    ++batches;
+    for (auto& q : qs) q.out = q.slope ? bumps[q.fn].df(q.phi) : bumps[q.fn].f(q.phi);
+  });
+  for (int i = 0; i < 3; ++i) {
+    const Bump& b = bumps[i];
+    // The closed form, and the same search alone (one angle at a time).
+    EXPECT_NEAR(together[i].phi, b.a, 2e-15) << i;
+    const double alone = mech::global_max_angle(grids[i], [&](double p) { return b.f(p); },
+                                                [&](double p) { return b.df(p); });
+    EXPECT_EQ(together[i].phi, alone) << i;
+    ASSERT_EQ(together[i].maxima.size(), 1u);
+  }
+  EXPECT_LT(batches, 12);  // the three Brent searches ran side by side
+}
+
+TEST(Cycle, TwinDrivePeaksInLanesEqualTheScalarSearch) {
+  // cycle_metrics searches the peaks of T and |M| together, four angles an
+  // evaluation (|M|'s slope by LaneDual). The same search one angle at a
+  // time with scalar evaluations (|M|'s slope by Dual) must give the same
+  // angles, bit for bit, over random designs of both resistance models.
+  std::mt19937_64 gen(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  int checked = 0;
+  for (int i = 0; i < 3000; ++i) {
+    mech::TwinDrive<double> d{0.1 + 0.2 * u(gen), 0.3 + 1.3 * u(gen), M_PI * u(gen), -0.1 + 0.2 * u(gen),
+                              100 * M_PI / 30, 1000, 80, 0.9, 3562};
+    d.resistance = i % 2 ? mech::Resistance::opposes_motion : mech::Resistance::signed_velocity;
+    if (mech::check(d) != mech::Status::ok) continue;
+    const int n = mech::auto_cycle_points(d);
+    const auto m = mech::cycle_metrics(d, n);
+    const double cd = std::cos(d.phase_shift), sd = std::sin(d.phase_shift);
+    auto at = [&](double c, double s) { return mech::drive_point(d, c, s, cd, sd); };
+    auto at_angle = [&](double phi) {
+      double c, s;
+      mech::sincos(phi, s, c);
+      return at(c, s);
+    };
+    std::vector<double> T(n), dT(n), M(n);  // the grid, from the same cosines
+    mech::for_each_grid_block(n, [&](int k, int lanes, const mech::Lanes& c, const mech::Lanes& s) {
+      for (int j = 0; j < lanes; ++j) {
+        const auto p = at(c[j], s[j]);
+        T[k + j] = p.kinetic_energy, dT[k + j] = p.inertia_moment, M[k + j] = std::abs(p.total_moment());
+      }
+    });
+    const auto dv = d.cast<mech::Dual>();
+    auto dabsM = [&](double phi) {
+      double c, s;
+      mech::sincos(phi, s, c);
+      const mech::Dual Md = mech::drive_point(dv, mech::Dual(c, -s), mech::Dual(s, c), mech::Dual(cd), mech::Dual(sd))
+                                .total_moment();
+      return (Md.v >= 0 ? 1.0 : -1.0) * Md.d;
+    };
+    const std::vector<double> kinks =
+        d.resistance == mech::Resistance::opposes_motion ? mech::dead_centres(d, n) : std::vector<double>{};
+    EXPECT_EQ(m.phi_peak_energy, mech::global_max_angle(
+                                     T, [&](double p) { return at_angle(p).kinetic_energy; },
+                                     [&](double p) { return at_angle(p).inertia_moment; }, {}, dT))
+        << i;
+    EXPECT_EQ(m.phi_peak_moment,
+              mech::global_max_angle(M, [&](double p) { return std::abs(at_angle(p).total_moment()); }, dabsM, kinks))
+        << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1500);
+}
+
+}  // namespace
