@@ -27,6 +27,7 @@ std::string to_string(DriverStatus s) {
     case DriverStatus::infeasible: return "infeasible";
     case DriverStatus::failure: return "failure";
     case DriverStatus::invalid_arguments: return "invalid_arguments";
+    case DriverStatus::stopped_on_kink: return "stopped_on_kink";
   }
   return "unknown";
 }
@@ -493,6 +494,31 @@ void finish(const Problem& problem, const Objective& objective_named,
       if (converged) result.status = DriverStatus::infeasible;
       result.message += "; the problem's own constraint " + describe(k) + " violated at the final design";
     }
+  const bool feasible = std::none_of(constraints.begin(), constraints.end(), [&](const Constraint& k) {
+    return violated(k, e[k.id].value);
+  }) && std::none_of(implicit.begin(), implicit.end(), [&](const Constraint& k) { return violated(k, e[k.id].value); });
+  if (result.status == DriverStatus::infeasible && feasible) {
+    // The library said infeasible (Ipopt: its restoration phase failed) at a
+    // design that meets every constraint: the library failed, the problem
+    // is not shown infeasible.
+    result.status = DriverStatus::failure;
+    result.message += "; but the final design meets every constraint, so the problem is not shown infeasible";
+    if (!problem.local_maxima(result.x, objective.id).empty())
+      result.message += " (" + objective.metric + " is a maximum over the cycle, with kinks where two peaks are " +
+                        "equal: ipopt takes such objectives with epigraph: true)";
+  }
+  if (result.status != DriverStatus::converged) return;
+  std::vector<Constraint> all = constraints;
+  all.insert(all.end(), implicit.begin(), implicit.end());
+  if (const auto kink = check_kink(problem, objective, all, result.x); kink && kink->measure > kKinkTolerance) {
+    char measure[32];
+    std::snprintf(measure, sizeof measure, "%.2g", kink->measure);
+    result.status = DriverStatus::stopped_on_kink;
+    result.message += "; stopped on a kink, not at an optimum: " + std::to_string(kink->peaks) + " peaks of " +
+                      objective.metric + " over the cycle are equal here and they can still all descend together " +
+                      "(stationarity measure " + measure + ", 0 at an optimum); LD_SLSQP, or ipopt with " +
+                      "epigraph: true, reach such optima";
+  }
 }
 
 }  // namespace detail

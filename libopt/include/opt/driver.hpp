@@ -24,6 +24,7 @@ enum class DriverStatus {
   infeasible,         // finished, but the final design violates a constraint
   failure,            // the library gave up (roundoff, bad derivatives, ...)
   invalid_arguments,  // the driver cannot take the problem (see driver_incompatibility)
+  stopped_on_kink,    // met a tolerance where a maximum over the cycle has equal peaks, not at an optimum (check_kink)
 };
 // The status as one word, for result files and tables ("max_time", ...).
 std::string to_string(DriverStatus s);
@@ -86,6 +87,23 @@ class Driver {
                           const std::vector<Constraint>& constraints,
                           const Eigen::VectorXd& x0) const = 0;
 };
+
+// Where the objective, a maximum over the crank cycle (Problem::local_maxima),
+// has two or more peaks within 1e-6 (relative) of each other at x: how far x
+// is from first-order (Clarke) stationarity. `measure` is the distance from
+// 0 to the convex hull of the peaks' gradients plus the cone of the active
+// bounds' and constraints' gradients (variables scaled by their ranges),
+// over the largest peak gradient: 0 at an optimum, of order 1 where the
+// optimiser stopped on the kink with a descent direction left. None where
+// the objective has fewer equal peaks, is maximised, or cannot be checked.
+struct KinkCheck {
+  int peaks = 0;
+  double measure = 0;
+};
+std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& objective,
+                                    const std::vector<Constraint>& constraints, const Eigen::VectorXd& x);
+// A converged run whose check_kink measure exceeds this ends as stopped_on_kink.
+inline constexpr double kKinkTolerance = 1e-3;
 
 // The algorithms a library offers, for help text and config checks, and
 // what each takes (NLopt's algorithm documentation, doc/docs/NLopt_Algorithms.md).
