@@ -22,6 +22,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import doe_bench  # noqa: E402
+import kink_map  # noqa: E402
 
 
 def google_benchmark(binary, repetitions, benchmark_filter=None, min_time=0.1):
@@ -740,8 +741,10 @@ def main():
         print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
     print("running the batch DOE cases (bench/doe_bench.py) ...", file=sys.stderr)
     doe_rows = doe_bench.run(args.build, 3, not args.no_docs)
+    print("running each driver from 49 start points on a kink (bench/kink_map.py) ...", file=sys.stderr)
+    kink_rows = kink_map.run(args.build, not args.no_docs)
     out = os.path.join(args.build, "bench-results.json")
-    json.dump(rows + doe_rows, open(out, "w"), indent=1)
+    json.dump(rows + doe_rows + kink_rows, open(out, "w"), indent=1)
     print_rows(rows)
     print(f"written: {out}")
     if not args.no_docs:
