@@ -12,6 +12,7 @@
 #include <random>
 #include <tuple>
 
+#include "mech/conveyor_swing.hpp"
 #include "mech/simd.hpp"
 #include "mech/twin_slider_crank.hpp"
 
@@ -104,6 +105,35 @@ TEST(Lanes, TwinDriveLaneLoopsAgreeWithTheScalarLoops) {
     EXPECT_NEAR(a.peak_total_moment / b.peak_total_moment.value(), 1, 1e-14) << n;
     EXPECT_NEAR(mech::mean_kinetic_energy(d, n) / mech::mean_kinetic_energy(d.cast<mech::DualX>(), n).value(), 1,
                 1e-14);
+  }
+}
+
+TEST(Lanes, ConveyorLaneLoopsAgreeWithTheScalarLoops) {
+  // The conveyor's grid and Gauss nodes run kLanes angles at a time for
+  // double and Dual; DualX keeps the scalar loops (glibc's sin and cos).
+  // Seed 002's variant 1 and a longer crank; n = 30 leaves a partial block.
+  for (const double l_co1 : {1.2, 1.6}) {
+    const auto k = mech::synthesize_crank_rocker<double>(1.0, 2.2, l_co1, 1.0, 0.0, 16 * M_PI / 180).linkage;
+    const mech::SwingMechanism<double> m{k, 12.0, 200.0, 3200.0, 3200 * 1.44, std::hypot(1.2, 1.0), 48.0};
+    ASSERT_EQ(mech::check(m), mech::Status::ok);
+    for (const int n : {30, 48}) {
+      const auto a = mech::swing_metrics(m, n);
+      const auto b = mech::swing_metrics(m.cast<mech::DualX>(), n);
+      EXPECT_NEAR(a.mean_abs_moment / b.mean_abs_moment.value(), 1, 1e-14) << l_co1 << " " << n;
+      EXPECT_NEAR(a.rms_moment / b.rms_moment.value(), 1, 1e-14) << l_co1 << " " << n;
+      EXPECT_NEAR(a.peak_moment / b.peak_moment.value(), 1, 1e-14) << l_co1 << " " << n;
+      EXPECT_NEAR(a.max_pressure_angle, b.max_pressure_angle.value(), 1e-15) << l_co1 << " " << n;
+      // The design derivative through the lanes (LaneDual<1>) and the scalar loops.
+      mech::SwingMechanism<mech::Dual> d = m.cast<mech::Dual>();
+      mech::SwingMechanism<mech::DualX> dx = m.map([](double x) { return mech::DualX(x, Eigen::VectorXd::Zero(1)); });
+      d.friction_moment.d = 1;  // d/dM_c: every moment's friction part
+      dx.friction_moment.derivatives()[0] = 1;
+      const auto g = mech::swing_metrics(d, n);
+      const auto gx = mech::swing_metrics(dx, n);
+      EXPECT_NEAR(g.rms_moment.d, gx.rms_moment.derivatives()[0], 1e-12 * std::abs(g.rms_moment.d)) << n;
+      EXPECT_NEAR(g.mean_abs_moment.d, gx.mean_abs_moment.derivatives()[0], 1e-12 * std::abs(g.mean_abs_moment.d))
+          << n;
+    }
   }
 }
 

@@ -30,12 +30,16 @@ struct SwingMechanism {
   S platform_pivot_inertia() const {
     return platform_inertia + platform_mass * platform_cg_radius * platform_cg_radius;
   }
+  template <class F>
+  auto map(F&& f) const -> SwingMechanism<decltype(f(crank_speed))> {
+    return {linkage.map(f), f(crank_speed), f(rod_mass_per_length), f(platform_mass), f(platform_inertia),
+            f(platform_cg_radius), f(friction_moment)};
+  }
   template <class T>
   SwingMechanism<T> cast() const {
-    return {linkage.template cast<T>(), T(value(crank_speed)), T(value(rod_mass_per_length)),
-            T(value(platform_mass)), T(value(platform_inertia)), T(value(platform_cg_radius)),
-            T(value(friction_moment))};
+    return map([](const S& x) { return T(value(x)); });
   }
+  SwingMechanism<lanes_of<S>> lanes() const { return map(LaneForm<S>::broadcast); }
 };
 
 // Whether the crank turns fully: the typed reason if not.
@@ -135,12 +139,16 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   const SwingMechanism<double> md = m.template cast<double>();
   const SwingMechanism<Dual> mv = m.template cast<Dual>();
   std::vector<double> gridM(n), gridP(n), w3(n), M(n);
-  for_each_grid_angle(n, [&](int k, double, double) {
-    const auto p = swing_point(md, kTwoPi * k / n);
-    M[k] = p.moment();
-    gridM[k] = std::abs(M[k]);
-    gridP[k] = pressure_angle(p.kinematics);
-    w3[k] = p.kinematics.w3;
+  const SwingMechanism<Lanes> ml = md.lanes();
+  for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {  // kLanes angles at a time
+    const auto p = swing_point(ml, c, s);
+    const Lanes moment = p.moment(), cosine = dot(p.kinematics.e2, p.kinematics.e3);
+    for (int j = 0; j < lanes; ++j) {
+      M[k + j] = moment[j];
+      gridM[k + j] = std::abs(moment[j]);
+      gridP[k + j] = std::asin(std::abs(cosine[j]));  // pressure_angle
+      w3[k + j] = p.kinematics.w3[j];
+    }
   });
   // Kinks: rocker reversals (w3 = 0, the friction term) and sign changes of M
   // (for |M|); M is smooth between them.
@@ -149,8 +157,16 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   if (means) {
     std::vector<double> kinks = periodic_roots(w3, w3_at);
     for (double r : periodic_roots(M, M_at)) kinks.push_back(r);
-    auto moment = [&](double, double c, double s) -> S { return swing_point(m, S(c), S(s)).moment(); };
-    const auto arcs = piecewise_means<S>(moment, kinks, 2 * n);
+    ArcMeans<S> arcs;
+    if constexpr (has_lanes<S>) {  // kLanes nodes at a time
+      using L = lanes_of<S>;
+      const SwingMechanism<L> mlanes = m.lanes();
+      auto moment = [&](const Lanes&, const Lanes& c, const Lanes& s) { return swing_point(mlanes, L(c), L(s)).moment(); };
+      arcs = piecewise_means<S>(moment, kinks, 2 * n);
+    } else {
+      auto moment = [&](double, double c, double s) -> S { return swing_point(m, S(c), S(s)).moment(); };
+      arcs = piecewise_means<S>(moment, kinks, 2 * n);
+    }
     out.mean_abs_moment = arcs.mean_abs;
     out.rms_moment = sqrt(arcs.mean_square);
   }

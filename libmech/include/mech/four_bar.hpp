@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "mech/autodiff.hpp"
+#include "mech/simd.hpp"
 #include "mech/status.hpp"
 
 namespace mech {
@@ -32,10 +33,13 @@ struct FourBar {
     using std::sqrt;
     return sqrt(gx * gx + gy * gy);
   }
+  template <class F>
+  auto map(F&& f) const -> FourBar<decltype(f(crank))> {
+    return {f(crank), f(coupler), f(rocker), f(gx), f(gy), branch};
+  }
   template <class T>
   FourBar<T> cast() const {
-    return {T(value(crank)), T(value(coupler)), T(value(rocker)), T(value(gx)), T(value(gy)),
-            branch};
+    return map([](const S& x) { return T(value(x)); });
   }
 };
 
@@ -70,7 +74,7 @@ bool four_bar_point(const FourBar<S>& m, const S& c, const S& s, FourBarPoint<S>
   const S d2 = p.A.x * p.A.x + p.A.y * p.A.y;
   const S along = (m.rocker * m.rocker - m.coupler * m.coupler + d2) / (2.0 * d2);  // fraction of O1A
   const S h2 = m.rocker * m.rocker / d2 - along * along;  // (height / |O1A|)^2
-  if (!(value(h2) > 0)) return false;
+  if (!positive_everywhere(h2)) return false;
   const S h = double(m.branch) * sqrt(h2);
   p.B = {along * p.A.x - h * p.A.y, along * p.A.y + h * p.A.x};
   p.e2 = {(p.B.x - p.A.x) / m.coupler, (p.B.y - p.A.y) / m.coupler};
@@ -79,7 +83,7 @@ bool four_bar_point(const FourBar<S>& m, const S& c, const S& s, FourBarPoint<S>
   // in phi and projected on e2 and e3; sin(ti - tj) = cross(ej, ei),
   // cos(ti - tj) = dot(ei, ej).
   const S s23 = cross(p.e3, p.e2);
-  if (value(s23) == 0) return false;
+  if (zero_somewhere(s23)) return false;
   const S c12 = dot(p.e1, p.e2), c13 = dot(p.e1, p.e3), c23 = dot(p.e2, p.e3);
   p.w3 = m.crank * cross(p.e1, p.e2) / (m.rocker * s23);
   p.w2 = m.crank * cross(p.e1, p.e3) / (m.coupler * s23);

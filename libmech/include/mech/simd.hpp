@@ -228,6 +228,27 @@ template <class S>
 inline constexpr bool has_lanes = !std::is_void_v<lanes_of<S>>;
 
 // Lane j's value.
+// Whether x > 0 in every lane (a scalar: whether it is), and whether some
+// lane of x is 0: the checks a model makes where a point may not exist.
+template <class S>
+bool positive_everywhere(const S& x) { return value(x) > 0; }
+inline bool positive_everywhere(const Lanes& x) {
+  for (int i = 0; i < kLanes; ++i)
+    if (!(x[i] > 0)) return false;
+  return true;
+}
+template <int N>
+bool positive_everywhere(const LaneDual<N>& x) { return positive_everywhere(x.v); }
+template <class S>
+bool zero_somewhere(const S& x) { return value(x) == 0; }
+inline bool zero_somewhere(const Lanes& x) {
+  for (int i = 0; i < kLanes; ++i)
+    if (x[i] == 0) return true;
+  return false;
+}
+template <int N>
+bool zero_somewhere(const LaneDual<N>& x) { return zero_somewhere(x.v); }
+
 inline double lane_value(const Lanes& a, int j) { return a[j]; }
 template <int N>
 double lane_value(const LaneDual<N>& a, int j) { return a.v[j]; }
