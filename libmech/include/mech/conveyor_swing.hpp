@@ -137,7 +137,6 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   using std::sqrt;
   SwingMetrics<S> out;
   const SwingMechanism<double> md = m.template cast<double>();
-  const SwingMechanism<Dual> mv = m.template cast<Dual>();
   std::vector<double> gridM(n), gridP(n), w3(n), M(n);
   const SwingMechanism<Lanes> ml = md.lanes();
   for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {  // kLanes angles at a time
@@ -150,13 +149,24 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       w3[k + j] = p.kinematics.w3[j];
     }
   });
+  // The batched searches' evaluations, kLanes angles at a time.
+  auto in_blocks = [](std::span<AngleQuery> qs, auto&& block) {
+    static thread_local std::vector<AngleQuery*> order;
+    order.clear();
+    for (AngleQuery& q : qs) order.push_back(&q);
+    for_query_blocks(order, block);
+  };
   // Kinks: rocker reversals (w3 = 0, the friction term) and sign changes of M
   // (for |M|); M is smooth between them.
-  auto w3_at = [&](double phi) { return swing_point(md, phi).kinematics.w3; };
-  auto M_at = [&](double phi) { return swing_point(md, phi).moment(); };
   if (means) {
-    std::vector<double> kinks = periodic_roots(w3, w3_at);
-    for (double r : periodic_roots(M, M_at)) kinks.push_back(r);
+    const std::span<const double> grids[2] = {w3, M};
+    const std::vector<double> kinks = periodic_roots_together(std::span(grids), [&](std::span<AngleQuery> qs) {
+      in_blocks(qs, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t) {
+        const auto p = swing_point(ml, c, s);
+        const Lanes moment = p.moment();
+        for (int j = 0; j < lanes; ++j) q[j]->out = q[j]->fn == 0 ? p.kinematics.w3[j] : moment[j];
+      });
+    });
     ArcMeans<S> arcs;
     if constexpr (has_lanes<S>) {  // kLanes nodes at a time
       using L = lanes_of<S>;
@@ -170,25 +180,30 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
     out.mean_abs_moment = arcs.mean_abs;
     out.rms_moment = sqrt(arcs.mean_square);
   }
-  // Maxima: derivative in phi by autodiff.
-  auto dabsM = [&](double phi) {
-    const Dual v = swing_point(mv, seed(phi)).moment();
-    return (v.value() >= 0 ? 1.0 : -1.0) * v.d;
-  };
-  auto absM = [&](double phi) { return std::abs(swing_point(md, phi).moment()); };
-  out.phi_peak_moment = global_max_angle(gridM, absM, dabsM);
+  // Maxima of |M| and of the pressure angle asin|e2 . e3|, searched together;
+  // slopes in phi by a dual number.
+  using LD = LaneDual<1>;
+  const SwingMechanism<LD> mdual = md.map([](double x) { return LD(x); });
+  CycleMaxSearch searches[2] = {{.v = gridM, .maxima = {}}, {.v = gridP, .maxima = {}}};
+  find_cycle_maxima(std::span(searches), [&](std::span<AngleQuery> qs) {
+    in_blocks(qs, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t) {
+      LD cl(c), sl(s);  // slopes -sin, cos
+      cl.d[0] = -s, sl.d[0] = c;
+      const auto p = swing_point(mdual, cl, sl);
+      const LD moment = p.moment(), u = dot(p.kinematics.e2, p.kinematics.e3);
+      for (int j = 0; j < lanes; ++j) {
+        AngleQuery& a = *q[j];
+        const double sign = a.fn == 0 ? (moment.v[j] >= 0 ? 1.0 : -1.0) : (u.v[j] < 0 ? -1.0 : 1.0);
+        if (a.fn == 0) a.out = a.slope ? sign * moment.d[0][j] : std::abs(moment.v[j]);
+        else  // d asin|u| / dphi = sign(u) u' / sqrt(1 - u^2)
+          a.out = a.slope ? sign * u.d[0][j] / std::sqrt(1 - std::abs(u.v[j]) * std::abs(u.v[j]))
+                          : std::asin(std::abs(u.v[j]));
+      }
+    });
+  });
+  out.phi_peak_moment = searches[0].phi;
   out.peak_moment = abs(swing_point(m, S(out.phi_peak_moment)).moment());
-  auto dP = [&](double phi) {
-    FourBarPoint<Dual> p;
-    four_bar_point(mv.linkage, seed(phi), p);
-    return pressure_angle(p).d;
-  };
-  auto P = [&](double phi) {
-    FourBarPoint<double> p;
-    four_bar_point(md.linkage, phi, p);
-    return pressure_angle(p);
-  };
-  out.phi_max_pressure = global_max_angle(gridP, P, dP);
+  out.phi_max_pressure = searches[1].phi;
   FourBarPoint<S> pp;
   four_bar_point(m.linkage, S(out.phi_max_pressure), pp);
   out.max_pressure_angle = pressure_angle(pp);

@@ -169,6 +169,37 @@ struct AngleQuery {
   double out = 0;
 };
 
+// Calls block(q, lanes, c, s, i) for the queries `order` points to, kLanes
+// at a time: q = &order[i], lanes how many (at most kLanes), c and s the cos
+// and sin of their angles (missing lanes take the first angle again).
+template <class F>
+void for_query_blocks(std::span<AngleQuery* const> order, F&& block) {
+  for (std::size_t i = 0; i < order.size(); i += kLanes) {
+    AngleQuery* const* q = &order[i];
+    const int lanes = static_cast<int>(std::min<std::size_t>(kLanes, order.size() - i));
+    Lanes phi(q[0]->phi), c, s;
+    for (int j = 1; j < lanes; ++j) phi[j] = q[j]->phi;
+    sincos(phi, s, c);
+    block(q, lanes, c, s, i);
+  }
+}
+
+// Runs Brent searches side by side until every one is done, one batch a
+// step: search i asks for function fn[i] (its slope when `slope`).
+template <class Eval>
+void run_side_by_side(std::vector<BrentSearch>& searches, const std::vector<int>& fn, bool slope,
+                      std::vector<AngleQuery>& batch, Eval& eval) {
+  static thread_local std::vector<int> asked;
+  while (true) {
+    batch.clear(), asked.clear();
+    for (std::size_t i = 0; i < searches.size(); ++i)
+      if (!searches[i].done()) asked.push_back(static_cast<int>(i)), batch.push_back({searches[i].x(), fn[i], slope});
+    if (asked.empty()) return;
+    eval(std::span<AngleQuery>(batch));
+    for (std::size_t i = 0; i < asked.size(); ++i) searches[asked[i]].feed(batch[i].out);
+  }
+}
+
 // The maxima over the cycle of a periodic f sampled as v[k] = f(2 pi k / n),
 // found by find_cycle_maxima. `kinks`: the angles where f has kinks (a
 // slider's dead centres for |M|); `slopes`: df on the grid, where the caller
@@ -232,7 +263,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   static thread_local std::vector<Candidate> cands;
   static thread_local std::vector<Root> roots, beside_roots;
   static thread_local std::vector<Bracket> beside;
-  static thread_local std::vector<int> kink_queries, asked, brent_fn;
+  static thread_local std::vector<int> kink_queries, brent_fn;
   static thread_local std::vector<double> kink_f;
   static thread_local std::vector<BrentSearch> brents;
   points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
@@ -340,14 +371,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   }
 
   // 3. Every Brent search side by side, one batch a step.
-  while (true) {
-    batch.clear(), asked.clear();
-    for (std::size_t i = 0; i < brents.size(); ++i)
-      if (!brents[i].done()) asked.push_back(static_cast<int>(i)), ask(brents[i].x(), brent_fn[i], true);
-    if (asked.empty()) break;
-    run();
-    for (std::size_t i = 0; i < asked.size(); ++i) brents[asked[i]].feed(batch[i].out);
-  }
+  run_side_by_side(brents, brent_fn, true, batch, eval);
   auto resolved = [&](const Root& r) { return r.brent >= 0 ? brents[r.brent].root() : r.phi; };
 
   // 4. The local maxima in [0, 2 pi) by angle; for the global maximum, f at
@@ -573,19 +597,46 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n) {
   return out;
 }
 
-// Sign changes of a periodic g given its samples v[k] = g(2 pi k / n),
-// refined by Brent: the angles in [0, 2 pi) where g crosses zero.
+// Sign changes of periodic functions g_0, g_1, ... given their samples on
+// grids (grids[f][k] = g_f(2 pi k / n_f)), refined by Brent searches side
+// by side: eval(std::span<AngleQuery>) writes g_fn(phi) into each query's
+// out. The angles in [0, 2 pi) where each crosses zero, g_0's first, each
+// function's by grid cell.
+template <class Eval>
+std::vector<double> periodic_roots_together(std::span<const std::span<const double>> grids, Eval&& eval) {
+  std::vector<double> roots;
+  std::vector<BrentSearch> searches;
+  std::vector<int> fn;
+  std::vector<std::size_t> slot;  // the root each search ends in
+  for (std::size_t f = 0; f < grids.size(); ++f) {
+    const auto& v = grids[f];
+    const int n = static_cast<int>(v.size());
+    const double h = kTwoPi / n;
+    for (int k = 0; k < n; ++k) {
+      const double ga = v[k], gb = v[k + 1 == n ? 0 : k + 1];
+      if (ga == 0.0) {
+        roots.push_back(k * h);
+      } else if ((ga < 0) != (gb < 0) && gb != 0.0) {
+        slot.push_back(roots.size());
+        roots.push_back(0.0);
+        searches.emplace_back(k * h, (k + 1) * h, ga, gb);
+        fn.push_back(static_cast<int>(f));
+      }
+    }
+  }
+  std::vector<AngleQuery> batch;
+  run_side_by_side(searches, fn, false, batch, eval);
+  for (std::size_t i = 0; i < searches.size(); ++i) roots[slot[i]] = searches[i].root();
+  return roots;
+}
+
+// The same for one function g, evaluated one angle at a time.
 template <class G>
 std::vector<double> periodic_roots(const std::vector<double>& v, G&& g) {
-  std::vector<double> roots;
-  const int n = static_cast<int>(v.size());
-  const double h = kTwoPi / n;
-  for (int k = 0; k < n; ++k) {
-    const double ga = v[k], gb = v[(k + 1) % n];
-    if (ga == 0.0) roots.push_back(k * h);
-    else if ((ga < 0) != (gb < 0) && gb != 0.0) roots.push_back(brent_root(g, k * h, (k + 1) * h, ga, gb));
-  }
-  return roots;
+  const std::span<const double> grid[1] = {v};
+  return periodic_roots_together(std::span(grid), [&](std::span<AngleQuery> qs) {
+    for (AngleQuery& q : qs) q.out = g(q.phi);
+  });
 }
 
 }  // namespace mech

@@ -330,12 +330,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     const std::size_t duals = order.size();
     for (AngleQuery& q : qs)
       if (!(q.fn == moment && q.slope)) order.push_back(&q);
-    for (std::size_t i = 0; i < order.size(); i += kLanes) {
-      AngleQuery* const* q = &order[i];
-      const int lanes = static_cast<int>(std::min<std::size_t>(kLanes, order.size() - i));
-      Lanes phi(q[0]->phi), c, s;  // missing lanes: the first angle again
-      for (int j = 1; j < lanes; ++j) phi[j] = q[j]->phi;
-      sincos(phi, s, c);
+    for_query_blocks(order, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t i) {
       auto answer = [&](const Lanes& T, const Lanes& I, const Lanes& M, const Lanes* dM) {
         for (int j = 0; j < lanes; ++j) {
           AngleQuery& a = *q[j];
@@ -354,7 +349,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
         const auto p = drive_point(dl, c, s, cdl, sdl);
         answer(p.kinetic_energy, p.inertia_moment, p.total_moment(), nullptr);
       }
-    }
+    });
   });
   if (needs.peak_energy) {
     m.phi_peak_energy = searches[energy].phi;
