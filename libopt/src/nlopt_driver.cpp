@@ -482,21 +482,21 @@ void finish(const Problem& problem, const Objective& objective_named,
   auto violated = [](const Constraint& k, double v) {
     return k.violation(v) > 1e-6 * std::max(1.0, std::abs(k.bound));
   };
+  bool feasible = true;
   for (const auto& k : constraints) {
     result.constraint_values.push_back(e[k.id].value);
     if (violated(k, e[k.id].value)) {
+      feasible = false;
       if (converged) result.status = DriverStatus::infeasible;
       result.message += "; constraint " + k.metric + " violated at the final design";
     }
   }
   for (const auto& k : implicit)
     if (violated(k, e[k.id].value)) {
+      feasible = false;
       if (converged) result.status = DriverStatus::infeasible;
       result.message += "; the problem's own constraint " + describe(k) + " violated at the final design";
     }
-  const bool feasible = std::none_of(constraints.begin(), constraints.end(), [&](const Constraint& k) {
-    return violated(k, e[k.id].value);
-  }) && std::none_of(implicit.begin(), implicit.end(), [&](const Constraint& k) { return violated(k, e[k.id].value); });
   if (result.status == DriverStatus::infeasible && feasible) {
     // The library said infeasible (Ipopt: its restoration phase failed) at a
     // design that meets every constraint: the library failed, the problem
