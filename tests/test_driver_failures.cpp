@@ -11,12 +11,26 @@
 // still descend together: status stopped_on_kink, not converged. Ipopt on
 // the bare maximum stops with Infeasible_Problem_Detected at a design that
 // meets the constraint: status failure, not infeasible.
+//
+// Plateaus (docs/drivers.md, "Plateaus"): COBYLA on
+// configs/elastic_drive/optimum.yaml (least RMS coupling torque over the
+// coupling's stiffness and damping) converges with the elastic model, but
+// with `fidelity: rigid` the coupling is not modelled: the RMS coupling
+// torque is 0 for every design, COBYLA's steps shrink at the start for want
+// of a better point, and the run says stopped_on_plateau. Flat in one
+// variable only: the cycle mean of the twin drive's kinetic energy, T(phi) =
+// T1(phi) + T2(phi + delta) (each cart, rod and crank moves with its own
+// crank angle), does not depend on the phase shift delta, so COBYLA
+// converges in the rod length and the message says the optimum is not
+// unique in the phase shift.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cli.hpp"
 
@@ -24,24 +38,33 @@ namespace {
 
 constexpr double kOptimum = 2770.28;  // J, docs/reproduction.md
 
-// rod_and_phase.yaml with its driver replaced by `driver`, run into a fresh
-// directory: the process and its result.json.
-std::pair<cli::Outcome, nlohmann::json> run_with(const std::string& name, const std::string& driver) {
-  std::ifstream in(cli::source("configs/recuperative_drive/rod_and_phase.yaml"));
+// A shipped config with each `edits` first text replaced by the second, run
+// into a fresh directory: the process and its result.json.
+std::pair<cli::Outcome, nlohmann::json> run_edited(const std::string& config_path, const std::string& name,
+                                                   const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::ifstream in(cli::source(config_path));
   std::stringstream text;
   text << in.rdbuf();
   std::string config = text.str();
-  const std::string study = "study: {type: optimize, driver: {library: nlopt, algorithm: LD_SLSQP, xtol_rel: 1e-12}}";
-  const auto at = config.find(study);
-  EXPECT_NE(at, std::string::npos) << "the shipped config changed: update this test";
-  config.replace(at, study.size(), "study: {type: optimize, driver: " + driver + "}");
-  const std::string dir = cli::fresh_dir("kink_" + name);
+  for (const auto& [from, to] : edits) {
+    const auto at = config.find(from);
+    EXPECT_NE(at, std::string::npos) << config_path << " changed: update this test";
+    if (at != std::string::npos) config.replace(at, from.size(), to);
+  }
+  const std::string dir = cli::fresh_dir("driver_failure_" + name);
   std::filesystem::create_directories(dir);
   const std::string file = dir + "/config.yaml";
   std::ofstream(file) << config;
   const auto o = cli::run("run " + file + " --output " + dir + "/out", 60);
   std::ifstream result(dir + "/out/result.json");
   return {o, nlohmann::json::parse(result, nullptr, false)};
+}
+
+// rod_and_phase.yaml with its driver replaced by `driver`.
+std::pair<cli::Outcome, nlohmann::json> run_with(const std::string& name, const std::string& driver) {
+  return run_edited("configs/recuperative_drive/rod_and_phase.yaml", "kink_" + name,
+                    {{"study: {type: optimize, driver: {library: nlopt, algorithm: LD_SLSQP, xtol_rel: 1e-12}}",
+                      "study: {type: optimize, driver: " + driver + "}"}});
 }
 
 double objective(const nlohmann::json& j) { return j["objective"]["value"].get<double>(); }
@@ -78,6 +101,37 @@ TEST(DriverFailures, IpoptOnTheBareMaximumFailsWithoutClaimingInfeasibility) {
   EXPECT_NE(message.find("the final design meets every constraint"), std::string::npos) << message;
   EXPECT_NE(message.find("epigraph: true"), std::string::npos) << message;
   EXPECT_LE(j["constraints"][0]["value"].get<double>(), 0.3);
+}
+
+TEST(DriverFailures, DerivativeFreeDriverOnAPlateauSaysSo) {
+  const std::string model = "ode: {method: erk, rtol: 1e-8}";
+  for (const bool rigid : {false, true}) {
+    const auto [o, j] = run_edited("configs/elastic_drive/optimum.yaml", rigid ? "plateau_rigid" : "plateau_elastic",
+                                   {{model, rigid ? model + "\n  fidelity: rigid" : model}});
+    ASSERT_TRUE(o.exited(0)) << o.output;
+    const std::string message = j["message"];
+    if (!rigid) {  // the control: the elastic coupling's torque depends on both
+      EXPECT_EQ(j["status"], "converged") << message;
+      EXPECT_GT(objective(j), 0);
+      continue;
+    }
+    EXPECT_EQ(j["status"], "stopped_on_plateau") << message;
+    EXPECT_EQ(objective(j), 0);  // no coupling, no coupling torque
+    EXPECT_NE(message.find("rms_coupling_torque does not change when any variable (stiffness, damping) moves"),
+              std::string::npos)
+        << message;
+  }
+}
+
+TEST(DriverFailures, DerivativeFreeDriverNamesAVariableTheObjectiveIgnores) {
+  const auto [o, j] = run_edited("configs/recuperative_drive/rod_and_phase.yaml", "flat_phase",
+                                 {{"minimize: peak_kinetic_energy", "minimize: mean_kinetic_energy"},
+                                  {"algorithm: LD_SLSQP, xtol_rel: 1e-12", "algorithm: LN_COBYLA, xtol_rel: 1e-8"}});
+  ASSERT_TRUE(o.exited(0)) << o.output;
+  const std::string message = j["message"];
+  EXPECT_EQ(j["status"], "converged") << message;
+  EXPECT_NE(message.find("mean_kinetic_energy does not change with phase_shift here"), std::string::npos) << message;
+  EXPECT_EQ(message.find("rod_length here"), std::string::npos) << message;
 }
 
 }  // namespace

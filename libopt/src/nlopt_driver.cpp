@@ -28,6 +28,7 @@ std::string to_string(DriverStatus s) {
     case DriverStatus::failure: return "failure";
     case DriverStatus::invalid_arguments: return "invalid_arguments";
     case DriverStatus::stopped_on_kink: return "stopped_on_kink";
+    case DriverStatus::stopped_on_plateau: return "stopped_on_plateau";
   }
   return "unknown";
 }
@@ -508,6 +509,22 @@ void finish(const Problem& problem, const Objective& objective_named,
                         "equal: ipopt takes such objectives with epigraph: true)";
   }
   if (result.status != DriverStatus::converged) return;
+  if (result.library == "nlopt" && !algorithm_uses_gradient(result.algorithm)) {
+    const std::vector<int> flat = flat_variables(problem, objective, result.x, result.objective);
+    std::string names;
+    for (int j : flat) names += (names.empty() ? "" : ", ") + problem.variables()[j].name;
+    if (!flat.empty() && flat.size() == static_cast<std::size_t>(result.x.size())) {
+      result.status = DriverStatus::stopped_on_plateau;
+      result.message += "; stopped on a plateau, not at an optimum: " + objective.metric +
+                        " does not change when any variable (" + names +
+                        ") moves by 0.1% of its range, so the algorithm's steps shrank for want of a better " +
+                        "point (does the model use these variables at this level of detail?)";
+      return;
+    }
+    if (!flat.empty())
+      result.message += "; " + objective.metric + " does not change with " + names +
+                        " here (0.1% of its range either way): the optimum is not unique in it";
+  }
   std::vector<Constraint> all = constraints;
   all.insert(all.end(), implicit.begin(), implicit.end());
   if (const auto kink = check_kink(problem, objective, all, result.x); kink && kink->measure > kKinkTolerance) {

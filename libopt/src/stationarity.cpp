@@ -1,5 +1,7 @@
 // Is a design where a maximum over the cycle has equal peaks an optimum, or
-// only a kink the optimiser stopped on? (docs/drivers.md, "Kinks")
+// only a kink the optimiser stopped on? Is the objective flat around a
+// design a derivative-free optimiser stopped at? (docs/drivers.md, "Kinks"
+// and "Plateaus")
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -44,7 +46,43 @@ double min_norm(const std::vector<Eigen::VectorXd>& pieces, const std::vector<Ei
   return best;
 }
 
+// Each variable's range, or its size where unbounded: steps and gradients
+// of lengths and angles compare in these units.
+Eigen::VectorXd variable_scales(const Problem& problem, const Eigen::VectorXd& x) {
+  const auto& vars = problem.variables();
+  Eigen::VectorXd scale(x.size());
+  for (int j = 0; j < x.size(); ++j) {
+    const double range = vars[j].upper - vars[j].lower;
+    scale[j] = std::isfinite(range) && range > 0 ? range : std::max(1.0, std::abs(x[j]));
+  }
+  return scale;
+}
+
 }  // namespace
+
+std::vector<int> flat_variables(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x,
+                                double f) {
+  const auto& vars = problem.variables();
+  const Eigen::VectorXd scale = variable_scales(problem, x);
+  MetricSet wanted;
+  wanted.add(objective.id);
+  std::vector<int> flat;
+  for (int j = 0; j < x.size(); ++j) {
+    bool moved = false, changed = false;
+    for (double side : {-1.0, 1.0}) {
+      Eigen::VectorXd y = x;
+      y[j] += side * kPlateauStep * scale[j];
+      if (y[j] < vars[j].lower || y[j] > vars[j].upper) continue;
+      const Evaluation e = problem.evaluate(y, wanted, false);
+      if (!e.ok() || !std::isfinite(e[objective.id].value)) continue;
+      const double fy = e[objective.id].value;
+      moved = true;
+      changed = changed || std::abs(fy - f) > kPlateauChange * std::max(std::abs(f), std::abs(fy));
+    }
+    if (moved && !changed) flat.push_back(j);
+  }
+  return flat;
+}
 
 std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& objective,
                                     const std::vector<Constraint>& constraints, const Eigen::VectorXd& x) {
@@ -53,14 +91,8 @@ std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& obj
   if (maxima.size() < 2) return std::nullopt;
   double top = -std::numeric_limits<double>::infinity();
   for (const auto& v : maxima) top = std::max(top, v.value);
-  // Variables scaled by their range (or their size where unbounded), so that
-  // gradients of lengths and angles compare.
   const auto& vars = problem.variables();
-  Eigen::VectorXd scale(x.size());
-  for (int j = 0; j < x.size(); ++j) {
-    const double range = vars[j].upper - vars[j].lower;
-    scale[j] = std::isfinite(range) && range > 0 ? range : std::max(1.0, std::abs(x[j]));
-  }
+  const Eigen::VectorXd scale = variable_scales(problem, x);  // gradients of lengths and angles compare
   KinkCheck out;
   std::vector<Eigen::VectorXd> pieces, cone;
   double largest = 0;

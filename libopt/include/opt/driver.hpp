@@ -25,6 +25,7 @@ enum class DriverStatus {
   failure,            // the library gave up (roundoff, bad derivatives, ...)
   invalid_arguments,  // the driver cannot take the problem (see driver_incompatibility)
   stopped_on_kink,    // met a tolerance where a maximum over the cycle has equal peaks, not at an optimum (check_kink)
+  stopped_on_plateau, // a derivative-free algorithm met a tolerance where the objective does not change (check_plateau)
 };
 // The status as one word, for result files and tables ("max_time", ...).
 std::string to_string(DriverStatus s);
@@ -104,6 +105,21 @@ std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& obj
                                     const std::vector<Constraint>& constraints, const Eigen::VectorXd& x);
 // A converged run whose check_kink measure exceeds this ends as stopped_on_kink.
 inline constexpr double kKinkTolerance = 1e-3;
+
+// Around x, each variable moved by kPlateauStep of its range (or of its
+// size where unbounded) either way, inside its bounds, with the others
+// held: the variables along which the objective f (its value at x) does not
+// change by more than kPlateauChange of its size. An optimiser without
+// derivatives reads a plateau as convergence: its steps shrink because
+// nothing they try is better, not because it stands at an optimum (a model
+// whose level of detail ignores the variables, an objective clipped to a
+// constant). At a smooth optimum each move changes f by about
+// f'' (range kPlateauStep)^2 / 2, far above kPlateauChange unless f varies
+// by less than ~1e-6 over a variable's whole range. Probes the model cannot
+// evaluate do not count as flat.
+inline constexpr double kPlateauStep = 1e-3, kPlateauChange = 1e-12;
+std::vector<int> flat_variables(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x,
+                                double f);
 
 // The algorithms a library offers, for help text and config checks, and
 // what each takes (NLopt's algorithm documentation, doc/docs/NLopt_Algorithms.md).
