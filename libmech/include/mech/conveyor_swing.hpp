@@ -137,7 +137,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   using std::sqrt;
   SwingMetrics<S> out;
   const SwingMechanism<double> md = m.template cast<double>();
-  std::vector<double> gridM(n), gridP(n), w3(n), M(n);
+  std::vector<double> gridM(n), gridP(n), M(n);
   const SwingMechanism<Lanes> ml = md.lanes();
   for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {  // kLanes angles at a time
     const auto p = swing_point(ml, c, s);
@@ -146,7 +146,6 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       M[k + j] = moment[j];
       gridM[k + j] = std::abs(moment[j]);
       gridP[k + j] = std::asin(std::abs(cosine[j]));  // pressure_angle
-      w3[k + j] = p.kinematics.w3[j];
     }
   });
   // The batched searches' evaluations, kLanes angles at a time.
@@ -156,17 +155,20 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
     for (AngleQuery& q : qs) order.push_back(&q);
     for_query_blocks(order, block);
   };
-  // Kinks: rocker reversals (w3 = 0, the friction term) and sign changes of M
-  // (for |M|); M is smooth between them.
+  const auto dc = dead_centres(m.linkage);
+  // Kinks: rocker reversals (w3 = 0, the friction term: the dead centres, in
+  // closed form) and sign changes of M (for |M|, by Brent searches side by
+  // side); M is smooth between them.
   if (means) {
-    const std::span<const double> grids[2] = {w3, M};
-    const std::vector<double> kinks = periodic_roots_together(std::span(grids), [&](std::span<AngleQuery> qs) {
+    const std::span<const double> grid[1] = {M};
+    std::vector<double> kinks = periodic_roots_together(std::span(grid), [&](std::span<AngleQuery> qs) {
       in_blocks(qs, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t) {
-        const auto p = swing_point(ml, c, s);
-        const Lanes moment = p.moment();
-        for (int j = 0; j < lanes; ++j) q[j]->out = q[j]->fn == 0 ? p.kinematics.w3[j] : moment[j];
+        const Lanes moment = swing_point(ml, c, s).moment();
+        for (int j = 0; j < lanes; ++j) q[j]->out = moment[j];
       });
     });
+    for (double phi : {value(dc.phi_extended), value(dc.phi_folded)})
+      kinks.push_back(phi - kTwoPi * std::floor(phi / kTwoPi));
     ArcMeans<S> arcs;
     if constexpr (has_lanes<S>) {  // kLanes nodes at a time
       using L = lanes_of<S>;
@@ -207,7 +209,6 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   FourBarPoint<S> pp;
   four_bar_point(m.linkage, S(out.phi_max_pressure), pp);
   out.max_pressure_angle = pressure_angle(pp);
-  const auto dc = dead_centres(m.linkage);
   out.swing_angle = abs(dc.theta3_folded - dc.theta3_extended);
   out.time_ratio = time_ratio(dc);
   return out;
