@@ -137,6 +137,14 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   using std::sqrt;
   SwingMetrics<S> out;
   const SwingMechanism<double> md = m.template cast<double>();
+  // Near a toggle |M| spikes over a crank angle of about the poles' width:
+  // the grid that finds its peak and its sign changes has four points a
+  // width there (spread over the cycle; at most 2^17), the means' Gauss
+  // rule `means_points` a revolution, graded at the poles.
+  const auto poles = toggle_poles(md.linkage);
+  const int means_points = 2 * n;
+  const double width = std::min(poles[0].width, poles[1].width);
+  n = std::max(n, static_cast<int>(std::min(std::ceil(4 * kTwoPi / width), double(1 << 17))));
   std::vector<double> gridM(n), gridP(n), M(n);
   const SwingMechanism<Lanes> ml = md.lanes();
   for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {  // kLanes angles at a time
@@ -174,10 +182,10 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       using L = lanes_of<S>;
       const SwingMechanism<L> mlanes = m.lanes();
       auto moment = [&](const Lanes&, const Lanes& c, const Lanes& s) { return swing_point(mlanes, L(c), L(s)).moment(); };
-      arcs = piecewise_means<S>(moment, kinks, 2 * n);
+      arcs = piecewise_means<S>(moment, kinks, means_points, poles);
     } else {
       auto moment = [&](double, double c, double s) -> S { return swing_point(m, S(c), S(s)).moment(); };
-      arcs = piecewise_means<S>(moment, kinks, 2 * n);
+      arcs = piecewise_means<S>(moment, kinks, means_points, poles);
     }
     out.mean_abs_moment = arcs.mean_abs;
     out.rms_moment = sqrt(arcs.mean_square);

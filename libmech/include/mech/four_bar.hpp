@@ -9,10 +9,12 @@
 // rocker O1B = l3 at theta3, frame OO1 = l4 = hypot(gx, gy) (eq. 1).
 // Units: metres, radians; w = dtheta/dphi, alpha = d2theta/dphi2.
 #pragma once
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "mech/autodiff.hpp"
+#include "mech/cycle.hpp"
 #include "mech/simd.hpp"
 #include "mech/status.hpp"
 
@@ -170,6 +172,24 @@ S rotation_margin(const FourBar<S>& m) {
   const S outer = (m.coupler + m.rocker) - (l4 + m.crank);
   const S inner = abs(l4 - m.crank) - abs(m.coupler - m.rocker);
   return outer < inner ? outer : inner;
+}
+
+// How near the loop comes to a toggle, in the crank angle: |O1A|^2 = l4^2 +
+// l1^2 + 2 l1 l4 cos(phi - phi_O), with phi_O the direction from O1 to O, is
+// largest at phi_O and smallest at phi_O + pi, and equals (l2 + l3)^2 (resp.
+// (l2 - l3)^2), a toggle, at phi_O +- i acosh(1 + q) with q = ((l2 + l3)^2 -
+// (l4 + l1)^2) / (2 l1 l4) (resp. phi_O + pi +- i acosh(1 + q), q = ((l4 -
+// l1)^2 - (l2 - l3)^2) / (2 l1 l4)): the singularities of the transfer
+// functions nearest the real axis, which a quadrature over the cycle must
+// resolve. Needs a full turn (both q > 0).
+template <class S>
+std::array<NearPole, 2> toggle_poles(const FourBar<S>& m) {
+  const double l1 = value(m.crank), l2 = value(m.coupler), l3 = value(m.rocker), gx = value(m.gx), gy = value(m.gy);
+  const double l4 = std::sqrt(gx * gx + gy * gy), phi_o = std::atan2(gy, gx);
+  const double outer = ((l2 + l3) * (l2 + l3) - (l4 + l1) * (l4 + l1)) / (2 * l1 * l4);
+  const double inner = ((l4 - l1) * (l4 - l1) - (l2 - l3) * (l2 - l3)) / (2 * l1 * l4);
+  auto wrap = [](double phi) { return phi - kTwoPi * std::floor(phi / kTwoPi); };
+  return {NearPole{wrap(phi_o), std::acosh(1 + outer)}, NearPole{wrap(phi_o + std::numbers::pi), std::acosh(1 + inner)}};
 }
 
 // The rocker's extreme positions (crank and coupler collinear, seed 002
