@@ -191,8 +191,9 @@ TEST(SwingMechanism, MeansNearAToggleAreResolved) {
   // means against adaptive Simpson on the scalar model: evenly spread Gauss
   // nodes were 1e-3 to 1e-2 off at these widths (0.26% median at widths
   // 0.03-0.1 over the conveyor DOE's box, and at 1e-3 the grid missed the
-  // spike: mean |M| a third of the truth); graded panels at the pole and a
-  // grid of four points a width hold them to 1e-11. The peak is checked
+  // spike: mean |M| a third of the truth); Gauss nodes counted from the
+  // pole's Bernstein ellipse, panels halved toward it where one would need
+  // too many, and a grid of four points a width hold them to 1e-11. The peak is checked
   // against a dense scan.
   for (const double width : {0.3, 0.1, 0.01, 0.001}) {
     auto m = swing(variant(1.4));

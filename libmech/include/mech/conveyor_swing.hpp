@@ -140,7 +140,8 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   // Near a toggle |M| spikes over a crank angle of about the poles' width:
   // the grid that finds its peak and its sign changes has four points a
   // width there (spread over the cycle; at most 2^17), the means' Gauss
-  // rule `means_points` a revolution, graded at the poles.
+  // rule `means_points` a revolution, or more where the poles ask
+  // (piecewise_means).
   const auto poles = toggle_poles(md.linkage);
   const int means_points = 2 * n;
   const double width = std::min(poles[0].width, poles[1].width);

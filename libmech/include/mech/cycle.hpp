@@ -502,50 +502,55 @@ struct ArcMeans {
 // kLanes nodes a call.
 //
 // `poles`: where f, smooth on the real line, has a singularity close to it,
-// at phi +- i width (a four-bar near its toggle). Gauss nodes spread evenly
-// converge like exp(-2 m width / arc) and stall when width is a few node
-// spacings (the conveyor's RMS torque: 1e-14 near width = 1.2 rad at 96
-// nodes a revolution, 1% near 0.03 rad). So where width is below
-// kGradeBelow node spacings the arcs are cut at phi and graded: panels of
-// kGradedNodes nodes whose length doubles away from phi (the first
-// `width` long), each panel's nearest singularity at least its own length
-// away, so that every panel converges fast (a few hundred nodes for a width
-// of 1e-8); an arc that ends near a pole without ending at it (a kink
-// beside the pole) is graded from that end by its distance to the pole.
+// at phi +- i width (a four-bar near its toggle). On a panel of half-length
+// h around mid, Gauss-Legendre with m nodes errs like rho^-2m, rho the
+// Bernstein ellipse through the nearest pole: rho = |z + sqrt(z^2 - 1)| with
+// z = (pole - mid) / h (Trefethen, Approximation Theory and Approximation
+// Practice, ch. 19). Where the arc's nodes are too few for that, the arc is
+// halved until each piece needs at most kMaxPanelNodes (pieces next to a
+// pole come out graded toward it); each piece takes its nodes from rho or
+// from the density n, whichever asks more.
 struct NearPole {
   double phi, width;
 };
-inline constexpr double kGradeBelow = 24;
-inline constexpr int kGradedNodes = 16;
+inline constexpr double kPoleDigits = 22;  // ln of 1/(the error asked for) over 2, with a margin: rho^-2m <= ~1e-19
+inline constexpr int kMaxPanelNodes = 32;
 
-// The Gauss panels of the arc [a, b]: visit(mid, half length, nodes). Equal
-// panels with nodes in proportion to the arc (n per revolution, at least 12,
-// more than the table's kMaxGaussNodes cut into equal panels: near the dead
-// point an arc may need thousands), or, where a pole of that `width` is at
-// an end (HUGE_VAL: none), graded from it.
-template <class Visit>
-void for_each_panel(double a, double b, int n, double width_a, double width_b, Visit&& visit) {
-  auto graded = [&](double from, double to, double width) {
-    const double dir = to > from ? 1.0 : -1.0, length = std::abs(to - from);
-    for (double x = 0; x < length;) {
-      const double w = x == 0 ? width : x;
-      double next = std::min(length, x + w);
-      if (length - next < 0.5 * w) next = length;
-      visit(from + dir * 0.5 * (x + next), 0.5 * (next - x), kGradedNodes);
-      x = next;
-    }
-  };
-  const bool at_a = width_a < HUGE_VAL, at_b = width_b < HUGE_VAL;
-  if (at_a && at_b) {
-    graded(a, 0.5 * (a + b), width_a), graded(b, 0.5 * (a + b), width_b);
-  } else if (at_a || at_b) {
-    at_a ? graded(a, b, width_a) : graded(b, a, width_b);
-  } else {
-    const int m = std::max(12, static_cast<int>(std::ceil(n * (b - a) / kTwoPi)));
-    const int panels = (m + kMaxGaussNodes - 1) / kMaxGaussNodes;
-    const double half = 0.5 * (b - a) / panels;
-    for (int p = 0; p < panels; ++p) visit(a + (2 * p + 1) * half, half, (m + panels - 1) / panels);
+// Gauss-Legendre nodes the panel [mid - half, mid + half] needs for the
+// poles (the copy of each nearest the panel); 0 if none is near. rho is a +
+// sqrt(a^2 - 1), a = (|z - 1| + |z + 1|) / 2 the semi-major axis of the
+// ellipse with foci -1, 1 through z; poles beyond 8 half-lengths (rho > 8:
+// 11 nodes at most) are skipped before that.
+inline int nodes_for_poles(double mid, double half, std::span<const NearPole> poles) {
+  double rho = HUGE_VAL;
+  for (const NearPole& p : poles) {
+    const double x = std::remainder(p.phi - mid, kTwoPi) / half, y = p.width / half;
+    if (x * x + y * y >= 64) continue;
+    const double a = 0.5 * (std::sqrt((x - 1) * (x - 1) + y * y) + std::sqrt((x + 1) * (x + 1) + y * y));
+    rho = std::min(rho, a + std::sqrt(a * a - 1));
   }
+  return rho < HUGE_VAL ? static_cast<int>(std::ceil(kPoleDigits / std::log(rho))) : 0;
+}
+
+// The Gauss panels of the arc [a, b]: visit(mid, half length, nodes). Nodes
+// in proportion to the arc (n per revolution, at least 12; more than the
+// table's kMaxGaussNodes cut into equal panels: near the dead point an arc
+// may need thousands), unless the poles ask for more: then halved as above.
+template <class Visit>
+void for_each_panel(double a, double b, int n, std::span<const NearPole> poles, Visit&& visit) {
+  const int m = std::max(12, static_cast<int>(std::ceil(n * (b - a) / kTwoPi)));
+  if (nodes_for_poles(0.5 * (a + b), 0.5 * (b - a), poles) > m) {
+    auto piece = [&](auto&& self, double lo, double hi) -> void {
+      const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+      const int k = std::max({4, nodes_for_poles(mid, half, poles), static_cast<int>(std::ceil(n * (hi - lo) / kTwoPi))});
+      if (k <= kMaxPanelNodes) return visit(mid, half, k);
+      self(self, lo, mid), self(self, mid, hi);
+    };
+    return piece(piece, a, b);
+  }
+  const int panels = (m + kMaxGaussNodes - 1) / kMaxGaussNodes;
+  const double half = 0.5 * (b - a) / panels;
+  for (int p = 0; p < panels; ++p) visit(a + (2 * p + 1) * half, half, (m + panels - 1) / panels);
 }
 
 template <class S, class F>
@@ -554,28 +559,14 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n, std::span<co
     if constexpr (has_lanes<S>) return std::is_invocable_r_v<lanes_of<S>, F&, Lanes, Lanes, Lanes>;
     return false;
   }();
-  const double spacing = kTwoPi / n;
-  auto graded = [&](const NearPole& p) { return p.width < kGradeBelow * spacing; };
-  for (const NearPole& p : poles)
-    if (graded(p)) ends.push_back(p.phi);
   std::sort(ends.begin(), ends.end());
   if (ends.empty()) ends.push_back(0.0);
-  // How far a graded pole is from an arc's end phi (in the complex plane),
-  // where that is close enough to need grading; HUGE_VAL if none is. Arcs
-  // are cut at the poles, so a pole is never inside one.
-  auto width_at = [&](double phi) {
-    double w = HUGE_VAL;
-    for (const NearPole& p : poles)
-      for (const double copy : {p.phi - kTwoPi, p.phi, p.phi + kTwoPi})
-        if (const double d = std::hypot(phi - copy, p.width); graded(p) && d < kGradeBelow * spacing) w = std::min(w, d);
-    return w;
-  };
   ArcMeans<S> out{S(0.0), S(0.0), S(0.0)};
   for (size_t j = 0; j < ends.size(); ++j) {
     const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + kTwoPi;
     if (b - a <= 0) continue;
     S arc(0.0);
-    for_each_panel(a, b, n, width_at(a), width_at(b), [&](double mid, double half, int panel_nodes) {
+    for_each_panel(a, b, n, poles, [&](double mid, double half, int panel_nodes) {
       const auto& nodes = gauss_legendre(panel_nodes);
       const std::size_t k = nodes.size();
       if constexpr (kLanesOfF) {
