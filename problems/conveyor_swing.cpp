@@ -223,10 +223,10 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
-    if (design(std::vector<double>(x.data(), x.data() + x.size())).status() != mech::Status::ok)
-      return {};
+    const Design<double> d = design(std::vector<double>(x.data(), x.data() + x.size()));
+    if (d.status() != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return design(xs).mech; };
-    const int n = model_.cycle_points;
+    const int n = mech::swing_grid_points(d.mech.linkage, model_.cycle_points);  // swing_metrics' grid
     if (metric == M::peak_crank_torque)
       return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
         using std::abs;

@@ -115,6 +115,17 @@ SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& phi) {
   return swing_point(m, S(cos(phi)), S(sin(phi)));
 }
 
+// Grid points a revolution for the maxima and sign changes of the swing
+// moment: n, or, near a toggle, where |M| spikes over a crank angle of
+// about the poles' width (toggle_poles), four points a width (spread over
+// the cycle; at most 2^17).
+template <class S>
+int swing_grid_points(const FourBar<S>& k, int n) {
+  const auto poles = toggle_poles(k);
+  const double width = std::min(poles[0].width, poles[1].width);
+  return std::max(n, static_cast<int>(std::min(std::ceil(4 * kTwoPi / width), double(1 << 17))));
+}
+
 template <class S>
 struct SwingMetrics {
   S peak_moment;      // max over the cycle of |M| [N m]
@@ -137,15 +148,11 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   using std::sqrt;
   SwingMetrics<S> out;
   const SwingMechanism<double> md = m.template cast<double>();
-  // Near a toggle |M| spikes over a crank angle of about the poles' width:
-  // the grid that finds its peak and its sign changes has four points a
-  // width there (spread over the cycle; at most 2^17), the means' Gauss
-  // rule `means_points` a revolution, or more where the poles ask
-  // (piecewise_means).
+  // The means' Gauss rule: 2n nodes a revolution, or more where the poles
+  // ask (piecewise_means); the grid: swing_grid_points.
   const auto poles = toggle_poles(md.linkage);
   const int means_points = 2 * n;
-  const double width = std::min(poles[0].width, poles[1].width);
-  n = std::max(n, static_cast<int>(std::min(std::ceil(4 * kTwoPi / width), double(1 << 17))));
+  n = swing_grid_points(md.linkage, n);
   std::vector<double> gridM(n), gridP(n), M(n);
   const SwingMechanism<Lanes> ml = md.lanes();
   for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {  // kLanes angles at a time
