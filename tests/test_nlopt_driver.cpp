@@ -69,6 +69,37 @@ TEST(NloptDriver, EvaluationLimitIsAStatus) {
       << r.message;
 }
 
+// f = offset + cosh(x - 0.3) + cosh(y + 0.2) on [-1, 1]^2 (not a quadratic,
+// which SLSQP would solve in one step): the minimum is (0.3, -0.2). The driver stops a local run where the gradient is zero to
+// roundoff; that stop must come at the minimum, not before it, whatever
+// the offset: with offset 1e6 the value resolves x only to ~1e-5, the
+// gradient to ~1e-16, and a stop scaled by |f| alone would end 5e-9 off.
+testing_problems::Analytic offset_bowl(double offset) {
+  return testing_problems::Analytic(
+      "offset_bowl",
+      {{"x", opt::Dimension::dimensionless, -1, 1, 0.9}, {"y", opt::Dimension::dimensionless, -1, 1, 0.7}},
+      {{"f", [offset](const Eigen::VectorXd& v) {
+          const double a = v[0] - 0.3, b = v[1] + 0.2;
+          return opt::MetricValue{offset + std::cosh(a) + std::cosh(b), Eigen::Vector2d(std::sinh(a), std::sinh(b))};
+        }}});
+}
+
+TEST(NloptDriver, RoundoffStopEndsAtTheMinimumNotBeforeIt) {
+  for (const double offset : {1.0, 1e6}) {
+    opt::DriverOptions o;
+    o.algorithm = "LD_SLSQP";
+    o.xtol_rel = 1e-14;
+    const auto p = offset_bowl(offset);
+    const auto r = opt::NloptDriver(o).minimize(p, {"f"}, {}, p.initial_point());
+    ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
+    EXPECT_NEAR(r.x[0], 0.3, 1e-12) << "offset " << offset << ": " << r.message;
+    EXPECT_NEAR(r.x[1], -0.2, 1e-12) << "offset " << offset << ": " << r.message;
+    if (offset == 1.0) {
+      EXPECT_NE(r.message.find("gradient is zero to roundoff"), std::string::npos) << r.message;
+    }
+  }
+}
+
 TEST(IpoptDriver, IterationLimitIsAStopNotASuccess) {
   opt::DriverOptions o;
   o.library = "ipopt";

@@ -259,6 +259,7 @@ struct Context {
   bool watch_gradient = false;
   Eigen::VectorXd lower, upper, range;
   std::optional<Eigen::VectorXd> stationary;
+  std::optional<double> first_change;  // the first gradient's largest |g_i| range_i
 
   // The evaluation at x, or nullptr once the run must stop (the library is
   // then told to stop). The time and the stop request are checked before
@@ -301,18 +302,25 @@ double metric_value(const Context& c, const detail::EvaluationAt* at, unsigned n
 // 1.8e-10 off at its 21st. Stationary to roundoff: each variable free to
 // move along -g, over its whole range, would change f by at most
 // kRoundoffSlope eps |f| (100 eps: an autodiff gradient that cancels to
-// zero keeps roundoff of a few eps |f| / range); where the curvature over
-// the range is of the order of |f|, x is then within about 1e-14 of the
-// range from the optimum.
+// zero keeps roundoff of a few eps |f| / range), nor by more than
+// kRoundoffSlope eps of the first gradient's change over the ranges (so
+// that an objective far from zero whose variation is small, where the
+// gradient still resolves what the value cannot, is not stopped early).
+// Where the curvature over the range is of the order of f's variation, x
+// is then within about 1e-14 of the range from the optimum. Constraints
+// must all be inactive there (the multipliers then are zero, and the point
+// is a KKT point).
 constexpr double kRoundoffSlope = 100 * std::numeric_limits<double>::epsilon();
-// Constraints must all be inactive there (the multipliers then are zero,
-// and the point is a KKT point).
-bool stationary_to_roundoff(const Context& c, const Evaluation& e, const double* x, const double* grad, double f) {
+bool stationary_to_roundoff(Context& c, const Evaluation& e, const double* x, const double* grad, double f) {
+  double change = 0;  // |g| over the ranges
+  for (Eigen::Index i = 0; i < c.range.size(); ++i) change = std::max(change, std::abs(grad[i]) * c.range[i]);
+  if (!c.first_change) c.first_change = change;
   for (const Constraint& k : c.constraints)
     if (k.equal || !(k.g(e[k.id].value) < -1e-6 * std::max(1.0, std::abs(k.bound)))) return false;
+  const double limit = kRoundoffSlope * std::min(std::abs(f), *c.first_change);
   for (Eigen::Index i = 0; i < c.range.size(); ++i) {
     if ((x[i] <= c.lower[i] && grad[i] > 0) || (x[i] >= c.upper[i] && grad[i] < 0)) continue;  // held by a bound
-    if (!(std::abs(grad[i]) * c.range[i] <= kRoundoffSlope * std::abs(f))) return false;
+    if (!(std::abs(grad[i]) * c.range[i] <= limit)) return false;
   }
   return true;
 }
@@ -622,7 +630,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   const detail::Start start = detail::prepare_start(problem, objective, x, result, stop, !constrained_alg);
   const Objective bound = problem.bind(objective);
   Context c{&problem, &bound, start.scale, problem.bind(constraints), {}, {}, options_.record_history,
-            &stop, &result, nullptr, nullptr, {}, false, false, false, {}, {}, {}, std::nullopt};
+            &stop, &result, nullptr, nullptr, {}, false, false, false, {}, {}, {}, std::nullopt, std::nullopt};
   for (const auto& k : problem.bind(problem.implicit_constraints()))
     (constrained_alg ? c.constraints : c.barrier).push_back(k);
   c.watch_gradient = !algorithm_is_global(algorithm);
