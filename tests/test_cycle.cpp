@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -126,6 +127,34 @@ TEST(Cycle, TwinDrivePeaksInLanesEqualTheScalarSearch) {
     ++checked;
   }
   EXPECT_GT(checked, 1500);
+}
+
+TEST(Cycle, MeansResolveANearPoleFromItsBernsteinEllipse) {
+  // f = w / ((phi - c)^2 + w^2) has poles at c +- i w; its integral over
+  // [0, 2 pi] is atan((2 pi - c) / w) + atan(c / w). With the pole given,
+  // each Gauss panel takes its nodes from the ellipse through it and the
+  // mean is right to the integrand's own roundoff down to w = 1e-8; without it, 96 nodes a
+  // revolution are far off once w is small. A pole on the axis (w = 0, the
+  // integral diverges) must still end, with a finite answer.
+  const double c = 2.0;
+  auto mean_of = [&](double w, bool give_pole) {
+    const mech::NearPole pole[1] = {{c, w}};
+    auto f = [&](double phi, double, double) { return w / ((phi - c) * (phi - c) + w * w); };
+    return mech::piecewise_means<double>(f, {0.0}, 96, give_pole ? std::span(pole) : std::span<const mech::NearPole>())
+        .mean;
+  };
+  for (const double w : {1.0, 1e-2, 1e-4, 1e-8}) {
+    const double exact = (std::atan((kTwoPi - c) / w) + std::atan(c / w)) / kTwoPi;
+    // The integrand itself is ill-conditioned near the pole: a node's
+    // phi - c carries roundoff of ulp(c), so f there is off by about
+    // eps c / w of itself, which bounds any quadrature.
+    const double tol = std::max(1e-14, 10 * std::numeric_limits<double>::epsilon() * c / w);
+    EXPECT_NEAR(mean_of(w, true), exact, tol * exact) << "w " << w;
+    if (w <= 1e-2) {
+      EXPECT_GT(std::abs(mean_of(w, false) - exact), 1e-3 * exact) << "w " << w;
+    }
+  }
+  EXPECT_TRUE(std::isfinite(mean_of(0.0, true)));
 }
 
 }  // namespace

@@ -517,7 +517,8 @@ inline constexpr double kPoleDigits = 22;  // ln of 1/(the error asked for) over
 inline constexpr int kMaxPanelNodes = 32;
 
 // Gauss-Legendre nodes the panel [mid - half, mid + half] needs for the
-// poles (the copy of each nearest the panel); 0 if none is near. rho is a +
+// poles (the copy of each nearest the panel); 0 if none is near, 10^6 if
+// one is on the panel itself. rho is a +
 // sqrt(a^2 - 1), a = (|z - 1| + |z + 1|) / 2 the semi-major axis of the
 // ellipse with foci -1, 1 through z; poles beyond 8 half-lengths (rho > 8:
 // 11 nodes at most) are skipped before that.
@@ -529,7 +530,8 @@ inline int nodes_for_poles(double mid, double half, std::span<const NearPole> po
     const double a = 0.5 * (std::sqrt((x - 1) * (x - 1) + y * y) + std::sqrt((x + 1) * (x + 1) + y * y));
     rho = std::min(rho, a + std::sqrt(a * a - 1));
   }
-  return rho < HUGE_VAL ? static_cast<int>(std::ceil(kPoleDigits / std::log(rho))) : 0;
+  if (!(rho < HUGE_VAL)) return 0;
+  return rho > 1 ? static_cast<int>(std::min(std::ceil(kPoleDigits / std::log(rho)), 1e6)) : 1000000;  // on the axis: no rule converges
 }
 
 // The Gauss panels of the arc [a, b]: visit(mid, half length, nodes). Nodes
@@ -543,7 +545,9 @@ void for_each_panel(double a, double b, int n, std::span<const NearPole> poles, 
     auto piece = [&](auto&& self, double lo, double hi) -> void {
       const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
       const int k = std::max({4, nodes_for_poles(mid, half, poles), static_cast<int>(std::ceil(n * (hi - lo) / kTwoPi))});
-      if (k <= kMaxPanelNodes) return visit(mid, half, k);
+      // A pole on the real axis (a model at its singularity) asks for ever
+      // more: pieces stop at 1e-9 of a revolution, 30 halvings.
+      if (k <= kMaxPanelNodes || half < 1e-9 * kTwoPi) return visit(mid, half, std::min(k, kMaxPanelNodes));
       self(self, lo, mid), self(self, mid, hi);
     };
     return piece(piece, a, b);
