@@ -635,7 +635,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     (constrained_alg ? c.constraints : c.barrier).push_back(k);
   c.watch_gradient = !algorithm_is_global(algorithm);
   c.lower = problem.lower_bounds(), c.upper = problem.upper_bounds();
-  c.range = (c.upper - c.lower).cwiseMin(HUGE_VAL);
+  c.range = c.upper - c.lower;  // or, where unbounded, the start's size
   for (Eigen::Index i = 0; i < c.range.size(); ++i)
     if (!std::isfinite(c.range[i]) || !(c.range[i] > 0)) c.range[i] = std::max(1.0, std::abs(x0[i]));
   c.wanted.add(bound.id);
