@@ -226,7 +226,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     const Design<double> d = design(std::vector<double>(x.data(), x.data() + x.size()));
     if (d.status() != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return design(xs).mech; };
-    const int n = mech::swing_grid_points(d.mech.linkage, model_.cycle_points);  // swing_metrics' grid
+    const int n = mech::swing_grid_points(mech::toggle_poles(d.mech.linkage), model_.cycle_points);  // swing_metrics' grid
     if (metric == M::peak_crank_torque)
       return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
         using std::abs;

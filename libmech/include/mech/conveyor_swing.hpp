@@ -119,9 +119,7 @@ SwingPoint<S> swing_point(const SwingMechanism<S>& m, const S& phi) {
 // moment: n, or, near a toggle, where |M| spikes over a crank angle of
 // about the poles' width (toggle_poles), four points a width (spread over
 // the cycle; at most 2^17).
-template <class S>
-int swing_grid_points(const FourBar<S>& k, int n) {
-  const auto poles = toggle_poles(k);
+inline int swing_grid_points(const std::array<NearPole, 2>& poles, int n) {
   const double width = std::min(poles[0].width, poles[1].width);
   return std::max(n, static_cast<int>(std::min(std::ceil(4 * kTwoPi / width), double(1 << 17))));
 }
@@ -152,7 +150,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   // ask (piecewise_means); the grid: swing_grid_points.
   const auto poles = toggle_poles(md.linkage);
   const int means_points = 2 * n;
-  n = swing_grid_points(md.linkage, n);
+  n = swing_grid_points(poles, n);
   std::vector<double> gridM(n), gridP(n), M(n);
   const SwingMechanism<Lanes> ml = md.lanes();
   for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {  // kLanes angles at a time
