@@ -182,7 +182,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       });
     });
     for (double phi : {value(dc.phi_extended), value(dc.phi_folded)})
-      kinks.push_back(phi - kTwoPi * std::floor(phi / kTwoPi));
+      kinks.push_back(wrap_angle(phi));
     ArcMeans<S> arcs;
     if constexpr (has_lanes<S>) {  // kLanes nodes at a time
       using L = lanes_of<S>;

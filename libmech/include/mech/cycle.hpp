@@ -20,6 +20,8 @@
 namespace mech {
 
 inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// An angle taken into [0, 2 pi).
+inline double wrap_angle(double phi) { return phi - kTwoPi * std::floor(phi / kTwoPi); }
 
 // Calls f(k, c, s) for phi_k = 2*pi*k/n, k = 0..n-1, with c = cos(phi_k) and
 // s = sin(phi_k) advanced by rotation (no trig call per point; drift ~n*eps).

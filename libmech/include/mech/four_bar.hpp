@@ -188,8 +188,8 @@ std::array<NearPole, 2> toggle_poles(const FourBar<S>& m) {
   const double l4 = std::sqrt(gx * gx + gy * gy), phi_o = std::atan2(gy, gx);
   const double outer = ((l2 + l3) * (l2 + l3) - (l4 + l1) * (l4 + l1)) / (2 * l1 * l4);
   const double inner = ((l4 - l1) * (l4 - l1) - (l2 - l3) * (l2 - l3)) / (2 * l1 * l4);
-  auto wrap = [](double phi) { return phi - kTwoPi * std::floor(phi / kTwoPi); };
-  return {NearPole{wrap(phi_o), std::acosh(1 + outer)}, NearPole{wrap(phi_o + std::numbers::pi), std::acosh(1 + inner)}};
+  return {NearPole{wrap_angle(phi_o), std::acosh(1 + outer)},
+          NearPole{wrap_angle(phi_o + std::numbers::pi), std::acosh(1 + inner)}};
 }
 
 // The rocker's extreme positions (crank and coupler collinear, seed 002

@@ -208,7 +208,7 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
     if (m.kinematics == Kinematics::exact) {
       for (const auto& [sn, side] : {std::pair{-m.e / (m.l + m.r), 1.0}, std::pair{m.e / (m.l - m.r), -1.0}}) {
         const double phi = std::atan2(sn, side * m.sigma * std::sqrt(1 - sn * sn)) - shift;
-        out.push_back(phi - kTwoPi * std::floor(phi / kTwoPi));
+        out.push_back(wrap_angle(phi));
       }
       continue;
     }
