@@ -23,6 +23,20 @@
 // crank angle), does not depend on the phase shift delta, so COBYLA
 // converges in the rod length and the message says the optimum is not
 // unique in the phase shift.
+//
+// Slopes (docs/drivers.md, "Slopes"): on the sawmill's peak balancing torque
+// (configs/balanced_slider_crank/least_torque.yaml, cam offset and spring
+// rate), MMA and CCSAQ meet their step tolerance having moved only the cam
+// offset: the spring rate still lowers the torque by about 0.04 N m per N/m
+// there (3% of it for 1% of the range), no bound or constraint is active,
+// and the run says stopped_on_slope, near 6575 N m, where SLSQP and Ipopt
+// agree on 1095.7 N m (docs/reproduction.md). And a gradient run must not
+// stop at a stationary point above one it has seen: CCSAQ on
+// configs/recuperative_drive/phase_shift.yaml steps from 90 deg straight to
+// the bound at 180 deg, where the peak kinetic energy has a smooth maximum
+// (4947.26 J; its gradient is zero there by the symmetry of the two carts);
+// it now goes on to the minimum, 98.58 deg and 2835.65 J
+// (docs/reproduction.md).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -132,6 +146,30 @@ TEST(DriverFailures, DerivativeFreeDriverNamesAVariableTheObjectiveIgnores) {
   EXPECT_EQ(j["status"], "converged") << message;
   EXPECT_NE(message.find("mean_kinetic_energy does not change with phase_shift here"), std::string::npos) << message;
   EXPECT_EQ(message.find("rod_length here"), std::string::npos) << message;
+}
+
+TEST(DriverFailures, CcsaDriversStalledOnASlopeSaySo) {
+  for (const std::string algorithm : {"LD_MMA", "LD_CCSAQ"}) {
+    const auto [o, j] = run_edited("configs/balanced_slider_crank/least_torque.yaml", "slope_" + algorithm,
+                                   {{"driver: {library: ipopt}", "driver: {library: nlopt, algorithm: " + algorithm + "}"}});
+    ASSERT_TRUE(o.exited(0)) << o.output;
+    const std::string message = j["message"];
+    EXPECT_EQ(j["status"], "stopped_on_slope") << algorithm << ": " << message;
+    EXPECT_NE(message.find("peak_balancing_torque still falls along a direction the bounds and constraints allow"),
+              std::string::npos)
+        << message;
+    EXPECT_GT(objective(j), 5 * 1095.7) << algorithm;  // far above the optimum
+    EXPECT_EQ(j["variables"]["spring_rate"]["value"].get<double>(), 673765.0) << "the spring rate never moved";
+  }
+}
+
+TEST(DriverFailures, GradientDriverDoesNotStopAtAStationaryMaximum) {
+  const auto [o, j] = run_edited("configs/recuperative_drive/phase_shift.yaml", "stationary_max",
+                                 {{"algorithm: LD_SLSQP", "algorithm: LD_CCSAQ"}});
+  ASSERT_TRUE(o.exited(0)) << o.output;
+  EXPECT_EQ(j["status"], "converged") << j["message"];
+  EXPECT_NEAR(objective(j), 2835.65, 0.01) << j["message"];
+  EXPECT_NEAR(j["variables"]["phase_shift"]["value"].get<double>(), 98.58 * M_PI / 180, 1e-3);
 }
 
 }  // namespace

@@ -100,6 +100,45 @@ TEST(NloptDriver, RoundoffStopEndsAtTheMinimumNotBeforeIt) {
   }
 }
 
+// check_slope on closed forms: the bowl's gradient (sinh(x - 0.3),
+// sinh(y + 0.2)) vanishes only at its minimum; a bound that holds a
+// variable whose gradient points out of the box leaves a KKT point; the
+// tutorial's optimum is a KKT point of its two active constraints.
+TEST(CheckSlope, FlagsOnlyPointsWithAFeasibleDescent) {
+  const auto bowl = offset_bowl(1.0);
+  const opt::Objective f = bowl.bind(opt::Objective{"f"});
+  auto value = [&](double x, double y) { return 1.0 + std::cosh(x - 0.3) + std::cosh(y + 0.2); };
+  EXPECT_FALSE(opt::check_slope(bowl, f, {}, Eigen::Vector2d(0.3, -0.2), value(0.3, -0.2)));
+  // 1e-4 of the range off the minimum: the gradient promises a fall of
+  // about 1e-2 * 2 * sinh(2e-4) ~ 4e-6, below 1e-4 |f|: not probed.
+  EXPECT_FALSE(opt::check_slope(bowl, f, {}, Eigen::Vector2d(0.3002, -0.2), value(0.3002, -0.2)));
+  const auto slope = opt::check_slope(bowl, f, {}, Eigen::Vector2d(0.6, -0.2), value(0.6, -0.2));
+  ASSERT_TRUE(slope);
+  EXPECT_EQ(slope->step, opt::kSlopeStep);
+  // Along -r / max|r_j| = (-1, 0): x moves by 1% of its range of 2.
+  EXPECT_NEAR(slope->value, value(0.58, -0.2), 1e-15);
+
+  testing_problems::Analytic boxed(
+      "boxed_bowl", {{"x", opt::Dimension::dimensionless, 0.5, 1, 0.9}, {"y", opt::Dimension::dimensionless, -1, 1, 0.7}},
+      {{"f", [](const Eigen::VectorXd& v) {
+          return opt::MetricValue{std::cosh(v[0] - 0.3) + std::cosh(v[1] + 0.2),
+                                  Eigen::Vector2d(std::sinh(v[0] - 0.3), std::sinh(v[1] + 0.2))};
+        }}});
+  const opt::Objective fb = boxed.bind(opt::Objective{"f"});
+  EXPECT_FALSE(opt::check_slope(boxed, fb, {}, Eigen::Vector2d(0.5, -0.2), value(0.5, -0.2) - 1))
+      << "x = 0.5 is held by its lower bound";
+  EXPECT_TRUE(opt::check_slope(boxed, fb, {}, Eigen::Vector2d(0.5, 0.3), value(0.5, 0.3) - 1))
+      << "y is free and not at its minimum";
+
+  const Tutorial t = testing_problems::tutorial();
+  const auto cons = t.bind(kCons);
+  const Eigen::Vector2d star(1.0 / 3, 8.0 / 27);
+  EXPECT_FALSE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, star, std::sqrt(star[1])));
+  // Above the optimum on the constraint c1's side, x2 can still come down.
+  const Eigen::Vector2d above(1.0 / 3, 0.5);
+  EXPECT_TRUE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, above, std::sqrt(0.5)));
+}
+
 TEST(IpoptDriver, IterationLimitIsAStopNotASuccess) {
   opt::DriverOptions o;
   o.library = "ipopt";

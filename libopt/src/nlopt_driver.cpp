@@ -30,6 +30,7 @@ std::string to_string(DriverStatus s) {
     case DriverStatus::invalid_arguments: return "invalid_arguments";
     case DriverStatus::stopped_on_kink: return "stopped_on_kink";
     case DriverStatus::stopped_on_plateau: return "stopped_on_plateau";
+    case DriverStatus::stopped_on_slope: return "stopped_on_slope";
   }
   return "unknown";
 }
@@ -260,6 +261,7 @@ struct Context {
   Eigen::VectorXd lower, upper, range;
   std::optional<Eigen::VectorXd> stationary;
   std::optional<double> first_change;  // the first gradient's largest |g_i| range_i
+  double least = std::numeric_limits<double>::infinity();  // the least f at a design inside every constraint
 
   // The evaluation at x, or nullptr once the run must stop (the library is
   // then told to stop). The time and the stop request are checked before
@@ -309,12 +311,16 @@ double metric_value(const Context& c, const detail::EvaluationAt* at, unsigned n
 // Where the curvature over the range is of the order of f's variation, x
 // is then within about 1e-14 of the range from the optimum. Constraints
 // must all be inactive there (the multipliers then are zero, and the point
-// is a KKT point).
+// is a KKT point), and f no higher than at any design seen inside them: a
+// stationary point above one seen is no minimum (LD_CCSAQ stepped from
+// 90 deg straight to the phase shift's bound at 180 deg, where the peak
+// kinetic energy has a smooth maximum).
 constexpr double kRoundoffSlope = 100 * std::numeric_limits<double>::epsilon();
 bool stationary_to_roundoff(Context& c, const Evaluation& e, const double* x, const double* grad, double f) {
   double change = 0;  // |g| over the ranges
   for (Eigen::Index i = 0; i < c.range.size(); ++i) change = std::max(change, std::abs(grad[i]) * c.range[i]);
   if (!c.first_change) c.first_change = change;
+  if (!(f <= c.least)) return false;
   for (const Constraint& k : c.constraints)
     if (k.equal || !(k.g(e[k.id].value) < -1e-6 * std::max(1.0, std::abs(k.bound)))) return false;
   const double limit = kRoundoffSlope * std::min(std::abs(f), *c.first_change);
@@ -338,10 +344,15 @@ double objective_cb(unsigned n, const double* x, double* grad, void* data) {
     if (c.record_history)
       r.history.push_back({r.evaluations, at->e.status, at->x,
                            at->e.ok() ? at->e[c.objective->id].value : kNan});
-    if (grad && c.watch_gradient && c.last_usable && f != kInfeasibleValue && stationary_to_roundoff(c, at->e, x, grad, f)) {
+    if (!c.last_usable || f == kInfeasibleValue) return f;
+    if (grad && c.watch_gradient && stationary_to_roundoff(c, at->e, x, grad, f)) {
       c.stationary = at->x;
       nlopt_force_stop(c.opt);
     }
+    const bool inside = std::all_of(c.constraints.begin(), c.constraints.end(), [&](const Constraint& k) {
+      return k.violation(at->e[k.id].value) <= 1e-6 * std::max(1.0, std::abs(k.bound));
+    });
+    if (inside) c.least = std::min(c.least, f);
     return f;
   } catch (...) {
     c.error = std::current_exception();
@@ -567,7 +578,8 @@ void finish(const Problem& problem, const Objective& objective_named,
   }
   std::vector<Constraint> all = constraints;
   all.insert(all.end(), implicit.begin(), implicit.end());
-  if (const auto kink = check_kink(problem, objective, all, result.x); kink && kink->measure > kKinkTolerance) {
+  const auto kink = check_kink(problem, objective, all, result.x);
+  if (kink && kink->measure > kKinkTolerance) {
     char measure[32];
     std::snprintf(measure, sizeof measure, "%.2g", kink->measure);
     result.status = DriverStatus::stopped_on_kink;
@@ -575,6 +587,18 @@ void finish(const Problem& problem, const Objective& objective_named,
                       objective.metric + " over the cycle are equal here and they can still all descend together " +
                       "(stationarity measure " + measure + ", 0 at an optimum); LD_SLSQP, or ipopt with " +
                       "epigraph: true, reach such optima";
+    return;
+  }
+  // A kink that passed is an optimum; a global algorithm's answer is polished, not checked.
+  if (kink || (result.library == "nlopt" && algorithm_is_global(result.algorithm))) return;
+  if (const auto slope = check_slope(problem, objective, all, result.x, result.objective, &e)) {
+    char text[160];
+    std::snprintf(text, sizeof text, "a step of %g%% of the variables' ranges takes it from %.10g to %.10g",
+                  100 * slope->step, result.objective, slope->value);
+    result.status = DriverStatus::stopped_on_slope;
+    result.message += "; stopped on a slope, not at an optimum: " + objective.metric + " still " +
+                      (objective.maximize ? "rises" : "falls") + " along a direction the bounds and constraints " +
+                      "allow (" + text + "); LD_SLSQP or ipopt reach such optima";
   }
 }
 

@@ -13,15 +13,16 @@ namespace opt {
 
 namespace {
 
-// min |sum_i l_i p_i + sum_k m_k c_k| over l >= 0, sum l = 1, m >= 0: the
-// distance from 0 to the hull of the pieces' gradients plus the cone of the
-// active constraints' gradients. Exact, by every support set (a handful of
+// argmin |sum_i l_i p_i + sum_k m_k c_k| over l >= 0, sum l = 1, m >= 0:
+// the point of the hull of the pieces' gradients plus the cone of the
+// active constraints' gradients nearest to 0. Exact, by every support set (a handful of
 // generators: 2^count small systems): on its support the minimum solves
 // [B'B e; e' 0] [w; nu] = [0; 1] (e: 1 on pieces), and the least over the
 // supports whose solution has no negative weight is the minimum.
-double min_norm(const std::vector<Eigen::VectorXd>& pieces, const std::vector<Eigen::VectorXd>& cone) {
+Eigen::VectorXd min_norm_point(const std::vector<Eigen::VectorXd>& pieces, const std::vector<Eigen::VectorXd>& cone) {
   const int p = static_cast<int>(pieces.size()), m = p + static_cast<int>(cone.size());
   double best = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd point;
   for (unsigned mask = 1; mask < (1u << m); ++mask) {
     if (!(mask & ((1u << p) - 1))) continue;  // at least one piece
     std::vector<int> support;
@@ -41,9 +42,12 @@ double min_norm(const std::vector<Eigen::VectorXd>& pieces, const std::vector<Ei
     for (int j = 0; j < k; ++j)
       if (support[j] < p) pieces_sum += w[j];
     if ((w.array() < -1e-12).any() || std::abs(pieces_sum - 1) > 1e-9) continue;
-    best = std::min(best, (B * w).norm());
+    if (const Eigen::VectorXd v = B * w; v.norm() < best) {
+      best = v.norm();
+      point = v;
+    }
   }
-  return best;
+  return point;
 }
 
 // Each variable's range, or its size where unbounded: steps and gradients
@@ -56,6 +60,33 @@ Eigen::VectorXd variable_scales(const Problem& problem, const Eigen::VectorXd& x
     scale[j] = std::isfinite(range) && range > 0 ? range : std::max(1.0, std::abs(x[j]));
   }
   return scale;
+}
+
+// The directions the active bounds and constraints at x forbid, in the
+// variables' scales and of unit length (any positive multiple spans the same
+// cone), from e, an evaluation at x with the constraints' gradients. None
+// when an active constraint has no gradient (cannot tell).
+std::optional<std::vector<Eigen::VectorXd>> active_cone(const Problem& problem,
+                                                        const std::vector<Constraint>& constraints,
+                                                        const Evaluation& e, const Eigen::VectorXd& x,
+                                                        const Eigen::VectorXd& scale) {
+  const auto& vars = problem.variables();
+  std::vector<Eigen::VectorXd> cone;
+  for (int j = 0; j < x.size(); ++j) {
+    const double room = 1e-9 * scale[j];
+    if (x[j] - vars[j].lower <= room) cone.push_back(-Eigen::VectorXd::Unit(x.size(), j));
+    if (vars[j].upper - x[j] <= room) cone.push_back(Eigen::VectorXd::Unit(x.size(), j));
+  }
+  for (const auto& k : constraints) {
+    const MetricValue& v = e[k.id];
+    if (k.g(v.value) < -1e-6 * std::max(1.0, std::abs(k.bound)) && !k.equal) continue;
+    if (v.gradient.size() != x.size()) return std::nullopt;
+    Eigen::VectorXd a = v.gradient.cwiseProduct(scale);
+    if (const double n = a.norm(); n > 0) a /= n;
+    if (k.upper || k.equal) cone.push_back(a);
+    if (!k.upper || k.equal) cone.push_back(-a);
+  }
+  return cone;
 }
 
 }  // namespace
@@ -91,10 +122,9 @@ std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& obj
   if (maxima.size() < 2) return std::nullopt;
   double top = -std::numeric_limits<double>::infinity();
   for (const auto& v : maxima) top = std::max(top, v.value);
-  const auto& vars = problem.variables();
   const Eigen::VectorXd scale = variable_scales(problem, x);  // gradients of lengths and angles compare
   KinkCheck out;
-  std::vector<Eigen::VectorXd> pieces, cone;
+  std::vector<Eigen::VectorXd> pieces;
   double largest = 0;
   for (const auto& v : maxima) {
     if (v.value < top - 1e-6 * std::abs(top) || v.gradient.size() != x.size()) continue;
@@ -103,34 +133,62 @@ std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& obj
   }
   out.peaks = static_cast<int>(pieces.size());
   if (out.peaks < 2 || !(largest > 0) || !std::isfinite(largest)) return std::nullopt;
-  // Active bounds and constraints: the directions they forbid.
-  for (int j = 0; j < x.size(); ++j) {
-    const double room = 1e-9 * scale[j];
-    if (x[j] - vars[j].lower <= room) cone.push_back(-Eigen::VectorXd::Unit(x.size(), j));
-    if (vars[j].upper - x[j] <= room) cone.push_back(Eigen::VectorXd::Unit(x.size(), j));
-  }
+  Evaluation e;
   if (!constraints.empty()) {
     MetricSet wanted;
     for (const auto& k : constraints) wanted.add(k.id);
-    const Evaluation e = problem.evaluate(x, wanted, true);
+    e = problem.evaluate(x, wanted, true);
     if (!e.ok()) return std::nullopt;
-    for (const auto& k : constraints) {
-      const MetricValue& v = e[k.id];
-      if (k.g(v.value) < -1e-6 * std::max(1.0, std::abs(k.bound)) && !k.equal) continue;
-      if (v.gradient.size() != x.size()) return std::nullopt;  // cannot tell
-      const Eigen::VectorXd a = v.gradient.cwiseProduct(scale);
-      if (k.upper || k.equal) cone.push_back(a);
-      if (!k.upper || k.equal) cone.push_back(-a);
-    }
   }
-  if (pieces.size() + cone.size() > 12) return std::nullopt;  // not a handful: not checked
-  // Pieces over their largest norm, cone directions of unit length (any
-  // positive multiple spans the same cone): the systems stay well scaled.
-  for (auto& g : pieces) g /= largest;
-  for (auto& a : cone)
-    if (const double n = a.norm(); n > 0) a /= n;
-  out.measure = min_norm(pieces, cone);
+  const auto cone = active_cone(problem, constraints, e, x, scale);
+  if (!cone) return std::nullopt;
+  if (pieces.size() + cone->size() > 12) return std::nullopt;  // not a handful: not checked
+  for (auto& g : pieces) g /= largest;  // the systems stay well scaled
+  out.measure = min_norm_point(pieces, *cone).norm();
   return out;
+}
+
+std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& objective,
+                                      const std::vector<Constraint>& constraints, const Eigen::VectorXd& x,
+                                      double f, const Evaluation* at_x) {
+  if (!problem.provides_gradients() || !std::isfinite(f)) return std::nullopt;
+  std::vector<MetricId> ids{objective.id};
+  for (const auto& k : constraints) ids.push_back(k.id);
+  MetricSet wanted;
+  for (MetricId i : ids) wanted.add(i);
+  const auto has_gradients = [&](const Evaluation& e) {
+    return e.ok() && std::all_of(ids.begin(), ids.end(), [&](MetricId i) {
+             return e.has(i) && e[i].gradient.size() == x.size();
+           });
+  };
+  const Evaluation e = at_x && has_gradients(*at_x) ? *at_x : problem.evaluate(x, wanted, true);
+  if (!has_gradients(e)) return std::nullopt;
+  const Eigen::VectorXd scale = variable_scales(problem, x);
+  const auto cone = active_cone(problem, constraints, e, x, scale);
+  if (!cone || cone->size() > 11) return std::nullopt;  // not a handful: not checked
+  const double sign = objective.maximize ? -1 : 1;
+  const Eigen::VectorXd g = sign * e[objective.id].gradient.cwiseProduct(scale);
+  if (!g.allFinite()) return std::nullopt;
+  // r: the objective's gradient less what the active bounds and constraints
+  // hold (0 at a KKT point). Along d = -r / max|r_j| no variable moves by
+  // more than t of its range, and to first order f falls by t |r|^2 / max|r_j|.
+  const double size = g.norm();
+  if (!(size > 0)) return std::nullopt;
+  const Eigen::VectorXd r = size * min_norm_point({g / size}, *cone);  // unit pieces: well scaled systems
+  const double top = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
+  const double least = kSlopeChange * std::abs(f);
+  if (!(top > 0) || kSlopeStep * r.squaredNorm() / top <= least) return std::nullopt;
+  const Eigen::VectorXd lower = problem.lower_bounds(), upper = problem.upper_bounds();
+  for (double t : {kSlopeStep, kSlopeStep / 10}) {
+    const Eigen::VectorXd y = (x - (t / top) * r.cwiseProduct(scale)).cwiseMax(lower).cwiseMin(upper);
+    const Evaluation ey = problem.evaluate(y, wanted, false);
+    if (!ey.ok() || !std::isfinite(ey[objective.id].value)) continue;
+    const bool feasible = std::all_of(constraints.begin(), constraints.end(), [&](const Constraint& k) {
+      return k.violation(ey[k.id].value) <= 1e-6 * std::max(1.0, std::abs(k.bound));
+    });
+    if (const double fy = ey[objective.id].value; feasible && sign * (f - fy) > least) return SlopeCheck{t, fy};
+  }
+  return std::nullopt;
 }
 
 }  // namespace opt

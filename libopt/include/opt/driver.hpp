@@ -25,7 +25,8 @@ enum class DriverStatus {
   failure,            // the library gave up (roundoff, bad derivatives, ...)
   invalid_arguments,  // the driver cannot take the problem (see driver_incompatibility)
   stopped_on_kink,    // met a tolerance where a maximum over the cycle has equal peaks, not at an optimum (check_kink)
-  stopped_on_plateau, // a derivative-free algorithm met a tolerance where the objective does not change (check_plateau)
+  stopped_on_plateau, // a derivative-free algorithm met a tolerance where the objective does not change (flat_variables)
+  stopped_on_slope,   // a local algorithm met a tolerance where the objective still falls along a feasible direction (check_slope)
 };
 // The status as one word, for result files and tables ("max_time", ...).
 std::string to_string(DriverStatus s);
@@ -120,6 +121,30 @@ inline constexpr double kKinkTolerance = 1e-3;
 inline constexpr double kPlateauStep = 1e-3, kPlateauChange = 1e-12;
 std::vector<int> flat_variables(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x,
                                 double f);
+
+// Where a local run met its tolerance at x (objective value f): is x a
+// first-order (KKT) point, or does the objective still fall along a
+// direction the active bounds and constraints allow? From the gradients at
+// x (at_x, when it holds them at x, saves the evaluation): r, the
+// objective's gradient less the nearest combination of the active bounds'
+// and constraints' gradients (variables scaled by their ranges), is 0 at a
+// KKT point. Where r promises a fall of more than kSlopeChange |f| for a
+// step of kSlopeStep of the ranges, the step (and a tenth of it) along -r
+// is evaluated: a feasible design lower by more than kSlopeChange |f| is
+// returned (the step as a fraction of the ranges, and the value there).
+// An optimiser that converged to its tolerance at a local optimum is
+// within ~kSlopeStep / 2 of the ranges of it, so the step cannot improve
+// on it; one that stalled (LD_MMA on a maximum over the cycle that barely
+// moves one variable) is caught. None where x passes, the problem has no
+// gradients, or more than 11 bounds and constraints are active.
+struct SlopeCheck {
+  double step = 0;   // fraction of the variables' ranges
+  double value = 0;  // the objective at the step
+};
+inline constexpr double kSlopeStep = 1e-2, kSlopeChange = 1e-4;
+std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& objective,
+                                      const std::vector<Constraint>& constraints, const Eigen::VectorXd& x,
+                                      double f, const Evaluation* at_x = nullptr);
 
 // The algorithms a library offers, for help text and config checks, and
 // what each takes (NLopt's algorithm documentation, doc/docs/NLopt_Algorithms.md).
