@@ -589,8 +589,11 @@ void finish(const Problem& problem, const Objective& objective_named,
                       "epigraph: true, reach such optima";
     return;
   }
-  // A kink that passed is an optimum; a global algorithm's answer is polished, not checked.
-  if (kink || (result.library == "nlopt" && algorithm_is_global(result.algorithm))) return;
+  // A kink that passed is an optimum; a global algorithm's answer is polished,
+  // not checked; the line driver ends on a bracket where the derivative turns
+  // from falling to rising (or on a bound it falls toward): a minimum by construction.
+  if (kink || result.library == "line" || (result.library == "nlopt" && algorithm_is_global(result.algorithm)))
+    return;
   if (const auto slope = check_slope(problem, objective, all, result.x, result.objective, &e)) {
     char text[160];
     std::snprintf(text, sizeof text, "a step of %g%% of the variables' ranges takes it from %.10g to %.10g",

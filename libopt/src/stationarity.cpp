@@ -174,7 +174,7 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
   // more than t of its range, and to first order f falls by t |r|^2 / max|r_j|.
   const double size = g.norm();
   if (!(size > 0)) return std::nullopt;
-  const Eigen::VectorXd r = size * min_norm_point({g / size}, *cone);  // unit pieces: well scaled systems
+  const Eigen::VectorXd r = cone->empty() ? g : size * min_norm_point({g / size}, *cone);  // unit pieces: well scaled
   const double top = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
   const double least = kSlopeChange * std::abs(f);
   if (!(top > 0) || kSlopeStep * r.squaredNorm() / top <= least) return std::nullopt;
