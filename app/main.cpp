@@ -29,8 +29,9 @@ usage:
                                           CSV without wall times, equal for equal results)
   mechopt merge OUT STORE...              shard stores into OUT/store.sqlite, checking that
                                           their configs agree and no sample is missing or doubled
-  mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON;
-                                          --set overrides model.KEY (VALUE may carry a unit)
+  mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON
+                                          (a variable at its initial); --set overrides
+                                          model.KEY and a variable's initial (VALUE may carry a unit)
   mechopt check-derivatives CONFIG [--set KEY=VALUE]
                                           every metric's gradient (autodiff) against central
                                           differences at the model values, per variable
@@ -258,6 +259,9 @@ int run(const Args& a) {
   for (const auto& [key, value] : a.sets) {
     YAML::Node y = root.yaml();
     y["model"][key] = value;
+    // A variable is evaluated at its initial value (its model value where it
+    // has none): set that too, or a variable's `initial` would win silently.
+    if (y["variables"] && y["variables"][key] && y["variables"][key].IsMap()) y["variables"][key]["initial"] = value;
   }
   const auto problem = problems::make_problem(root);
   if (a.command == "eval") {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <sstream>
 #include <sys/wait.h>
 
 #include "opt/units.hpp"
@@ -89,6 +90,31 @@ TEST(CommandLine, EvalPrintsEveryMetricAsJson) {
   const auto k = nlohmann::json::parse(run("eval " + cfg + " --set rod_length=0.1m").output);
   EXPECT_EQ(k["status"], "cannot_assemble");
   EXPECT_FALSE(k["metrics"].contains("mean_kinetic_energy"));
+}
+
+// --set of a variable whose config gives an `initial` evaluates at the set
+// value (it used to print the initial's metrics): as the same config with
+// that initial would.
+TEST(CommandLine, EvalSetsAVariableOverItsInitial) {
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/balanced_slider_crank/least_torque.yaml";
+  const Outcome set = run("eval " + cfg + " --set cam_offset=25mm");
+  ASSERT_EQ(set.exit_code, 0) << set.output;
+  std::ifstream in(cfg);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string edited = text.str();
+  const auto at = edited.find("initial: 0.0219 m");
+  ASSERT_NE(at, std::string::npos) << "least_torque.yaml changed: update this test";
+  edited.replace(at, 17, "initial: 0.025 m");
+  const std::string dir = testing::TempDir() + "/eval_set_variable";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/config.yaml") << edited;
+  const Outcome file = run("eval " + dir + "/config.yaml");
+  ASSERT_EQ(file.exit_code, 0) << file.output;
+  const auto a = nlohmann::json::parse(set.output), b = nlohmann::json::parse(file.output);
+  EXPECT_EQ(a["metrics"], b["metrics"]);
+  const auto initial = nlohmann::json::parse(run("eval " + cfg).output);
+  EXPECT_NE(a["metrics"]["acceleration_deviation"], initial["metrics"]["acceleration_deviation"]);
 }
 
 TEST(CommandLine, CheckDerivativesReportsEveryMetric) {
