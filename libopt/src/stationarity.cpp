@@ -167,14 +167,38 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
   const auto cone = active_cone(problem, constraints, e, x, scale);
   if (!cone || cone->size() > 11) return std::nullopt;  // not a handful: not checked
   const double sign = objective.maximize ? -1 : 1;
-  const Eigen::VectorXd g = sign * e[objective.id].gradient.cwiseProduct(scale);
-  if (!g.allFinite()) return std::nullopt;
-  // r: the objective's gradient less what the active bounds and constraints
-  // hold (0 at a KKT point). Along d = -r / max|r_j| no variable moves by
-  // more than t of its range, and to first order f falls by t |r|^2 / max|r_j|.
-  const double size = g.norm();
-  if (!(size > 0)) return std::nullopt;
-  const Eigen::VectorXd r = cone->empty() ? g : size * min_norm_point({g / size}, *cone);  // unit pieces: well scaled
+  // The objective's pieces: its gradient; for a maximum over the cycle, the
+  // gradient of every peak a step of kSlopeStep of the ranges could lift to
+  // the top (within kSlopeStep of the two gradients' 1-norms of it).
+  std::vector<Eigen::VectorXd> pieces;
+  if (!objective.maximize) {
+    const std::vector<MetricValue> maxima = problem.local_maxima(x, objective.id);
+    const auto highest = std::max_element(maxima.begin(), maxima.end(),
+                                          [](const MetricValue& a, const MetricValue& b) { return a.value < b.value; });
+    if (highest != maxima.end() && highest->gradient.size() == x.size()) {
+      const double reach = highest->gradient.cwiseProduct(scale).lpNorm<1>();
+      for (const auto& v : maxima) {
+        if (v.gradient.size() != x.size()) continue;
+        const Eigen::VectorXd gp = v.gradient.cwiseProduct(scale);
+        if (highest->value - v.value <= kSlopeStep * (reach + gp.lpNorm<1>())) pieces.push_back(gp);
+      }
+    }
+  }
+  if (pieces.empty()) pieces.push_back(sign * e[objective.id].gradient.cwiseProduct(scale));
+  // r: the least combination of the pieces less what the active bounds and
+  // constraints hold (0 at a KKT point; at a kink, where no direction lowers
+  // every piece). Along d = -r / max|r_j| no variable moves by more than t
+  // of its range, and to first order every piece falls by t |r|^2 / max|r_j|
+  // or more.
+  double size = 0;
+  for (const auto& gp : pieces) {
+    if (!gp.allFinite()) return std::nullopt;
+    size = std::max(size, gp.norm());
+  }
+  if (!(size > 0) || pieces.size() + cone->size() > 12) return std::nullopt;
+  for (auto& gp : pieces) gp /= size;  // well scaled systems
+  const Eigen::VectorXd r =
+      pieces.size() == 1 && cone->empty() ? Eigen::VectorXd(size * pieces[0]) : size * min_norm_point(pieces, *cone);
   const double top = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
   const double least = kSlopeChange * std::abs(f);
   if (!(top > 0) || kSlopeStep * r.squaredNorm() / top <= least) return std::nullopt;

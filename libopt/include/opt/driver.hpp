@@ -128,7 +128,9 @@ std::vector<int> flat_variables(const Problem& problem, const Objective& objecti
 // x (at_x, when it holds them at x, saves the evaluation): r, the
 // objective's gradient less the nearest combination of the active bounds'
 // and constraints' gradients (variables scaled by their ranges), is 0 at a
-// KKT point. Where r promises a fall of more than kSlopeChange |f| for a
+// KKT point. For a maximum over the cycle the objective's gradient is the
+// nearest point of the hull of the gradients of the peaks a step could
+// lift to the top (a kink where no direction lowers them all has r = 0). Where r promises a fall of more than kSlopeChange |f| for a
 // step of kSlopeStep of the ranges, the step (and a tenth of it) along -r
 // is evaluated: a feasible design lower by more than kSlopeChange |f| is
 // returned (the step as a fraction of the ranges, and the value there).
