@@ -62,25 +62,30 @@ Eigen::VectorXd variable_scales(const Problem& problem, const Eigen::VectorXd& x
   return scale;
 }
 
-// The directions the active bounds and constraints at x forbid, in the
-// variables' scales and of unit length (any positive multiple spans the same
-// cone), from e, an evaluation at x with the constraints' gradients. None
-// when an active constraint has no gradient (cannot tell).
+// The directions the active bounds and constraints at x forbid (and those
+// within `reach` of the ranges: a bound that close, a constraint whose slack
+// a step of that size could use up), in the variables' scales and of unit
+// length (any positive multiple spans the same cone), from e, an evaluation
+// at x with the constraints' gradients. None when an active constraint has
+// no gradient (cannot tell).
 std::optional<std::vector<Eigen::VectorXd>> active_cone(const Problem& problem,
                                                         const std::vector<Constraint>& constraints,
                                                         const Evaluation& e, const Eigen::VectorXd& x,
-                                                        const Eigen::VectorXd& scale) {
+                                                        const Eigen::VectorXd& scale, double reach = 0) {
   const auto& vars = problem.variables();
   std::vector<Eigen::VectorXd> cone;
   for (int j = 0; j < x.size(); ++j) {
-    const double room = 1e-9 * scale[j];
+    const double room = std::max(1e-9, reach) * scale[j];
     if (x[j] - vars[j].lower <= room) cone.push_back(-Eigen::VectorXd::Unit(x.size(), j));
     if (vars[j].upper - x[j] <= room) cone.push_back(Eigen::VectorXd::Unit(x.size(), j));
   }
   for (const auto& k : constraints) {
     const MetricValue& v = e[k.id];
-    if (k.g(v.value) < -1e-6 * std::max(1.0, std::abs(k.bound)) && !k.equal) continue;
-    if (v.gradient.size() != x.size()) return std::nullopt;
+    const bool sized = v.gradient.size() == x.size();
+    const double room = std::max(1e-6 * std::max(1.0, std::abs(k.bound)),
+                                 sized ? reach * v.gradient.cwiseProduct(scale).lpNorm<1>() : 0.0);
+    if (k.g(v.value) < -room && !k.equal) continue;
+    if (!sized) return std::nullopt;
     Eigen::VectorXd a = v.gradient.cwiseProduct(scale);
     if (const double n = a.norm(); n > 0) a /= n;
     if (k.upper || k.equal) cone.push_back(a);
@@ -164,7 +169,9 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
   const Evaluation e = at_x && has_gradients(*at_x) ? *at_x : problem.evaluate(x, wanted, true);
   if (!has_gradients(e)) return std::nullopt;
   const Eigen::VectorXd scale = variable_scales(problem, x);
-  const auto cone = active_cone(problem, constraints, e, x, scale);
+  // Bounds and constraints a step of kSlopeStep of the ranges could reach
+  // count as active: the probe along -r must not run into them.
+  const auto cone = active_cone(problem, constraints, e, x, scale, kSlopeStep);
   if (!cone || cone->size() > 11) return std::nullopt;  // not a handful: not checked
   const double sign = objective.maximize ? -1 : 1;
   // The objective's pieces: its gradient; for a maximum over the cycle, the
