@@ -194,6 +194,24 @@ TEST(DriverFailures, MmaStalledBesideAKinkSaysSo) {
   }
 }
 
+// COBYLA on the conveyor with all three links free and the swing held at
+// 32 deg (free_links.yaml, an equality) from a random start ended with the
+// crank on its lower bound and the coupler on its upper one, at 105296 N m,
+// reporting XTOL_REACHED; SLSQP from that point goes on to 85600 N m
+// (docs/reproduction.md): the crank can still grow along the swing
+// constraint. The check's step follows the constraint back onto it.
+TEST(DriverFailures, CobylaStalledOnAnEqualitySaysSo) {
+  const auto [o, j] = run_edited(
+      "configs/conveyor_swing/free_links.yaml", "slope_equality",
+      {{"crank_length: {min", "crank_length: {initial: 0.996646605598696, min"},
+       {"coupler_length: {min", "coupler_length: {initial: 0.3941671726678056, min"},
+       {"rocker_length: {min", "rocker_length: {initial: 1.2873600756639809, min"},
+       {"algorithm: LD_SLSQP", "algorithm: LN_COBYLA"}});
+  ASSERT_TRUE(o.exited(0)) << o.output;
+  EXPECT_EQ(j["status"], "stopped_on_slope") << j["message"];
+  EXPECT_GT(objective(j), 85600 * 1.1);
+}
+
 TEST(DriverFailures, GradientDriverDoesNotStopAtAStationaryMaximum) {
   const auto [o, j] = run_edited("configs/recuperative_drive/phase_shift.yaml", "stationary_max",
                                  {{"algorithm: LD_SLSQP", "algorithm: LD_CCSAQ"}});

@@ -134,15 +134,15 @@ TEST(CheckSlope, FlagsOnlyPointsWithAFeasibleDescent) {
   const auto cons = t.bind(kCons);
   const Eigen::Vector2d star(1.0 / 3, 8.0 / 27);
   EXPECT_FALSE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, star, std::sqrt(star[1])));
-  // Above the optimum, x2 can still come down...
-  const Eigen::Vector2d above(1.0 / 3, 2.0);
-  EXPECT_TRUE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, above, std::sqrt(2.0)));
-  // ... but at x2 = 0.5 both constraints' slack (0.204) is within what a
-  // step of 1% of the ranges (20 and 10) could use up (0.63 and 0.37 over
-  // the gradients' 1-norms): they count as active, and their cone holds the
-  // descent.
-  const Eigen::Vector2d near(1.0 / 3, 0.5);
-  EXPECT_FALSE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, near, std::sqrt(0.5)));
+  // Above the optimum x2 can still come down, from far (both constraints
+  // slack) or near (slack 0.2, which a step of 1% of the ranges, 20 and 10,
+  // would overrun along the gradient)...
+  for (const double x2 : {2.0, 0.5})
+    EXPECT_TRUE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, Eigen::Vector2d(1.0 / 3, x2), std::sqrt(x2)))
+        << x2;
+  // ... and on the curved constraint c1 (x2 = 8 x1^3) above the optimum, x1
+  // can come down along it: the probe's tangent step is pulled back onto it.
+  EXPECT_TRUE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, Eigen::Vector2d(0.5, 1.0), 1.0));
 }
 
 TEST(IpoptDriver, IterationLimitIsAStopNotASuccess) {

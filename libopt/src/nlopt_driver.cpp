@@ -596,7 +596,7 @@ void finish(const Problem& problem, const Objective& objective_named,
     return;
   if (const auto slope = check_slope(problem, objective, all, result.x, result.objective, &e)) {
     char text[160];
-    std::snprintf(text, sizeof text, "a step of %g%% of the variables' ranges takes it from %.10g to %.10g",
+    std::snprintf(text, sizeof text, "a step of %.2g%% of the variables' ranges takes it from %.10g to %.10g",
                   100 * slope->step, result.objective, slope->value);
     result.status = DriverStatus::stopped_on_slope;
     result.message += "; stopped on a slope, not at an optimum: " + objective.metric + " still " +

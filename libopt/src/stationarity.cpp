@@ -62,30 +62,29 @@ Eigen::VectorXd variable_scales(const Problem& problem, const Eigen::VectorXd& x
   return scale;
 }
 
-// The directions the active bounds and constraints at x forbid (and those
-// within `reach` of the ranges: a bound that close, a constraint whose slack
-// a step of that size could use up), in the variables' scales and of unit
-// length (any positive multiple spans the same cone), from e, an evaluation
-// at x with the constraints' gradients. None when an active constraint has
-// no gradient (cannot tell).
+// The directions the active bounds and constraints at x forbid (or, given
+// `held`, the bounds and the constraints it marks), in the variables' scales
+// and of unit length (any positive multiple spans the same cone), from e, an
+// evaluation at x with the constraints' gradients. None when an active
+// constraint has no gradient (cannot tell).
 std::optional<std::vector<Eigen::VectorXd>> active_cone(const Problem& problem,
                                                         const std::vector<Constraint>& constraints,
                                                         const Evaluation& e, const Eigen::VectorXd& x,
-                                                        const Eigen::VectorXd& scale, double reach = 0) {
+                                                        const Eigen::VectorXd& scale,
+                                                        const std::vector<char>& held = {}) {
   const auto& vars = problem.variables();
   std::vector<Eigen::VectorXd> cone;
   for (int j = 0; j < x.size(); ++j) {
-    const double room = std::max(1e-9, reach) * scale[j];
+    const double room = 1e-9 * scale[j];
     if (x[j] - vars[j].lower <= room) cone.push_back(-Eigen::VectorXd::Unit(x.size(), j));
     if (vars[j].upper - x[j] <= room) cone.push_back(Eigen::VectorXd::Unit(x.size(), j));
   }
-  for (const auto& k : constraints) {
+  for (std::size_t i = 0; i < constraints.size(); ++i) {
+    const Constraint& k = constraints[i];
     const MetricValue& v = e[k.id];
-    const bool sized = v.gradient.size() == x.size();
-    const double room = std::max(1e-6 * std::max(1.0, std::abs(k.bound)),
-                                 sized ? reach * v.gradient.cwiseProduct(scale).lpNorm<1>() : 0.0);
-    if (k.g(v.value) < -room && !k.equal) continue;
-    if (!sized) return std::nullopt;
+    const bool active = held.empty() ? k.equal || !(k.g(v.value) < -1e-6 * std::max(1.0, std::abs(k.bound))) : held[i];
+    if (!active) continue;
+    if (v.gradient.size() != x.size()) return std::nullopt;
     Eigen::VectorXd a = v.gradient.cwiseProduct(scale);
     if (const double n = a.norm(); n > 0) a /= n;
     if (k.upper || k.equal) cone.push_back(a);
@@ -169,57 +168,92 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
   const Evaluation e = at_x && has_gradients(*at_x) ? *at_x : problem.evaluate(x, wanted, true);
   if (!has_gradients(e)) return std::nullopt;
   const Eigen::VectorXd scale = variable_scales(problem, x);
-  // Bounds and constraints a step of kSlopeStep of the ranges could reach
-  // count as active: the probe along -r must not run into them.
-  const auto cone = active_cone(problem, constraints, e, x, scale, kSlopeStep);
-  if (!cone || cone->size() > 11) return std::nullopt;  // not a handful: not checked
   const double sign = objective.maximize ? -1 : 1;
+  // The step, as a fraction of the ranges: kSlopeStep, or less where that
+  // would change f by more than kSlopeReach of itself (to first order; t
+  // times the gradient's 1-norm in the scaled variables).
+  const std::vector<MetricValue> maxima =
+      objective.maximize ? std::vector<MetricValue>{} : problem.local_maxima(x, objective.id);
+  const auto highest = std::max_element(maxima.begin(), maxima.end(),
+                                        [](const MetricValue& a, const MetricValue& b) { return a.value < b.value; });
+  const bool peaks = highest != maxima.end() && highest->gradient.size() == x.size();
+  const double spread = (peaks ? highest->gradient : e[objective.id].gradient).cwiseProduct(scale).lpNorm<1>();
+  const double step = std::abs(f) > 0 ? std::min(kSlopeStep, kSlopeReach * std::abs(f) / spread) : kSlopeStep;
   // The objective's pieces: its gradient; for a maximum over the cycle, the
-  // gradient of every peak a step of kSlopeStep of the ranges could lift to
-  // the top (within kSlopeStep of the two gradients' 1-norms of it).
+  // gradient of every peak the step could lift to the top (within the step
+  // times the two gradients' 1-norms of it).
   std::vector<Eigen::VectorXd> pieces;
-  if (!objective.maximize) {
-    const std::vector<MetricValue> maxima = problem.local_maxima(x, objective.id);
-    const auto highest = std::max_element(maxima.begin(), maxima.end(),
-                                          [](const MetricValue& a, const MetricValue& b) { return a.value < b.value; });
-    if (highest != maxima.end() && highest->gradient.size() == x.size()) {
-      const double reach = highest->gradient.cwiseProduct(scale).lpNorm<1>();
-      for (const auto& v : maxima) {
-        if (v.gradient.size() != x.size()) continue;
-        const Eigen::VectorXd gp = v.gradient.cwiseProduct(scale);
-        if (highest->value - v.value <= kSlopeStep * (reach + gp.lpNorm<1>())) pieces.push_back(gp);
-      }
-    }
+  for (const auto& v : peaks ? maxima : std::vector<MetricValue>{}) {
+    if (v.gradient.size() != x.size()) continue;
+    const Eigen::VectorXd gp = v.gradient.cwiseProduct(scale);
+    if (highest->value - v.value <= step * (spread + gp.lpNorm<1>())) pieces.push_back(gp);
   }
   if (pieces.empty()) pieces.push_back(sign * e[objective.id].gradient.cwiseProduct(scale));
-  // r: the least combination of the pieces less what the active bounds and
-  // constraints hold (0 at a KKT point; at a kink, where no direction lowers
-  // every piece). Along d = -r / max|r_j| no variable moves by more than t
-  // of its range, and to first order every piece falls by t |r|^2 / max|r_j|
-  // or more.
   double size = 0;
   for (const auto& gp : pieces) {
     if (!gp.allFinite()) return std::nullopt;
     size = std::max(size, gp.norm());
   }
-  if (!(size > 0) || pieces.size() + cone->size() > 12) return std::nullopt;
+  if (!(size > 0)) return std::nullopt;
   for (auto& gp : pieces) gp /= size;  // well scaled systems
-  const Eigen::VectorXd r =
-      pieces.size() == 1 && cone->empty() ? Eigen::VectorXd(size * pieces[0]) : size * min_norm_point(pieces, *cone);
-  const double top = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
-  const double least = kSlopeChange * std::abs(f);
-  if (!(top > 0) || kSlopeStep * r.squaredNorm() / top <= least) return std::nullopt;
   const Eigen::VectorXd lower = problem.lower_bounds(), upper = problem.upper_bounds();
-  for (double t : {kSlopeStep, kSlopeStep / 10}) {
-    const Eigen::VectorXd y = (x - (t / top) * r.cwiseProduct(scale)).cwiseMax(lower).cwiseMin(upper);
-    const Evaluation ey = problem.evaluate(y, wanted, false);
-    if (!ey.ok() || !std::isfinite(ey[objective.id].value)) continue;
-    const bool feasible = std::all_of(constraints.begin(), constraints.end(), [&](const Constraint& k) {
-      return k.violation(ey[k.id].value) <= 1e-6 * std::max(1.0, std::abs(k.bound));
-    });
-    if (const double fy = ey[objective.id].value; feasible && sign * (f - fy) > least) return SlopeCheck{t, fy};
+  // -r is tangent to the held constraints: the step leaves an equality, or
+  // a held inequality bent away from it, at second order; a few Gauss-Newton
+  // corrections with their Jacobian at x (y -= A' (A A')^-1 h over the
+  // equalities and the held inequalities the step broke) bring it back.
+  auto correct = [&](Eigen::VectorXd& y, Evaluation& ey, const std::vector<char>& held) {
+    for (int pass = 0; pass < 4 && ey.ok(); ++pass) {
+      std::vector<Eigen::VectorXd> rows;
+      std::vector<double> h;
+      for (std::size_t i = 0; i < constraints.size(); ++i) {
+        const Constraint& k = constraints[i];
+        const double g = k.g(ey[k.id].value);
+        if (k.equal || (held[i] && g > 0)) rows.push_back(e[k.id].gradient), h.push_back(k.upper ? g : -g);
+      }
+      if (rows.empty()) return;
+      Eigen::MatrixXd A(rows.size(), x.size());
+      for (std::size_t i = 0; i < rows.size(); ++i) A.row(static_cast<Eigen::Index>(i)) = rows[i].transpose();
+      const Eigen::VectorXd hv = Eigen::Map<const Eigen::VectorXd>(h.data(), static_cast<Eigen::Index>(h.size()));
+      y = (y - A.transpose() * (A * A.transpose()).completeOrthogonalDecomposition().solve(hv)).cwiseMax(lower).cwiseMin(upper);
+      ey = problem.evaluate(y, wanted, false);
+    }
+  };
+  auto violated = [](const Constraint& k, double v) { return k.violation(v) > 1e-6 * std::max(1.0, std::abs(k.bound)); };
+  const double least = kSlopeChange * std::abs(f);
+  // The constraints held: the active ones, then each one a probe broke.
+  std::vector<char> held(constraints.size());
+  for (std::size_t i = 0; i < constraints.size(); ++i)
+    held[i] = constraints[i].equal || !(constraints[i].g(e[constraints[i].id].value) <
+                                         -1e-6 * std::max(1.0, std::abs(constraints[i].bound)));
+  while (true) {
+    const auto cone = active_cone(problem, constraints, e, x, scale, held);
+    if (!cone || pieces.size() + cone->size() > 12) return std::nullopt;  // not a handful: not checked
+    // r: the least combination of the pieces less what the active bounds and
+    // held constraints hold (0 at a KKT point; at a kink, where no direction
+    // lowers every piece). Along d = -r / max|r_j| no variable moves by more
+    // than t of its range, and to first order every piece falls by
+    // t |r|^2 / max|r_j| or more.
+    const Eigen::VectorXd r = pieces.size() == 1 && cone->empty() ? Eigen::VectorXd(size * pieces[0])
+                                                                   : size * min_norm_point(pieces, *cone);
+    const double top = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
+    if (!(top > 0) || step * r.squaredNorm() / top <= least) return std::nullopt;
+    bool broke = false;
+    for (double t : {step, step / 10}) {
+      Eigen::VectorXd y = (x - (t / top) * r.cwiseProduct(scale)).cwiseMax(lower).cwiseMin(upper);
+      Evaluation ey = problem.evaluate(y, wanted, false);
+      correct(y, ey, held);
+      if (!ey.ok() || !std::isfinite(ey[objective.id].value)) continue;
+      bool feasible = true;
+      for (std::size_t i = 0; i < constraints.size(); ++i)
+        if (violated(constraints[i], ey[constraints[i].id].value)) {
+          feasible = false;
+          broke = broke || !held[i];
+          held[i] = 1;
+        }
+      if (const double fy = ey[objective.id].value; feasible && sign * (f - fy) > least) return SlopeCheck{t, fy};
+    }
+    if (!broke) return std::nullopt;  // no feasible step lowers f, and no new constraint to hold
   }
-  return std::nullopt;
 }
 
 }  // namespace opt

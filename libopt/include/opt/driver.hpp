@@ -124,26 +124,31 @@ std::vector<int> flat_variables(const Problem& problem, const Objective& objecti
 
 // Where a local run met its tolerance at x (objective value f): is x a
 // first-order (KKT) point, or does the objective still fall along a
-// direction the active bounds and constraints allow? From the gradients at
-// x (at_x, when it holds them at x, saves the evaluation): r, the
-// objective's gradient less the nearest combination of the active bounds'
-// and constraints' gradients (variables scaled by their ranges), is 0 at a
-// KKT point. For a maximum over the cycle the objective's gradient is the
-// nearest point of the hull of the gradients of the peaks a step could
-// lift to the top (a kink where no direction lowers them all has r = 0). Where r promises a fall of more than kSlopeChange |f| for a
-// step of kSlopeStep of the ranges, the step (and a tenth of it) along -r
-// is evaluated: a feasible design lower by more than kSlopeChange |f| is
-// returned (the step as a fraction of the ranges, and the value there).
-// An optimiser that converged to its tolerance at a local optimum is
-// within ~kSlopeStep / 2 of the ranges of it, so the step cannot improve
-// on it; one that stalled (LD_MMA on a maximum over the cycle that barely
-// moves one variable) is caught. None where x passes, the problem has no
-// gradients, or more than 11 bounds and constraints are active.
+// direction the bounds and constraints allow? From the gradients at x
+// (at_x, when it holds them at x, saves the evaluation): r, the objective's
+// gradient less the nearest combination of the active bounds' and
+// constraints' gradients (variables scaled by their ranges), is 0 at a KKT
+// point. For a maximum over the cycle the objective's gradient is the
+// nearest point of the hull of the gradients of the peaks the step could
+// lift to the top (a kink where no direction lowers them all has r = 0).
+// The step: kSlopeStep of the ranges, or less where that would change f by
+// more than kSlopeReach |f| to first order. Where r promises a fall of more
+// than kSlopeChange |f|, the step (and a tenth of it) along -r is
+// evaluated, pulled back onto the equalities and onto the active
+// inequalities it overran (Gauss-Newton with their Jacobian at x); a
+// constraint the probe breaks is held from then on and r recomputed. A
+// probe that meets every constraint and is lower by more than
+// kSlopeChange |f| is returned (its step and value). An optimiser that
+// converged to its tolerance at a local optimum is within ~step / 2 of it,
+// so the step cannot improve on it; one that stalled (LD_MMA on a maximum
+// over the cycle that barely moves one variable) is caught. None where x
+// passes, the problem has no gradients, or more than 12 pieces and held
+// bounds and constraints would need checking.
 struct SlopeCheck {
   double step = 0;   // fraction of the variables' ranges
   double value = 0;  // the objective at the step
 };
-inline constexpr double kSlopeStep = 1e-2, kSlopeChange = 1e-4;
+inline constexpr double kSlopeStep = 1e-2, kSlopeReach = 1e-2, kSlopeChange = 1e-4;
 std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& objective,
                                       const std::vector<Constraint>& constraints, const Eigen::VectorXd& x,
                                       double f, const Evaluation* at_x = nullptr);
