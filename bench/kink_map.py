@@ -34,8 +34,8 @@ DRIVERS = [("LD_SLSQP", "{library: nlopt, algorithm: LD_SLSQP, xtol_rel: 1e-12}"
            ("LN_COBYLA", "{library: nlopt, algorithm: LN_COBYLA, xtol_rel: 1e-12}"),
            ("LD_MMA", "{library: nlopt, algorithm: LD_MMA, xtol_rel: 1e-12}"),
            ("ipopt, bare max", "{library: ipopt, epigraph: false}")]
-COLORS = {"converged": "#2ca02c", "stopped_on_kink": "#ff7f0e", "failure": "#d62728",
-          "infeasible": "#9467bd", "max_evaluations": "#7f7f7f"}
+COLORS = {"converged": "#2ca02c", "stopped_on_kink": "#ff7f0e", "stopped_on_slope": "#17becf",
+          "failure": "#d62728", "infeasible": "#9467bd", "max_evaluations": "#7f7f7f"}
 
 
 def run_all(binary):

@@ -169,32 +169,56 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
   if (!has_gradients(e)) return std::nullopt;
   const Eigen::VectorXd scale = variable_scales(problem, x);
   const double sign = objective.maximize ? -1 : 1;
+  const Eigen::VectorXd g = sign * e[objective.id].gradient.cwiseProduct(scale);
+  if (!g.allFinite() || !(g.norm() > 0)) return std::nullopt;
   // The step, as a fraction of the ranges: kSlopeStep, or less where that
-  // would change f by more than kSlopeReach of itself (to first order; t
-  // times the gradient's 1-norm in the scaled variables).
-  const std::vector<MetricValue> maxima =
-      objective.maximize ? std::vector<MetricValue>{} : problem.local_maxima(x, objective.id);
-  const auto highest = std::max_element(maxima.begin(), maxima.end(),
-                                        [](const MetricValue& a, const MetricValue& b) { return a.value < b.value; });
-  const bool peaks = highest != maxima.end() && highest->gradient.size() == x.size();
-  const double spread = (peaks ? highest->gradient : e[objective.id].gradient).cwiseProduct(scale).lpNorm<1>();
+  // would change f by more than kSlopeReach of itself (to first order: the
+  // step times the gradient's 1-norm in the scaled variables).
+  const double spread = g.lpNorm<1>();
   const double step = std::abs(f) > 0 ? std::min(kSlopeStep, kSlopeReach * std::abs(f) / spread) : kSlopeStep;
+  const double least = kSlopeChange * std::abs(f);
+  // The constraints held: the active ones, then each one a probe broke.
+  std::vector<char> held(constraints.size());
+  for (std::size_t i = 0; i < constraints.size(); ++i)
+    held[i] = constraints[i].equal || !(constraints[i].g(e[constraints[i].id].value) <
+                                         -1e-6 * std::max(1.0, std::abs(constraints[i].bound)));
+  // r: the least combination of the pieces (gradients over their largest
+  // norm `size`) less what the active bounds and held constraints hold (0 at
+  // a KKT point; at a kink, where no direction lowers every piece). Along
+  // d = -r / max|r_j| no variable moves by more than t of its range, and to
+  // first order every piece falls by t |r|^2 / max|r_j| or more: the promise.
+  auto residual = [&](const std::vector<Eigen::VectorXd>& pieces, double size) -> std::optional<Eigen::VectorXd> {
+    const auto cone = active_cone(problem, constraints, e, x, scale, held);
+    if (!cone || pieces.size() + cone->size() > 12) return std::nullopt;  // not a handful: not checked
+    return pieces.size() == 1 && cone->empty() ? Eigen::VectorXd(size * pieces[0])
+                                               : Eigen::VectorXd(size * min_norm_point(pieces, *cone));
+  };
+  auto promises = [&](const std::optional<Eigen::VectorXd>& r) {
+    const double top = r && r->size() ? r->cwiseAbs().maxCoeff() : 0.0;
+    return top > 0 && step * r->squaredNorm() / top > least;
+  };
+  // More pieces and more held constraints only bring r nearer 0: where the
+  // gradient alone promises nothing, nothing will (and the peaks are not needed).
+  if (!promises(residual({g / g.norm()}, g.norm()))) return std::nullopt;
   // The objective's pieces: its gradient; for a maximum over the cycle, the
   // gradient of every peak the step could lift to the top (within the step
   // times the two gradients' 1-norms of it).
   std::vector<Eigen::VectorXd> pieces;
-  for (const auto& v : peaks ? maxima : std::vector<MetricValue>{}) {
+  const std::vector<MetricValue> maxima =
+      objective.maximize ? std::vector<MetricValue>{} : problem.local_maxima(x, objective.id);
+  const auto highest = std::max_element(maxima.begin(), maxima.end(),
+                                        [](const MetricValue& a, const MetricValue& b) { return a.value < b.value; });
+  for (const auto& v : maxima) {
     if (v.gradient.size() != x.size()) continue;
     const Eigen::VectorXd gp = v.gradient.cwiseProduct(scale);
     if (highest->value - v.value <= step * (spread + gp.lpNorm<1>())) pieces.push_back(gp);
   }
-  if (pieces.empty()) pieces.push_back(sign * e[objective.id].gradient.cwiseProduct(scale));
+  if (pieces.empty()) pieces.push_back(g);
   double size = 0;
   for (const auto& gp : pieces) {
     if (!gp.allFinite()) return std::nullopt;
     size = std::max(size, gp.norm());
   }
-  if (!(size > 0)) return std::nullopt;
   for (auto& gp : pieces) gp /= size;  // well scaled systems
   const Eigen::VectorXd lower = problem.lower_bounds(), upper = problem.upper_bounds();
   // -r is tangent to the held constraints: the step leaves an equality, or
@@ -219,24 +243,11 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
     }
   };
   auto violated = [](const Constraint& k, double v) { return k.violation(v) > 1e-6 * std::max(1.0, std::abs(k.bound)); };
-  const double least = kSlopeChange * std::abs(f);
-  // The constraints held: the active ones, then each one a probe broke.
-  std::vector<char> held(constraints.size());
-  for (std::size_t i = 0; i < constraints.size(); ++i)
-    held[i] = constraints[i].equal || !(constraints[i].g(e[constraints[i].id].value) <
-                                         -1e-6 * std::max(1.0, std::abs(constraints[i].bound)));
   while (true) {
-    const auto cone = active_cone(problem, constraints, e, x, scale, held);
-    if (!cone || pieces.size() + cone->size() > 12) return std::nullopt;  // not a handful: not checked
-    // r: the least combination of the pieces less what the active bounds and
-    // held constraints hold (0 at a KKT point; at a kink, where no direction
-    // lowers every piece). Along d = -r / max|r_j| no variable moves by more
-    // than t of its range, and to first order every piece falls by
-    // t |r|^2 / max|r_j| or more.
-    const Eigen::VectorXd r = pieces.size() == 1 && cone->empty() ? Eigen::VectorXd(size * pieces[0])
-                                                                   : size * min_norm_point(pieces, *cone);
-    const double top = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
-    if (!(top > 0) || step * r.squaredNorm() / top <= least) return std::nullopt;
+    const auto rr = residual(pieces, size);
+    if (!promises(rr)) return std::nullopt;
+    const Eigen::VectorXd& r = *rr;
+    const double top = r.cwiseAbs().maxCoeff();
     bool broke = false;
     for (double t : {step, step / 10}) {
       Eigen::VectorXd y = (x - (t / top) * r.cwiseProduct(scale)).cwiseMax(lower).cwiseMin(upper);
