@@ -239,15 +239,16 @@ namespace detail {
 // and stops its library (the evaluation under way finishes).
 class StopCheck {
  public:
-  explicit StopCheck(double max_seconds)
-      : start_(std::chrono::steady_clock::now()), max_seconds_(max_seconds) {}
+  explicit StopCheck(double max_seconds);
   // True when the run must stop now; sets reason (max_time or interrupted).
+  // The time limit is read from a coarse clock (a few ms a tick).
   bool operator()();
-  double seconds() const;
+  double seconds() const;  // since the start, precise
   std::optional<DriverStatus> reason;
 
  private:
   std::chrono::steady_clock::time_point start_;
+  double coarse_start_;
   double max_seconds_;
 };
 
