@@ -15,8 +15,8 @@ namespace {
 
 // argmin |sum_i l_i p_i + sum_k m_k c_k| over l >= 0, sum l = 1, m >= 0:
 // the point of the hull of the pieces' gradients plus the cone of the
-// active constraints' gradients nearest to 0. Exact, by every support set (a handful of
-// generators: 2^count small systems): on its support the minimum solves
+// active constraints' gradients nearest to 0. Exact, by every support set
+// (a handful of generators: 2^count small systems): on its support the minimum solves
 // [B'B e; e' 0] [w; nu] = [0; 1] (e: 1 on pieces), and the least over the
 // supports whose solution has no negative weight is the minimum.
 Eigen::VectorXd min_norm_point(const std::vector<Eigen::VectorXd>& pieces, const std::vector<Eigen::VectorXd>& cone) {
@@ -225,14 +225,14 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
   // a held inequality bent away from it, at second order; a few Gauss-Newton
   // corrections with their Jacobian at x (y -= A' (A A')^-1 h over the
   // equalities and the held inequalities the step broke) bring it back.
-  auto correct = [&](Eigen::VectorXd& y, Evaluation& ey, const std::vector<char>& held) {
+  auto correct = [&](Eigen::VectorXd& y, Evaluation& ey) {
     for (int pass = 0; pass < 4 && ey.ok(); ++pass) {
       std::vector<Eigen::VectorXd> rows;
-      std::vector<double> h;
+      std::vector<double> h;  // metric - bound
       for (std::size_t i = 0; i < constraints.size(); ++i) {
         const Constraint& k = constraints[i];
-        const double g = k.g(ey[k.id].value);
-        if (k.equal || (held[i] && g > 0)) rows.push_back(e[k.id].gradient), h.push_back(k.upper ? g : -g);
+        const double over = k.g(ey[k.id].value);
+        if (k.equal || (held[i] && over > 0)) rows.push_back(e[k.id].gradient), h.push_back(k.upper ? over : -over);
       }
       if (rows.empty()) return;
       Eigen::MatrixXd A(rows.size(), x.size());
@@ -252,7 +252,7 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
     for (double t : {step, step / 10}) {
       Eigen::VectorXd y = (x - (t / top) * r.cwiseProduct(scale)).cwiseMax(lower).cwiseMin(upper);
       Evaluation ey = problem.evaluate(y, wanted, false);
-      correct(y, ey, held);
+      correct(y, ey);
       if (!ey.ok() || !std::isfinite(ey[objective.id].value)) continue;
       bool feasible = true;
       for (std::size_t i = 0; i < constraints.size(); ++i)
