@@ -41,10 +41,10 @@
 // random ended at 18817 N where Ipopt reaches 3140 N: four peaks of the
 // load over the cycle lie within 1% of each other (not equal: the kink check
 // does not see them), each falls with the spring rate, and a step along the
-// descent common to them all lowers the load by 7%. From another start it
-// ended at 73138 N with the acceleration limit 3% from active: a step of 1%
-// of the ranges along that descent would break it, so constraints (and
-// bounds) within a step's reach count as active in the check.
+// descent common to them all lowers the load. From another start it ended
+// at 73138 N with the acceleration limit 3% from active: the first probe
+// along that descent breaks the limit, so the check holds it as active and
+// probes again.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -173,8 +173,7 @@ TEST(DriverFailures, CcsaDriversStalledOnASlopeSaySo) {
 
 TEST(DriverFailures, MmaStalledBesideAKinkSaysSo) {
   // Start (cam offset, rod length, spring rate, neutral); the second ends
-  // with the acceleration limit 3% from active, so close that the step
-  // along the peaks' common descent must respect it too.
+  // with the acceleration limit 3% from active, which the first probe breaks.
   const std::vector<std::vector<std::string>> starts = {
       {"0.019857491472497435", "1.9452547521773504", "365192.65800078848", "0.030186894607970749"},
       {"0.015562434876629772", "2.0300937050987158", "381641.71200947854", "-0.086028915285076224"}};
