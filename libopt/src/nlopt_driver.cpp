@@ -339,7 +339,7 @@ bool stationary_to_roundoff(Context& c, const Evaluation& e, const double* x, co
   if (!c.first_change) c.first_change = change;
   if (!(f <= c.least)) return false;
   for (const Constraint& k : c.constraints)
-    if (k.equal || !(k.g(e[k.id].value) < -1e-6 * std::max(1.0, std::abs(k.bound)))) return false;
+    if (k.active(e[k.id].value)) return false;
   const double limit = kRoundoffSlope * std::min(std::abs(f), *c.first_change);
   for (Eigen::Index i = 0; i < c.range.size(); ++i) {
     if ((x[i] <= c.lower[i] && grad[i] > 0) || (x[i] >= c.upper[i] && grad[i] < 0)) continue;  // held by a bound
@@ -366,9 +366,8 @@ double objective_cb(unsigned n, const double* x, double* grad, void* data) {
       c.stationary = at->x;
       nlopt_force_stop(c.opt);
     }
-    const bool inside = std::all_of(c.constraints.begin(), c.constraints.end(), [&](const Constraint& k) {
-      return k.violation(at->e[k.id].value) <= 1e-6 * std::max(1.0, std::abs(k.bound));
-    });
+    const bool inside = std::all_of(c.constraints.begin(), c.constraints.end(),
+                                    [&](const Constraint& k) { return k.met(at->e[k.id].value); });
     if (inside) c.least = std::min(c.least, f);
     return f;
   } catch (...) {
@@ -548,20 +547,17 @@ void finish(const Problem& problem, const Objective& objective_named,
     return;
   }
   result.objective = e[objective.id].value;
-  auto violated = [](const Constraint& k, double v) {
-    return k.violation(v) > 1e-6 * std::max(1.0, std::abs(k.bound));
-  };
   bool feasible = true;
   for (const auto& k : constraints) {
     result.constraint_values.push_back(e[k.id].value);
-    if (violated(k, e[k.id].value)) {
+    if (!k.met(e[k.id].value)) {
       feasible = false;
       if (converged) result.status = DriverStatus::infeasible;
       result.message += "; constraint " + k.metric + " violated at the final design";
     }
   }
   for (const auto& k : implicit)
-    if (violated(k, e[k.id].value)) {
+    if (!k.met(e[k.id].value)) {
       feasible = false;
       if (converged) result.status = DriverStatus::infeasible;
       result.message += "; the problem's own constraint " + describe(k) + " violated at the final design";

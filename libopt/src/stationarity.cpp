@@ -82,8 +82,7 @@ std::optional<std::vector<Eigen::VectorXd>> active_cone(const Problem& problem,
   for (std::size_t i = 0; i < constraints.size(); ++i) {
     const Constraint& k = constraints[i];
     const MetricValue& v = e[k.id];
-    const bool active = held.empty() ? k.equal || !(k.g(v.value) < -1e-6 * std::max(1.0, std::abs(k.bound))) : held[i];
-    if (!active) continue;
+    if (!(held.empty() ? k.active(v.value) : held[i])) continue;
     if (v.gradient.size() != x.size()) return std::nullopt;
     Eigen::VectorXd a = v.gradient.cwiseProduct(scale);
     if (const double n = a.norm(); n > 0) a /= n;
@@ -179,9 +178,7 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
   const double least = kSlopeChange * std::abs(f);
   // The constraints held: the active ones, then each one a probe broke.
   std::vector<char> held(constraints.size());
-  for (std::size_t i = 0; i < constraints.size(); ++i)
-    held[i] = constraints[i].equal || !(constraints[i].g(e[constraints[i].id].value) <
-                                         -1e-6 * std::max(1.0, std::abs(constraints[i].bound)));
+  for (std::size_t i = 0; i < constraints.size(); ++i) held[i] = constraints[i].active(e[constraints[i].id].value);
   // r: the least combination of the pieces (gradients over their largest
   // norm `size`) less what the active bounds and held constraints hold (0 at
   // a KKT point; at a kink, where no direction lowers every piece). Along
@@ -242,7 +239,6 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
       ey = problem.evaluate(y, wanted, false);
     }
   };
-  auto violated = [](const Constraint& k, double v) { return k.violation(v) > 1e-6 * std::max(1.0, std::abs(k.bound)); };
   while (true) {
     const auto rr = residual(pieces, size);
     if (!promises(rr)) return std::nullopt;
@@ -256,7 +252,7 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
       if (!ey.ok() || !std::isfinite(ey[objective.id].value)) continue;
       bool feasible = true;
       for (std::size_t i = 0; i < constraints.size(); ++i)
-        if (violated(constraints[i], ey[constraints[i].id].value)) {
+        if (!constraints[i].met(ey[constraints[i].id].value)) {
           feasible = false;
           broke = broke || !held[i];
           held[i] = 1;

@@ -88,6 +88,12 @@ struct Constraint {
   // Signed violation: g(x) <= 0, or g(x) == 0 for an equality.
   double g(double v) const { return upper ? v - bound : bound - v; }
   double violation(double v) const { return equal ? std::abs(g(v)) : std::max(0.0, g(v)); }
+  // How far from the bound a value still counts as on it: 1e-6 of the
+  // bound's size, at least 1e-6.
+  double tolerance() const { return 1e-6 * std::max(1.0, std::abs(bound)); }
+  bool met(double v) const { return violation(v) <= tolerance(); }
+  // An equality, or an inequality at its bound (within tolerance()) or past it.
+  bool active(double v) const { return equal || !(g(v) < -tolerance()); }
   const char* relation() const { return equal ? " = " : upper ? " <= " : " >= "; }
 };
 
