@@ -25,6 +25,31 @@ TEST(Cycle, BrentFindsPiOverTwo) {
   EXPECT_LT(evaluations, 12);
 }
 
+// The lane search on cos over [1, 2]: pi / 2 to a couple of ulps in three
+// steps of two points (Brent's search above takes up to eleven
+// evaluations, one a step); on a jump, where interpolation is no help, it
+// ends on the jump like bisection, to within 2.5 rel_tol |x|.
+TEST(Cycle, LaneRootSearchConvergesInTwoStepsAndEndsOnAJump) {
+  auto run = [](auto&& g, double a, double b, double x3, int& steps) {
+    mech::LaneRootSearch s(a, b, g(a), g(b), x3, std::isnan(x3) ? NAN : g(x3));
+    for (steps = 0; !s.done(); ++steps) {
+      std::vector<double> gs;
+      for (double x : s.xs()) gs.push_back(g(x));
+      s.feed(gs);
+    }
+    return s.root();
+  };
+  int steps = 0;
+  auto cosine = [](double x) { return std::cos(x); };
+  EXPECT_NEAR(run(cosine, 1.0, 2.0, 2.5, steps), M_PI / 2, 4.5e-16);
+  EXPECT_LE(steps, 3);
+  EXPECT_NEAR(run(cosine, 1.0, 2.0, NAN, steps), M_PI / 2, 4.5e-16);  // from the bracket alone
+  EXPECT_LE(steps, 3);
+  auto jump = [](double x) { return x < 0.3 ? 1.0 : -1.0; };
+  EXPECT_NEAR(run(jump, 0.0, 1.0, NAN, steps), 0.3, 2.5 * 4.4e-16 * 0.3);
+  EXPECT_LT(steps, 60);
+}
+
 TEST(Cycle, SignChangesSplitIntoEqualParts) {
   // df = -(x - 0.4)(x - 0.55)(x - 0.7): + to - at 0.4 and 0.7 (maxima of
   // f), - to + at 0.55. Eight equal parts of [0, 1] put each in a part of
@@ -75,7 +100,7 @@ TEST(Cycle, MaximaSearchedTogetherOrAloneAgree) {
     EXPECT_EQ(together[i].phi, alone) << i;
     ASSERT_EQ(together[i].maxima.size(), 1u);
   }
-  EXPECT_LT(batches, 12);  // the three Brent searches ran side by side
+  EXPECT_LT(batches, 12);  // the three root searches ran side by side
 }
 
 TEST(Cycle, TwinDrivePeaksInLanesEqualTheScalarSearch) {

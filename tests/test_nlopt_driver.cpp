@@ -145,6 +145,25 @@ TEST(CheckSlope, FlagsOnlyPointsWithAFeasibleDescent) {
   EXPECT_TRUE(opt::check_slope(t, t.bind(opt::Objective{"f"}), cons, Eigen::Vector2d(0.5, 1.0), 1.0));
 }
 
+// kkt_measure on closed forms: 0 at the bowl's minimum (a zero gradient)
+// and at the tutorial's optimum, where its two active constraints hold the
+// gradient; 1 (the unit gradient, nothing holding it) where every
+// constraint is slack; none where a constraint is broken.
+TEST(KktMeasure, ZeroAtKktPointsOneOnASlopeNoneWhenInfeasible) {
+  const auto bowl = offset_bowl(1.0);
+  EXPECT_EQ(opt::kkt_measure(bowl, bowl.bind(opt::Objective{"f"}), {}, Eigen::Vector2d(0.3, -0.2)), 0.0);
+  const Tutorial t = testing_problems::tutorial();
+  const auto cons = t.bind(kCons);
+  const opt::Objective f = t.bind(opt::Objective{"f"});
+  const auto at_star = opt::kkt_measure(t, f, cons, Eigen::Vector2d(1.0 / 3, 8.0 / 27));
+  ASSERT_TRUE(at_star);
+  EXPECT_LT(*at_star, 1e-12);
+  const auto above = opt::kkt_measure(t, f, cons, Eigen::Vector2d(1.0 / 3, 2.0));
+  ASSERT_TRUE(above);
+  EXPECT_NEAR(*above, 1.0, 1e-15);
+  EXPECT_FALSE(opt::kkt_measure(t, f, cons, Eigen::Vector2d(1.0 / 3, 0.1)));  // x2 >= 8 x1^3 broken
+}
+
 TEST(IpoptDriver, IterationLimitIsAStopNotASuccess) {
   opt::DriverOptions o;
   o.library = "ipopt";

@@ -383,6 +383,10 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
                       std::to_string(static_cast<int>(kFarBound)) + " x the start's magnitude away)";
   }
   detail::finish(problem, objective, constraints, result, &nlp->last());
+  if (!options_.epigraph && !objective.maximize && !stop.reason && result.status != DriverStatus::converged &&
+      !problem.local_maxima(result.x, f.id).empty())
+    result.message += "; " + objective.metric + " is a maximum over the cycle, with kinks where two peaks are " +
+                      "equal: ipopt takes such objectives with epigraph: true";
   result.seconds = stop.seconds();
   return result;
 }

@@ -568,9 +568,6 @@ void finish(const Problem& problem, const Objective& objective_named,
     // is not shown infeasible.
     result.status = DriverStatus::failure;
     result.message += "; but the final design meets every constraint, so the problem is not shown infeasible";
-    if (!problem.local_maxima(result.x, objective.id).empty())
-      result.message += " (" + objective.metric + " is a maximum over the cycle, with kinks where two peaks are " +
-                        "equal: ipopt takes such objectives with epigraph: true)";
   }
   if (result.status != DriverStatus::converged) return;
   if (result.library == "nlopt" && !algorithm_uses_gradient(result.algorithm)) {
@@ -733,9 +730,25 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   result.message = c.stationary && !stop.reason
                        ? "the objective's gradient is zero to roundoff (mechopt's test; NLopt has none)"
                        : std::string("NLopt: ") + nlopt_result_to_string(code);
+  result.x = c.stationary && !stop.reason ? *c.stationary : x;
+  if (code == NLOPT_ROUNDOFF_LIMITED && !stop.reason && !c.stationary && algorithm_uses_gradient(algorithm) &&
+      !algorithm_is_global(algorithm)) {
+    // NLopt: "the optimization still typically returns a useful result".
+    // Where the design meets the constraints and no first-order descent is
+    // left, it is a KKT point: SLSQP ends so when its line search cannot
+    // move along an active constraint's curve by more than roundoff.
+    std::vector<Constraint> all = problem.bind(constraints), implicit = problem.bind(problem.implicit_constraints());
+    all.insert(all.end(), implicit.begin(), implicit.end());
+    if (const auto measure = kkt_measure(problem, problem.bind(objective), all, result.x);
+        measure && *measure <= kKktTolerance) {
+      char text[96];
+      std::snprintf(text, sizeof text, " at a KKT point (first-order measure %.2g, mechopt's check)", *measure);
+      result.status = DriverStatus::converged;
+      result.message += text;
+    }
+  }
   result.message += start.note;
   if (result.stopped()) result.message = detail::stop_message(result.status, options_) + " (" + result.message + ")";
-  result.x = c.stationary && !stop.reason ? *c.stationary : x;
   detail::finish(problem, objective, constraints, result, &c.last);
   result.seconds = stop.seconds();
   return result;

@@ -118,37 +118,72 @@ std::vector<int> flat_variables(const Problem& problem, const Objective& objecti
   return flat;
 }
 
-std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& objective,
-                                    const std::vector<Constraint>& constraints, const Eigen::VectorXd& x) {
-  if (objective.maximize) return std::nullopt;  // maximising a maximum: its kinks are troughs
-  const std::vector<MetricValue> maxima = problem.local_maxima(x, objective.id);
-  if (maxima.size() < 2) return std::nullopt;
-  double top = -std::numeric_limits<double>::infinity();
-  for (const auto& v : maxima) top = std::max(top, v.value);
+namespace {
+
+// The distance from 0 to the hull of the objective's pieces plus the cone of
+// the active bounds and constraints at x, over the largest piece (variables
+// scaled by their ranges): the pieces are the gradients of the peaks within
+// 1e-6 of the top for a minimised maximum over the cycle with at least
+// `least_peaks` of them, else (least_peaks 0) the objective's gradient.
+// None where that cannot be told (no gradients, more than a handful of
+// generators, an evaluation that fails).
+std::optional<KinkCheck> first_order(const Problem& problem, const Objective& objective,
+                                     const std::vector<Constraint>& constraints, const Eigen::VectorXd& x,
+                                     int least_peaks) {
   const Eigen::VectorXd scale = variable_scales(problem, x);  // gradients of lengths and angles compare
-  KinkCheck out;
   std::vector<Eigen::VectorXd> pieces;
-  double largest = 0;
-  for (const auto& v : maxima) {
-    if (v.value < top - 1e-6 * std::abs(top) || v.gradient.size() != x.size()) continue;
-    pieces.push_back(v.gradient.cwiseProduct(scale));
-    largest = std::max(largest, pieces.back().norm());
+  if (!objective.maximize) {
+    const std::vector<MetricValue> maxima = problem.local_maxima(x, objective.id);
+    double top = -std::numeric_limits<double>::infinity();
+    for (const auto& v : maxima) top = std::max(top, v.value);
+    for (const auto& v : maxima)
+      if (v.value >= top - 1e-6 * std::abs(top) && v.gradient.size() == x.size())
+        pieces.push_back(v.gradient.cwiseProduct(scale));
   }
-  out.peaks = static_cast<int>(pieces.size());
-  if (out.peaks < 2 || !(largest > 0) || !std::isfinite(largest)) return std::nullopt;
+  if (static_cast<int>(pieces.size()) < least_peaks) return std::nullopt;
+  MetricSet wanted;
+  for (const auto& k : constraints) wanted.add(k.id);
+  if (pieces.empty()) wanted.add(objective.id);
   Evaluation e;
-  if (!constraints.empty()) {
-    MetricSet wanted;
-    for (const auto& k : constraints) wanted.add(k.id);
+  if (!constraints.empty() || pieces.empty()) {
     e = problem.evaluate(x, wanted, true);
     if (!e.ok()) return std::nullopt;
   }
+  if (pieces.empty()) {
+    if (e[objective.id].gradient.size() != x.size()) return std::nullopt;
+    pieces.push_back((objective.maximize ? -1.0 : 1.0) * e[objective.id].gradient.cwiseProduct(scale));
+  }
+  double largest = 0;
+  for (const auto& g : pieces) largest = std::max(largest, g.norm());
+  if (!std::isfinite(largest)) return std::nullopt;
+  if (largest == 0) return KinkCheck{static_cast<int>(pieces.size()), 0.0};  // stationary outright
   const auto cone = active_cone(problem, constraints, e, x, scale);
-  if (!cone) return std::nullopt;
-  if (pieces.size() + cone->size() > 12) return std::nullopt;  // not a handful: not checked
+  if (!cone || pieces.size() + cone->size() > 12) return std::nullopt;  // not a handful: not checked
   for (auto& g : pieces) g /= largest;  // the systems stay well scaled
-  out.measure = min_norm_point(pieces, *cone).norm();
-  return out;
+  return KinkCheck{static_cast<int>(pieces.size()), min_norm_point(pieces, *cone).norm()};
+}
+
+}  // namespace
+
+std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& objective,
+                                    const std::vector<Constraint>& constraints, const Eigen::VectorXd& x) {
+  if (objective.maximize) return std::nullopt;  // maximising a maximum: its kinks are troughs
+  return first_order(problem, objective, constraints, x, 2);
+}
+
+std::optional<double> kkt_measure(const Problem& problem, const Objective& objective,
+                                  const std::vector<Constraint>& constraints, const Eigen::VectorXd& x) {
+  if (!problem.provides_gradients()) return std::nullopt;
+  MetricSet wanted;
+  for (const auto& k : constraints) wanted.add(k.id);
+  if (!constraints.empty()) {
+    const Evaluation e = problem.evaluate(x, wanted, false);
+    if (!e.ok()) return std::nullopt;
+    for (const auto& k : constraints)
+      if (!k.met(e[k.id].value)) return std::nullopt;
+  }
+  const auto check = first_order(problem, objective, constraints, x, 0);
+  return check ? std::optional<double>(check->measure) : std::nullopt;
 }
 
 std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& objective,

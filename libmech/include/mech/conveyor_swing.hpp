@@ -171,7 +171,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   };
   const auto dc = dead_centres(m.linkage);
   // Kinks: rocker reversals (w3 = 0, the friction term: the dead centres, in
-  // closed form) and sign changes of M (for |M|, by Brent searches side by
+  // closed form) and sign changes of M (for |M|, by root searches side by
   // side); M is smooth between them.
   if (means) {
     const std::span<const double> grid[1] = {M};

@@ -1,7 +1,8 @@
 // Cycle quantities of a 2*pi-periodic function of the crank angle.
 // Means use the periodic trapezoidal rule (exponentially convergent for smooth
 // periodic integrands); maxima are bracketed on the grid and refined to machine
-// precision by Brent's root finder on the angle derivative.
+// precision by root searches on the angle derivative (LaneRootSearch, side by
+// side, their points answered kLanes at a time).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -144,6 +145,117 @@ double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter 
   return s.root();
 }
 
+// A root search for g on [a, b] (g(a), g(b) of opposite signs) that asks
+// for up to kPoints values a step, so that searches side by side fill a
+// model's kLanes: while !done(), feed it g at xs(). Each step interpolates
+// x(g) at g = 0 through the (up to six) points seen with the smallest |g|
+// (Lagrange's form; a third point beside the bracket may be given to start
+// from) and asks for g at r - d and r + d around the estimate r, d twice
+// the change the farthest point made to r, so that the next step brackets
+// the root closely and interpolates on points around it. It ends when that
+// change is within rel_tol |r| (at least four points interpolated) or the
+// bracket is that narrow; where the bracket has not halved in two steps,
+// the next asks for its thirds, so it ends like bisection where
+// interpolation fails (a jump). From a grid cell of a smooth slope it
+// typically takes two steps (Brent's search: five to six evaluations, one a
+// step). The points it asks for depend only on its own bracket and answers,
+// so searches run side by side give the answers they give alone.
+class LaneRootSearch {
+ public:
+  static constexpr int kPoints = 2;
+  LaneRootSearch(double a, double b, double ga, double gb, double x3 = NAN, double g3 = NAN,
+                 double rel_tol = 4.4e-16)
+      : rel_tol_(rel_tol) {
+    if (a > b) std::swap(a, b), std::swap(ga, gb);
+    a_ = {a, ga}, b_ = {b, gb};
+    see(a_), see(b_);
+    if (std::isfinite(g3) && g3 != 0) see({x3, g3});
+    plan();
+  }
+  bool done() const { return done_; }
+  std::span<const double> xs() const { return {xs_, static_cast<std::size_t>(asked_)}; }
+  void feed(std::span<const double> g) {
+    const double width = b_.x - a_.x;
+    for (int i = 0; i < asked_; ++i) {
+      const Point p{xs_[i], g[i]};
+      if (p.g == 0) {
+        done_ = true, root_ = p.x;
+        return;
+      }
+      see(p);
+      if (!(p.x > a_.x && p.x < b_.x)) continue;  // xs() ascend: past the first sign change
+      ((p.g < 0) == (a_.g < 0) ? a_ : b_) = p;
+    }
+    slow_ = b_.x - a_.x > 0.5 * width_before_;  // over two steps
+    width_before_ = width;
+    ++steps_;
+    plan();
+  }
+  double root() const { return root_; }
+
+ private:
+  struct Point {
+    double x, g;
+  };
+  static constexpr int kUsed = 6, kMaxSteps = 60;
+  // Keeps the kUsed points of smallest |g|, in that order.
+  void see(Point p) {
+    int i = std::min(seen_count_, kUsed - 1);
+    if (seen_count_ == kUsed && std::abs(p.g) >= std::abs(seen_[i].g)) return;
+    for (; i > 0 && std::abs(seen_[i - 1].g) > std::abs(p.g); --i) seen_[i] = seen_[i - 1];
+    seen_[i] = p;
+    seen_count_ = std::min(seen_count_ + 1, kUsed);
+  }
+  // x at g = 0 by Lagrange's form through seen_[0..m), on offsets from
+  // seen_[0].x; the m divisions are independent of each other.
+  double interpolate(int m) const {
+    double sum = 0, all = 1;
+    for (int i = 0; i < m; ++i) all *= seen_[i].g;
+    for (int i = 1; i < m; ++i) {  // seen_[0] has offset 0
+      double den = seen_[i].g;
+      for (int j = 0; j < m; ++j)
+        if (j != i) den *= seen_[j].g - seen_[i].g;
+      sum += (seen_[i].x - seen_[0].x) / den;
+    }
+    return seen_[0].x + all * sum;
+  }
+  void plan() {
+    const double tol = rel_tol_ * std::max(std::abs(a_.x), std::abs(b_.x)) + 1e-300;
+    const double width = b_.x - a_.x;
+    root_ = std::abs(a_.g) < std::abs(b_.g) ? a_.x : b_.x;
+    if (width <= 2.5 * tol || steps_ >= kMaxSteps) {
+      done_ = true;
+      return;
+    }
+    asked_ = 0;
+    const int m = seen_count_;
+    const double r = interpolate(m), change = m > 2 ? std::abs(r - interpolate(m - 1)) : width / 8;
+    if (r > a_.x && r < b_.x && std::isfinite(change)) {  // r is not NaN
+      if (m >= 4 && change <= tol) {
+        done_ = true, root_ = r;
+        return;
+      }
+      if (!slow_) {
+        const double d = std::max(2 * change, tol);
+        for (double x : {r - d, r + d})
+          if (x > a_.x && x < b_.x) xs_[asked_++] = x;
+        if (asked_ == 0) xs_[asked_++] = r;
+        return;
+      }
+    }
+    xs_[asked_++] = a_.x + width / 3, xs_[asked_++] = b_.x - width / 3;
+  }
+  Point a_, b_;        // the bracket, a_.x < b_.x
+  Point seen_[kUsed];  // the points of smallest |g|, ascending
+  int seen_count_ = 0;
+  double xs_[kPoints];
+  int asked_ = 0;
+  double rel_tol_, root_ = 0;
+  int steps_ = 0;
+  double width_before_ = HUGE_VAL;  // the bracket's width a step earlier
+  bool done_ = false, slow_ = false;
+};
+
 // Whether a slope going from ga to gb crosses + to - (a maximum between):
 // 1 inside (a root search), 2 at the right end (gb = 0), 0 none.
 inline int falls_through_zero(double ga, double gb) { return ga > 0 ? (gb < 0 ? 1 : gb == 0 ? 2 : 0) : 0; }
@@ -186,20 +298,45 @@ void for_query_blocks(std::span<AngleQuery* const> order, F&& block) {
   }
 }
 
-// Runs Brent searches side by side until every one is done, one batch a
+// Runs root searches side by side until every one is done, one batch a
 // step: search i asks for function fn[i] (its slope when `slope`).
 template <class Eval>
-void run_side_by_side(std::vector<BrentSearch>& searches, const std::vector<int>& fn, bool slope,
+void run_side_by_side(std::vector<LaneRootSearch>& searches, const std::vector<int>& fn, bool slope,
                       std::vector<AngleQuery>& batch, Eval& eval) {
-  static thread_local std::vector<int> asked;
+  static thread_local std::vector<int> asked;  // the batch's first query of each search, and one past the last
   while (true) {
     batch.clear(), asked.clear();
-    for (std::size_t i = 0; i < searches.size(); ++i)
-      if (!searches[i].done()) asked.push_back(static_cast<int>(i)), batch.push_back({searches[i].x(), fn[i], slope});
-    if (asked.empty()) return;
+    for (std::size_t i = 0; i < searches.size(); ++i) {
+      asked.push_back(static_cast<int>(batch.size()));
+      if (!searches[i].done())
+        for (double x : searches[i].xs()) batch.push_back({x, fn[i], slope});
+    }
+    if (batch.empty()) return;
+    asked.push_back(static_cast<int>(batch.size()));
     eval(std::span<AngleQuery>(batch));
-    for (std::size_t i = 0; i < asked.size(); ++i) searches[asked[i]].feed(batch[i].out);
+    static thread_local std::vector<double> g;
+    g.resize(batch.size());
+    for (std::size_t q = 0; q < batch.size(); ++q) g[q] = batch[q].out;
+    for (std::size_t i = 0; i < searches.size(); ++i)
+      if (asked[i + 1] > asked[i]) searches[i].feed(std::span<const double>(g).subspan(asked[i], asked[i + 1] - asked[i]));
   }
+}
+
+// The largest of v (n >= 3 samples of a periodic function) and the largest
+// |second difference|, with independent running maxima (no chain of
+// dependent max operations through the grid).
+inline std::pair<double, double> max_and_curvature(std::span<const double> v) {
+  const std::size_t n = v.size();
+  auto second = [&](std::size_t k) { return std::abs(v[k + 1] - 2 * v[k] + v[k - 1]); };
+  double top0 = v[0], top1 = v[n - 1];
+  double bend0 = std::abs(v[1] - 2 * v[0] + v[n - 1]), bend1 = std::abs(v[0] - 2 * v[n - 1] + v[n - 2]);
+  std::size_t k = 1;
+  for (; k + 2 < n; k += 2) {
+    top0 = std::max(top0, v[k]), bend0 = std::max(bend0, second(k));
+    top1 = std::max(top1, v[k + 1]), bend1 = std::max(bend1, second(k + 1));
+  }
+  if (k + 1 < n) top0 = std::max(top0, v[k]), bend0 = std::max(bend0, second(k));
+  return {std::max(top0, top1), std::max(bend0, bend1)};
 }
 
 // The maxima over the cycle of a periodic f sampled as v[k] = f(2 pi k / n),
@@ -212,6 +349,7 @@ struct CycleMaxSearch {
   double margin = HUGE_VAL;  // local ones: no lower than max(v) - margin
   std::vector<double> maxima;  // out: the refined local maxima, sorted by angle
   double phi = 0;              // out (global): the angle of the largest value
+  double value = 0;            // out (global): f there, as eval answered it (or the grid's)
 };
 
 // Finds the maxima of several periodic functions of the crank angle together,
@@ -222,7 +360,8 @@ struct CycleMaxSearch {
 // Local maxima: next to every grid local maximum (no lower than max(v) -
 // margin) the + to - sign changes of df one grid step h either side, each
 // side cut at the kinks of f inside it (where df jumps: a kink may part two
-// maxima, or be one), each refined by Brent. Where nothing shows (two maxima
+// maxima, or be one), each refined by a LaneRootSearch (from a third point
+// on the same piece where there is one). Where nothing shows (two maxima
 // closer than a step), each piece is searched again in 4 parts; none found:
 // the grid point.
 //
@@ -241,7 +380,8 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   struct Point {
     double x, g;
-    int query = -1;  // g comes from this query
+    int query = -1;     // g comes from this query
+    bool kink = false;  // eps beside a kink (f's pieces part between two such points)
   };
   struct Candidate {
     int fn;
@@ -249,10 +389,10 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     int first, count;  // its points: phi_k -+ h, phi_k, and kink -+ eps
     int quarter = -1;  // the 4-part search's first query
   };
-  struct Root {  // a maximum: known, or where a Brent search ends
+  struct Root {  // a maximum: known, or where a root search ends
     int fn;
     double phi;
-    int brent = -1;
+    int search = -1;  // its root search, if any
   };
   struct Bracket {  // a cell beside a kink
     int fn;
@@ -265,11 +405,11 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   static thread_local std::vector<Candidate> cands;
   static thread_local std::vector<Root> roots, beside_roots;
   static thread_local std::vector<Bracket> beside;
-  static thread_local std::vector<int> kink_queries, brent_fn;
+  static thread_local std::vector<int> kink_queries, root_fn;
   static thread_local std::vector<double> kink_f;
-  static thread_local std::vector<BrentSearch> brents;
+  static thread_local std::vector<LaneRootSearch> roots_searched;
   points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
-  kink_queries.clear(), kink_f.clear(), brents.clear(), brent_fn.clear();
+  kink_queries.clear(), kink_f.clear(), roots_searched.clear(), root_fn.clear();
   auto ask = [&](double phi, int fn, bool slope) {
     batch.push_back({phi, fn, slope});
     return static_cast<int>(batch.size()) - 1;
@@ -277,11 +417,13 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   auto run = [&] {
     if (!batch.empty()) eval(std::span<AngleQuery>(batch));
   };
-  auto root_of = [&](int fn, const Point& a, const Point& b, std::vector<Root>& to) {
+  // A root search where the slope falls through zero from a to b; `beside`:
+  // a third point on the same piece of f, to start the interpolation from.
+  auto root_of = [&](int fn, const Point& a, const Point& b, std::vector<Root>& to, const Point* beside = nullptr) {
     if (const int fall = falls_through_zero(a.g, b.g); fall == 1) {
-      to.push_back({fn, nan, static_cast<int>(brents.size())});
-      brents.emplace_back(a.x, b.x, a.g, b.g);
-      brent_fn.push_back(fn);
+      to.push_back({fn, nan, static_cast<int>(roots_searched.size())});
+      roots_searched.emplace_back(a.x, b.x, a.g, b.g, beside ? beside->x : nan, beside ? beside->g : nan);
+      root_fn.push_back(fn);
     } else if (fall == 2) {
       to.push_back({fn, b.x});
     }
@@ -298,14 +440,8 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     const auto& v = s.v;
     const int n = static_cast<int>(v.size()), f = static_cast<int>(fn);
     const double h = kTwoPi / n, eps = 1e-9 * h;  // eps: either side of a kink, its one-sided slopes
-    const double vmax = *std::max_element(v.begin(), v.end());
-    double margin = s.margin;
-    if (s.global) {
-      double curvature = 0;
-      for (int k = 0; k < n; ++k)
-        curvature = std::max(curvature, std::abs(v[k + 1 == n ? 0 : k + 1] - 2 * v[k] + v[k == 0 ? n - 1 : k - 1]));
-      margin = 0.25 * curvature;
-    }
+    const auto [vmax, curvature] = max_and_curvature(v);
+    const double margin = s.global ? 0.25 * curvature : s.margin;
     for (int k = 0; k < n; ++k) {
       const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
       if (v[k] < v[before] || v[k] < v[after] || v[k] < vmax - margin) continue;
@@ -315,7 +451,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
       for (int i = 0; i < 3; ++i) points.push_back({phi_k + (i - 1) * h, s.slopes.empty() ? nan : s.slopes[around[i]]});
       for (double kink : s.kinks) {
         const double kc = kink + kTwoPi * std::round((phi_k - kink) / kTwoPi);  // the copy nearest phi_k
-        if (kc - eps > phi_k - h && kc + eps < phi_k + h) points.insert(points.end(), {{kc - eps, nan}, {kc + eps, nan}});
+        if (kc - eps > phi_k - h && kc + eps < phi_k + h) points.insert(points.end(), {{kc - eps, nan, -1, true}, {kc + eps, nan, -1, true}});
       }
       std::sort(points.begin() + first, points.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
       for (auto p = points.begin() + first; p != points.end(); ++p)
@@ -349,7 +485,11 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   for (Candidate& c : cands) {
     const std::size_t before = roots.size();
     const Point* p = &points[c.first];
-    for (int i = 0; i + 1 < c.count; ++i) root_of(c.fn, p[i], p[i + 1], roots);
+    for (int i = 0; i + 1 < c.count; ++i) {
+      const bool left = i > 0 && !(p[i - 1].kink && p[i].kink), right = i + 2 < c.count && !(p[i + 1].kink && p[i + 2].kink);
+      const Point* beside = left && (!right || std::abs(p[i].g) <= std::abs(p[i + 1].g)) ? &p[i - 1] : right ? &p[i + 2] : nullptr;
+      root_of(c.fn, p[i], p[i + 1], roots, beside);
+    }
     if (roots.size() > before) continue;
     c.quarter = static_cast<int>(batch.size());
     for (int i = 0; i + 1 < c.count; ++i)
@@ -372,9 +512,9 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     if (roots.size() == before) roots.push_back({c.fn, c.phi_k});
   }
 
-  // 3. Every Brent search side by side, one batch a step.
-  run_side_by_side(brents, brent_fn, true, batch, eval);
-  auto resolved = [&](const Root& r) { return r.brent >= 0 ? brents[r.brent].root() : r.phi; };
+  // 3. Every root search side by side, one batch a step.
+  run_side_by_side(roots_searched, root_fn, true, batch, eval);
+  auto resolved = [&](const Root& r) { return r.search >= 0 ? roots_searched[r.search].root() : r.phi; };
 
   // 4. The local maxima in [0, 2 pi) by angle; for the global maximum, f at
   // each of them, at the kinks and beside them, the largest kept (the first
@@ -397,10 +537,10 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     CycleMaxSearch& s = searches[fn];
     if (!s.global) continue;
     const auto top = std::max_element(s.v.begin(), s.v.end());
-    double best = *top;
+    s.value = *top;
     s.phi = kTwoPi * static_cast<double>(top - s.v.begin()) / static_cast<double>(s.v.size());
     auto consider = [&](double phi, double fv) {
-      if (fv > best) best = fv, s.phi = phi;
+      if (fv > s.value) s.value = fv, s.phi = phi;
     };
     for (std::size_t i = 0; i < s.maxima.size(); ++i, ++q) consider(batch[q].phi, batch[q].out);
     for (double k : s.kinks) consider(k, kink_f[kink++]);
@@ -650,14 +790,14 @@ ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n, std::span<co
 }
 
 // Sign changes of periodic functions g_0, g_1, ... given their samples on
-// grids (grids[f][k] = g_f(2 pi k / n_f)), refined by Brent searches side
+// grids (grids[f][k] = g_f(2 pi k / n_f)), refined by root searches side
 // by side: eval(std::span<AngleQuery>) writes g_fn(phi) into each query's
 // out. The angles in [0, 2 pi) where each crosses zero, g_0's first, each
 // function's by grid cell.
 template <class Eval>
 std::vector<double> periodic_roots_together(std::span<const std::span<const double>> grids, Eval&& eval) {
   std::vector<double> roots;
-  std::vector<BrentSearch> searches;
+  std::vector<LaneRootSearch> searches;
   std::vector<int> fn;
   std::vector<std::size_t> slot;  // the root each search ends in
   for (std::size_t f = 0; f < grids.size(); ++f) {

@@ -258,7 +258,10 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
   CycleMetrics<S> m;
   S sumT(0.0), sumM(0.0), sumM2(0.0);
-  std::vector<double> gridT(n), gridDT(n), gridM(needs.moments ? n : 0);  // for the maxima
+  static thread_local std::vector<double> grids;  // for the maxima: no allocation per design once warm
+  grids.resize(3 * static_cast<std::size_t>(n));
+  const std::span<double> gridT(grids.data(), n), gridDT(grids.data() + n, n),
+      gridM(grids.data() + 2 * n, needs.moments ? n : 0);
   if constexpr (has_lanes<S>) {  // kLanes angles at a time
     using L = lanes_of<S>;
     const auto dl = d.lanes();
@@ -351,15 +354,25 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
       }
     });
   });
+  // The peaks' values: as the search found them (the lanes' sincos and
+  // arithmetic, the scalar ones' bits), or at the same cosines with
+  // derivatives in the design (Danskin).
+  auto at = [&](double phi) {
+    double c, s;
+    sincos(phi, s, c);
+    return drive_point(d, S(c), S(s), cd, sd);
+  };
   if (needs.peak_energy) {
     m.phi_peak_energy = searches[energy].phi;
-    m.peak_kinetic_energy = drive_point(d, S(m.phi_peak_energy)).kinetic_energy;
+    if constexpr (std::is_same_v<S, double>) m.peak_kinetic_energy = searches[energy].value;
+    else m.peak_kinetic_energy = at(m.phi_peak_energy).kinetic_energy;
     m.k1 = m.peak_kinetic_energy / m.mean_kinetic_energy;
     m.k3 = m.peak_kinetic_energy / m.least_mean_kinetic_energy;
   }
   if (needs.moments) {
     m.phi_peak_moment = searches[moment].phi;
-    m.peak_total_moment = abs(drive_point(d, S(m.phi_peak_moment)).total_moment());
+    if constexpr (std::is_same_v<S, double>) m.peak_total_moment = searches[moment].value;
+    else m.peak_total_moment = abs(at(m.phi_peak_moment).total_moment());
   }
   return m;
 }

@@ -107,6 +107,16 @@ std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& obj
 // A converged run whose check_kink measure exceeds this ends as stopped_on_kink.
 inline constexpr double kKinkTolerance = 1e-3;
 
+// The same measure for any objective at a design x that meets every
+// constraint (the pieces: the equal peaks of a minimised maximum over the
+// cycle, else the objective's gradient): 0 at a KKT point. None where x
+// breaks a constraint, cannot be evaluated, or the problem has no
+// gradients. NLopt's local gradient algorithms that stop with
+// ROUNDOFF_LIMITED where it is at most kKktTolerance have converged.
+std::optional<double> kkt_measure(const Problem& problem, const Objective& objective,
+                                  const std::vector<Constraint>& constraints, const Eigen::VectorXd& x);
+inline constexpr double kKktTolerance = 1e-6;
+
 // Around x, each variable moved by kPlateauStep of its range (or of its
 // size where unbounded) either way, inside its bounds, with the others
 // held: the variables along which the objective f (its value at x) does not
