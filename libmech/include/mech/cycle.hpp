@@ -229,7 +229,11 @@ class LaneRootSearch {
     }
     asked_ = 0;
     const int m = seen_count_;
-    const double r = interpolate(m), change = m > 2 ? std::abs(r - interpolate(m - 1)) : width / 8;
+    double r = interpolate(m);
+    const double change = m > 2 ? std::abs(r - interpolate(m - 1)) : width / 8;
+    // A root at an end (its |g| at roundoff) puts r on it or just past it:
+    // look just inside, as Brent's search steps by its tolerance there.
+    if (r > a_.x - 0.25 * width && r < b_.x + 0.25 * width) r = std::clamp(r, a_.x + tol, b_.x - tol);
     if (r > a_.x && r < b_.x && std::isfinite(change)) {  // r is not NaN
       if (m >= 4 && change <= tol) {
         done_ = true, root_ = r;
