@@ -27,8 +27,9 @@ TEST(Cycle, BrentFindsPiOverTwo) {
 
 // The lane search on cos over [1, 2]: pi / 2 to a couple of ulps in three
 // steps of two points (Brent's search above takes up to eleven
-// evaluations, one a step); on a jump, where interpolation is no help, it
-// ends on the jump like bisection, to within 2.5 rel_tol |x|.
+// evaluations, one a step); at a bracket's end in a few; on a jump, where
+// interpolation is no help, it ends on the jump like bisection, to within
+// 2.5 rel_tol |x|.
 TEST(Cycle, LaneRootSearchConvergesInTwoStepsAndEndsOnAJump) {
   auto run = [](auto&& g, double a, double b, double x3, int& steps) {
     mech::LaneRootSearch s(a, b, g(a), g(b), x3, std::isnan(x3) ? NAN : g(x3));
@@ -44,6 +45,11 @@ TEST(Cycle, LaneRootSearchConvergesInTwoStepsAndEndsOnAJump) {
   EXPECT_NEAR(run(cosine, 1.0, 2.0, 2.5, steps), M_PI / 2, 4.5e-16);
   EXPECT_LE(steps, 3);
   EXPECT_NEAR(run(cosine, 1.0, 2.0, NAN, steps), M_PI / 2, 4.5e-16);  // from the bracket alone
+  EXPECT_LE(steps, 3);
+  // A root at the bracket's end (|g| there at roundoff, as where a grid
+  // point sits on a maximum): found in a few steps, not by thirds.
+  auto at_end = [](double x) { return 1e-17 + 0.18 * (M_PI - x); };
+  EXPECT_NEAR(run(at_end, M_PI, M_PI + 0.5, NAN, steps), M_PI, 2.5 * 4.4e-16 * M_PI);
   EXPECT_LE(steps, 3);
   auto jump = [](double x) { return x < 0.3 ? 1.0 : -1.0; };
   EXPECT_NEAR(run(jump, 0.0, 1.0, NAN, steps), 0.3, 2.5 * 4.4e-16 * 0.3);
