@@ -151,7 +151,9 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   const auto poles = toggle_poles(md.linkage);
   const int means_points = 2 * n;
   n = swing_grid_points(poles, n);
-  std::vector<double> gridM(n), gridP(n), M(n);
+  static thread_local std::vector<double> grids;  // no allocation per design once warm
+  grids.resize(3 * static_cast<std::size_t>(n));
+  const std::span<double> gridM(grids.data(), n), gridP(grids.data() + n, n), M(grids.data() + 2 * n, n);
   const SwingMechanism<Lanes> ml = md.lanes();
   for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {  // kLanes angles at a time
     const auto p = swing_point(ml, c, s);
@@ -217,12 +219,23 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       }
     });
   });
+  // The peaks' values: as the search found them (the lanes' sincos and
+  // arithmetic, the scalar ones' bits), or at the same cosines with
+  // derivatives in the design (Danskin).
   out.phi_peak_moment = searches[0].phi;
-  out.peak_moment = abs(swing_point(m, S(out.phi_peak_moment)).moment());
   out.phi_max_pressure = searches[1].phi;
-  FourBarPoint<S> pp;
-  four_bar_point(m.linkage, S(out.phi_max_pressure), pp);
-  out.max_pressure_angle = pressure_angle(pp);
+  if constexpr (std::is_same_v<S, double>) {
+    out.peak_moment = searches[0].value;
+    out.max_pressure_angle = searches[1].value;
+  } else {
+    double c, s;
+    sincos(out.phi_peak_moment, s, c);
+    out.peak_moment = abs(swing_point(m, S(c), S(s)).moment());
+    sincos(out.phi_max_pressure, s, c);
+    FourBarPoint<S> pp;
+    four_bar_point(m.linkage, S(c), S(s), pp);
+    out.max_pressure_angle = pressure_angle(pp);
+  }
   out.swing_angle = abs(dc.theta3_folded - dc.theta3_extended);
   out.time_ratio = time_ratio(dc);
   return out;

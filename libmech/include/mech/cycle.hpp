@@ -206,18 +206,26 @@ class LaneRootSearch {
     seen_[i] = p;
     seen_count_ = std::min(seen_count_ + 1, kUsed);
   }
-  // x at g = 0 by Lagrange's form through seen_[0..m), on offsets from
-  // seen_[0].x; the m divisions are independent of each other.
-  double interpolate(int m) const {
-    double sum = 0, all = 1;
-    for (int i = 0; i < m; ++i) all *= seen_[i].g;
-    for (int i = 1; i < m; ++i) {  // seen_[0] has offset 0
-      double den = seen_[i].g;
-      for (int j = 0; j < m; ++j)
-        if (j != i) den *= seen_[j].g - seen_[i].g;
-      sum += (seen_[i].x - seen_[0].x) / den;
+  // x at g = 0 through seen_[0..m) and through seen_[0..m-1) (m >= 2),
+  // Lagrange's form on offsets from seen_[0].x, in one pass: the weights of
+  // the m points are those of the m - 1 over (g_last - g_i).
+  std::pair<double, double> interpolate(int m) const {
+    const Point* p = seen_;
+    const double last = p[m - 1].g;
+    double all = 1, sum = 0, sum_less = 0;
+    for (int i = 0; i + 1 < m; ++i) all *= p[i].g;
+    for (int i = 1; i + 1 < m; ++i) {  // p[0] has offset 0
+      double den = p[i].g;
+      for (int j = 0; j + 1 < m; ++j)
+        if (j != i) den *= p[j].g - p[i].g;
+      const double w = (p[i].x - p[0].x) / den;
+      sum_less += w;
+      sum += w / (last - p[i].g);
     }
-    return seen_[0].x + all * sum;
+    double den = last;
+    for (int j = 0; j + 1 < m; ++j) den *= p[j].g - last;
+    sum += (p[m - 1].x - p[0].x) / den;
+    return {p[0].x + all * last * sum, p[0].x + all * sum_less};
   }
   void plan() {
     const double tol = rel_tol_ * std::max(std::abs(a_.x), std::abs(b_.x)) + 1e-300;
@@ -229,8 +237,8 @@ class LaneRootSearch {
     }
     asked_ = 0;
     const int m = seen_count_;
-    double r = interpolate(m);
-    const double change = m > 2 ? std::abs(r - interpolate(m - 1)) : width / 8;
+    auto [r, fewer] = interpolate(m);
+    const double change = m > 2 ? std::abs(r - fewer) : width / 8;
     // A root at an end (its |g| at roundoff) puts r on it or just past it:
     // look just inside, as Brent's search steps by its tolerance there.
     if (r > a_.x - 0.25 * width && r < b_.x + 0.25 * width) r = std::clamp(r, a_.x + tol, b_.x - tol);
@@ -815,7 +823,9 @@ std::vector<double> periodic_roots_together(std::span<const std::span<const doub
       } else if ((ga < 0) != (gb < 0) && gb != 0.0) {
         slot.push_back(roots.size());
         roots.push_back(0.0);
-        searches.emplace_back(k * h, (k + 1) * h, ga, gb);
+        // The grid point beside the end nearer zero, to start from.
+        const int beside = std::abs(ga) <= std::abs(gb) ? k - 1 : k + 2;
+        searches.emplace_back(k * h, (k + 1) * h, ga, gb, beside * h, v[(beside + n) % n]);
         fn.push_back(static_cast<int>(f));
       }
     }
