@@ -17,6 +17,7 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 
 #include "mech/autodiff.hpp"
@@ -282,6 +283,16 @@ bool zero_somewhere(const LaneDual<N>& x) { return zero_somewhere(x.v); }
 inline double lane_value(const Lanes& a, int j) { return a[j]; }
 template <int N>
 double lane_value(const LaneDual<N>& a, int j) { return a.v[j]; }
+inline const Lanes& lane_values(const Lanes& a) { return a; }
+template <int N>
+const Lanes& lane_values(const LaneDual<N>& a) { return a.v; }
+
+// The first m lanes of a into out[0..m) (all kLanes: one vector store).
+inline void store_lanes(double* out, const Lanes& a, int m) {
+  if (m == kLanes) std::memcpy(out, &a.v, sizeof a.v);
+  else
+    for (int j = 0; j < m; ++j) out[j] = a[j];
+}
 
 // a with its lanes from m on set to zero.
 inline Lanes first_lanes(Lanes a, int m) {

@@ -273,9 +273,9 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
       sT += T;
       sM += M;
       sM2 += M * M;
-      for (int j = 0; j < lanes; ++j) gridT[k + j] = lane_value(T, j), gridDT[k + j] = lane_value(p.inertia_moment, j);
-      if (needs.moments)
-        for (int j = 0; j < lanes; ++j) gridM[k + j] = std::abs(lane_value(M, j));
+      store_lanes(&gridT[k], lane_values(T), lanes);
+      store_lanes(&gridDT[k], lane_values(p.inertia_moment), lanes);
+      if (needs.moments) store_lanes(&gridM[k], abs(lane_values(M)), lanes);
     });
     sumT = LaneForm<S>::sum(sT), sumM = LaneForm<S>::sum(sM), sumM2 = LaneForm<S>::sum(sM2);
   } else {
