@@ -137,26 +137,22 @@ TEST(Seed002Drivers, IpoptNeedsTheEpigraphOnTheKink) {
   // At the optimum two moment troughs are equal, so the peak is not
   // differentiable there. Ipopt on the plain maximum does not converge (its
   // iteration limit, or a failed restoration, is reported as such); with the
-  // epigraph rows every run ends on the reference, and most say converged.
-  // The rest run out of iterations there, and say so: at the vertex their
-  // L-BFGS Hessian, updated across steps of 1e-11 m where the peaks'
-  // gradients carry roundoff, keeps Ipopt's dual infeasibility near 1e-2
-  // (measured: 2 of 30 starts from 0.92 to 2.37 m, with Brent's root
-  // searches and with the lane searches alike, at different starts).
+  // epigraph rows it converges to the reference from every start. (With
+  // the rows ordered by value, which swapped the two peaks' rows wherever
+  // they crossed, 2 of 30 starts from 0.92 to 2.37 m ran out of iterations
+  // on the optimum with the dual infeasibility near 1e-2.)
   const auto p = family();
   const std::vector<opt::Constraint> cons = {{"max_pressure_angle", true, 60 * kDeg}};
   opt::DriverOptions o;
   o.library = "ipopt";
   o.max_iterations = 200;
-  int converged = 0, evaluations = 0;
-  const double starts[] = {1.0, 1.1, 1.2, 1.3, 1.4, 1.6, 1.7, 1.9, 2.1};
-  for (const double start : starts) {
+  int evaluations = 0;
+  for (const double start : {1.0, 1.1, 1.2, 1.3, 1.4, 1.6, 1.7, 1.9, 2.1}) {
     const auto with = opt::IpoptDriver(o).minimize(*p, {"peak_crank_torque"}, cons, Eigen::VectorXd::Constant(1, start));
+    EXPECT_EQ(with.status, opt::DriverStatus::converged) << start << ": " << with.message;
     EXPECT_NEAR(with.x[0], 1.5224536093493499, 1e-8) << start;
-    if (with.status == opt::DriverStatus::converged) ++converged, evaluations = std::max(evaluations, with.evaluations);
-    else EXPECT_EQ(with.status, opt::DriverStatus::max_evaluations) << start << ": " << with.message;
+    evaluations = std::max(evaluations, with.evaluations);
   }
-  EXPECT_GE(converged, 7);
   o.epigraph = false;
   const auto without = opt::IpoptDriver(o).minimize(*p, {"peak_crank_torque"}, cons, Eigen::VectorXd::Constant(1, 1.2));
   EXPECT_NE(without.status, opt::DriverStatus::converged) << without.message;

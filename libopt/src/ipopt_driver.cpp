@@ -9,8 +9,8 @@
 // and expands a constrained maximum into one constraint per peak: each row is
 // smooth, and the rows are refreshed at every design (the peaks move with it).
 // The row count is fixed at the start (the peaks at x0, plus two spare rows;
-// missing peaks repeat the largest, and with more peaks than rows the largest
-// are kept).
+// missing peaks repeat the least, and with more peaks than rows the largest
+// are kept); each row keeps its peak by angle as the design moves.
 //
 // Nothing non-finite reaches Ipopt: a value or derivative that is not finite
 // makes the callback return false, as for an infeasible design (a NaN or inf
@@ -219,14 +219,31 @@ class Nlp : public Ipopt::TNLP {
     return usable_;
   }
 
-  // The k rows of a maximum: its local maxima, the largest k if there are
-  // more, the largest repeated if fewer.
+  // The k rows of a maximum: its local maxima (Problem::local_maxima lists
+  // them by angle), the largest k if there are more, by angle still; the
+  // least repeated if fewer. A row keeps its peak as the design moves: rows
+  // ordered by value swapped their peaks wherever two were equal, which is
+  // at the optimum, so each row was itself a kinked max or min of two
+  // peaks, and Ipopt's multipliers went to the wrong rows at every swap
+  // (on the conveyor's kink its dual infeasibility stayed near 1e-2 and 2
+  // of 30 starts ran out of iterations there). A repeated least peak is an
+  // inactive row (the largest, repeated, made active rows twins).
   static std::vector<const MetricValue*> peak_rows(const std::vector<MetricValue>& list, int k) {
     std::vector<const MetricValue*> rows;
     for (const auto& v : list) rows.push_back(&v);
-    std::sort(rows.begin(), rows.end(), [](auto a, auto b) { return a->value > b->value; });
-    rows.resize(std::min<size_t>(rows.size(), k));
-    while (static_cast<int>(rows.size()) < k) rows.push_back(rows.front());
+    if (static_cast<int>(rows.size()) > k) {
+      std::vector<const MetricValue*> by_value = rows;
+      std::nth_element(by_value.begin(), by_value.begin() + (k - 1), by_value.end(),
+                       [](auto a, auto b) { return a->value > b->value; });
+      const double least_kept = by_value[k - 1]->value;
+      std::vector<const MetricValue*> kept;
+      for (const MetricValue* v : rows)  // by angle; ties at the cut, the first
+        if (static_cast<int>(kept.size()) < k && v->value >= least_kept) kept.push_back(v);
+      rows = std::move(kept);
+    }
+    const MetricValue* least = *std::min_element(rows.begin(), rows.end(),
+                                                 [](auto a, auto b) { return a->value < b->value; });
+    while (static_cast<int>(rows.size()) < k) rows.push_back(least);
     return rows;
   }
 
