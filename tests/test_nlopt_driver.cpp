@@ -164,6 +164,27 @@ TEST(KktMeasure, ZeroAtKktPointsOneOnASlopeNoneWhenInfeasible) {
   EXPECT_FALSE(opt::kkt_measure(t, f, cons, Eigen::Vector2d(1.0 / 3, 0.1)));  // x2 >= 8 x1^3 broken
 }
 
+// A library that says "infeasible" (Ipopt after a failed restoration) at a
+// design that meets every constraint has failed: the problem is not shown
+// infeasible. At the tutorial's optimum it is a failure; below its curved
+// constraint, where the design breaks it, "infeasible" stands.
+TEST(Finish, LibraryInfeasibleAtAFeasibleDesignIsAFailure) {
+  const Tutorial t = testing_problems::tutorial();
+  auto finished = [&](const Eigen::Vector2d& x) {
+    opt::Result r;
+    r.library = "ipopt";
+    r.status = opt::DriverStatus::infeasible;
+    r.x = x;
+    opt::detail::finish(t, {"f"}, kCons, r, nullptr);
+    return r;
+  };
+  const auto feasible = finished(Eigen::Vector2d(1.0 / 3, 8.0 / 27));
+  EXPECT_EQ(feasible.status, opt::DriverStatus::failure);
+  EXPECT_NE(feasible.message.find("the final design meets every constraint"), std::string::npos) << feasible.message;
+  const auto broken = finished(Eigen::Vector2d(1.0 / 3, 0.1));  // x2 >= 8 x1^3 broken
+  EXPECT_EQ(broken.status, opt::DriverStatus::infeasible) << broken.message;
+}
+
 TEST(IpoptDriver, IterationLimitIsAStopNotASuccess) {
   opt::DriverOptions o;
   o.library = "ipopt";
