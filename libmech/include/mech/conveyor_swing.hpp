@@ -219,16 +219,23 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       }
     });
   });
-  // The peaks' values at their angles with glibc's sines (the search's own
-  // values, from the lanes' sincos, sit an ulp away in the peak's error
-  // against the reference: docs/performance.md), with derivatives in the
-  // design where S has them (Danskin).
+  // The peaks' values: as the search found them (the lanes' sincos and
+  // arithmetic, the scalar ones' bits), or at the same cosines with
+  // derivatives in the design (Danskin).
   out.phi_peak_moment = searches[0].phi;
-  out.peak_moment = abs(swing_point(m, S(out.phi_peak_moment)).moment());
   out.phi_max_pressure = searches[1].phi;
-  FourBarPoint<S> pp;
-  four_bar_point(m.linkage, S(out.phi_max_pressure), pp);
-  out.max_pressure_angle = pressure_angle(pp);
+  if constexpr (std::is_same_v<S, double>) {
+    out.peak_moment = searches[0].value;
+    out.max_pressure_angle = searches[1].value;
+  } else {
+    double c, s;
+    sincos(out.phi_peak_moment, s, c);
+    out.peak_moment = abs(swing_point(m, S(c), S(s)).moment());
+    sincos(out.phi_max_pressure, s, c);
+    FourBarPoint<S> pp;
+    four_bar_point(m.linkage, S(c), S(s), pp);
+    out.max_pressure_angle = pressure_angle(pp);
+  }
   out.swing_angle = abs(dc.theta3_folded - dc.theta3_extended);
   out.time_ratio = time_ratio(dc);
   return out;
