@@ -6,7 +6,7 @@ JOBS   ?= $(shell nproc)
 MAKEFLAGS += --no-print-directory
 # ccache (when present) shares objects between clones and worktrees.
 export CCACHE_BASEDIR := $(CURDIR)
-DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \
+DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev liblapack-dev \
   libsundials-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libcli11-dev \
   nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath python3-yaml \
   libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin librsvg2-bin
@@ -17,14 +17,17 @@ deps:
 	@bash tools/install_deps.sh $(DEB_PACKAGES)
 
 SUNDIALS_PREFIX = $(abspath $(BUILD))/sundials
+IPOPT_HEADERS = $(abspath $(BUILD))/ipopt-internal/include
 configure: deps
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
+	@bash tools/ipopt_headers.sh $(IPOPT_HEADERS)
 	@mkdir -p $(BUILD)
 	@echo "configure: cmake (log: $(BUILD)/configure.log)"
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release \
 	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
 	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials) \
+	  -DIPOPT_INTERNAL_INCLUDE=$(IPOPT_HEADERS) \
 	  > $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; exit 1)
 
 build: configure
@@ -57,11 +60,13 @@ SAN_ENV = ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1:strict_st
   LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan.supp:print_suppressions=0
 sanitize: deps
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
+	@bash tools/ipopt_headers.sh $(IPOPT_HEADERS)
 	@mkdir -p $(ASAN_BUILD) && echo '*' > $(ASAN_BUILD)/.gitignore  # git ignores the whole dir
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Release -DMECHOPT_SANITIZE=ON -DMECHOPT_BENCH=OFF -DMECHOPT_MPI=OFF \
 	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
-	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials)
+	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials) \
+	  -DIPOPT_INTERNAL_INCLUDE=$(IPOPT_HEADERS)
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 	cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -E '^DoeMpi\.'
 

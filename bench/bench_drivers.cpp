@@ -40,6 +40,7 @@ void run(benchmark::State& state, const Scene& scene, opt::DriverOptions o) {
   }
   state.counters["error"] = r.success() ? std::abs(r.x[0] - scene.x_star) / scene.x_star : NAN;
   state.counters["evaluations"] = r.evaluations;
+  if (r.iterations > 0) state.counters["iterations"] = r.iterations;
   state.counters["converged"] = r.status == opt::DriverStatus::converged;
 }
 
@@ -76,6 +77,16 @@ void register_all() {
             ->Unit(benchmark::kMicrosecond);
       }
     }
+    // Ipopt's iteration with its own sparse solver, against the dense one
+    // above (docs/drivers.md, "Ipopt's linear solver").
+    opt::DriverOptions o;
+    o.library = "ipopt";
+    o.tol = 1e-8;
+    o.linear_solver = "mumps";
+    o.record_history = false;
+    benchmark::RegisterBenchmark((std::string("WP/") + s.name + "/ipopt_mumps/8").c_str(),
+                                 [&s, o](benchmark::State& st) { run(st, s, o); })
+        ->Unit(benchmark::kMicrosecond);
   }
 }
 

@@ -369,8 +369,10 @@ def drivers_blocks(m):
         if name.startswith("WP/"):
             _, scene, driver, tol = name.split("/")
             scenes.setdefault(scene, {}).setdefault(driver, []).append(
-                (int(tol), a["seconds"], int(a["evaluations"]), a["error"], bool(a["converged"]) and a["error"] == a["error"]))
+                (int(tol), a["seconds"], int(a["evaluations"]), a["error"], bool(a["converged"]) and a["error"] == a["error"],
+                 int(a.get("iterations", 0))))
     label = lambda scene, d: {"ipopt": "ipopt (L-BFGS)" if scene == "rod_length" else "ipopt, epigraph",
+                              "ipopt_mumps": "ipopt with MUMPS" if scene == "rod_length" else "ipopt, epigraph, MUMPS",
                               "ipopt_plain": "ipopt, plain (no epigraph)"}.get(d, d.replace("_", " ", 1))
     tol_name = lambda d, t: f"{'tol' if d.startswith('ipopt') else 'xtol'} 1e-{t}"
     names = {"rod_length": "rod length", "conveyor_l_co1": "conveyor l_CO1"}
@@ -415,6 +417,17 @@ def drivers_blocks(m):
     summary.append("- time per evaluation at tolerance 1e-8, Ipopt against NLopt's LD_SLSQP: " + "; ".join(
         f"{names[s]} {fmt_time(a)} against {fmt_time(b)} (the whole run {fmt_ratio(r)}x longer)" for s, a, b, r in ratios) + ".")
     blocks["wp_summary"] = "\n".join(summary)
+    # Ipopt's iteration, dense KKT solver against MUMPS (tol 1e-8): the whole
+    # run's time over Ipopt's iterations.
+    rows = []
+    for scene, drivers in scenes.items():
+        for d, solver in (("ipopt", "dense (mechopt's)"), ("ipopt_mumps", "MUMPS (Ipopt's)")):
+            r = dict((x[0], x) for x in drivers.get(d, [])).get(8)
+            if r and r[5]:
+                rows.append([names[scene], solver, fmt_time(r[1]), r[5], fmt_time(r[1] / r[5]), r[2],
+                             fmt_err(r[3]) if r[4] else "not converged"])
+    blocks["ipopt_iteration"] = table(["problem", "KKT solver", "run", "iterations", "per iteration",
+                                       "evaluations", "error"], rows)
     return blocks
 
 

@@ -20,16 +20,7 @@ fallback() {
   exit 0
 }
 version=$(dpkg-query -W -f='${Version}' libsundials-dev 2>/dev/null) || fallback "libsundials-dev is not installed"
-# A private deb-src list from the machine's own Debian sources.
-src=/etc/apt/sources.list.d/debian.sources
-[ -f "$src" ] || fallback "no $src"
-sed 's/^Types: deb$/Types: deb-src/' "$src" > "$WORK/src.sources"
-apt=(-o Dir::Etc::SourceList="$WORK/src.sources" -o Dir::Etc::SourceParts=/dev/null
-     -o Dir::State::Lists="$WORK/lists" -o Dir::Cache="$WORK/cache")
-mkdir -p "$WORK/lists/partial" "$WORK/cache/archives/partial"
-apt-get "${apt[@]}" -qq update >/dev/null 2>&1 || fallback "apt-get update (deb-src) failed"
-(cd "$WORK" && apt-get "${apt[@]}" -qq source --download-only "sundials=$version" >/dev/null 2>&1) ||
-  fallback "apt-get source sundials=$version failed"
+why=$(bash "$(dirname "$0")/debian_source.sh" sundials "$version" "$WORK" 2>&1) || fallback "$why"
 tar -C "$WORK" -xJf "$WORK"/sundials_*.orig.tar.xz || fallback "cannot unpack the source"
 srcdir=$(find "$WORK" -maxdepth 1 -type d -name 'sundials-*' | head -1)
 echo "building SUNDIALS $version (CVODES, ARKODE, KINSOL; -O2, static) into $PREFIX"

@@ -20,12 +20,17 @@
 // callbacks evaluate no more and intermediate_callback stops Ipopt.
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
+#include <IpAlgBuilder.hpp>  // Ipopt-internal (tools/ipopt_headers.sh)
+#include <IpSolveStatistics.hpp>
+#include <IpTNLPAdapter.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <sstream>
 
+#include "ipopt_dense_solver.hpp"
 #include "opt/driver.hpp"
 
 namespace opt {
@@ -333,6 +338,21 @@ const char* status_text(Ipopt::ApplicationReturnStatus s) {
   }
 }
 
+// One Ipopt application per thread, made once: making one registers Ipopt's
+// options, 1.25M instructions (as many as three iterations of a 1-variable
+// problem). Each run sets every option it relies on. No ipopt.opt is read
+// from the working directory: the config is the whole input.
+Ipopt::IpoptApplication& application() {
+  thread_local const Ipopt::SmartPtr<Ipopt::IpoptApplication> app = [] {
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> a = new Ipopt::IpoptApplication();
+    a->Options()->SetIntegerValue("print_level", 0);
+    std::istringstream no_options_file;
+    a->Initialize(no_options_file);
+    return a;
+  }();
+  return *app;
+}
+
 }  // namespace
 
 Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
@@ -376,15 +396,30 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
 
   Ipopt::SmartPtr<Nlp> nlp = new Nlp(problem, f, rows, objective_peaks, start.scale, x, t0,
                                      result, options_.record_history, stop);
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", options_.print_level);
-  app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
-  app->Options()->SetNumericValue("tol", options_.tol);
-  app->Options()->SetIntegerValue("max_iter", options_.max_iterations);
-  app->Options()->SetNumericValue("constr_viol_tol", std::max(options_.constraint_tol, 1e-12));
-  Ipopt::ApplicationReturnStatus status = app->Initialize();
-  if (status == Ipopt::Solve_Succeeded && !stop()) status = app->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
+  Ipopt::IpoptApplication& app = application();
+  const Ipopt::SmartPtr<Ipopt::OptionsList> o = app.Options();
+  o->SetIntegerValue("print_level", options_.print_level);
+  o->SetStringValue("sb", "yes");
+  o->SetStringValue("hessian_approximation", "limited-memory");
+  // Cheap iterations for few variables (docs/drivers.md, "Ipopt's linear
+  // solver"): the barrier parameter from Mehrotra's probing step (one more
+  // solve) instead of the quality function's search (several), and the
+  // L-BFGS update inside the KKT matrix instead of Sherman-Morrison solves.
+  o->SetStringValue("mu_oracle", "probing");
+  o->SetStringValue("limited_memory_aug_solver", "extended");
+  o->SetNumericValue("tol", options_.tol);
+  o->SetIntegerValue("max_iter", options_.max_iterations);
+  o->SetNumericValue("constr_viol_tol", std::max(options_.constraint_tol, 1e-12));
+  Ipopt::ApplicationReturnStatus status = Ipopt::Solve_Succeeded;
+  if (!stop()) {
+    const bool dense = options_.linear_solver == "dense";
+    o->SetStringValue("linear_solver", dense ? "custom" : "mumps");
+    Ipopt::SmartPtr<Ipopt::AlgorithmBuilder> builder =
+        new Ipopt::AlgorithmBuilder(dense ? detail::dense_aug_system_solver() : nullptr);
+    Ipopt::SmartPtr<Ipopt::NLP> adapter = new Ipopt::TNLPAdapter(Ipopt::GetRawPtr(nlp), Ipopt::ConstPtr(app.Jnlst()));
+    status = app.OptimizeNLP(adapter, builder);
+    if (Ipopt::IsValid(app.Statistics())) result.iterations = app.Statistics()->IterationCount();
+  }
   if (nlp->error) std::rethrow_exception(nlp->error);
 
   result.status = stop.reason ? *stop.reason : map_status(status);

@@ -46,6 +46,9 @@ struct DriverOptions {
   int max_iterations = 3000;
   int print_level = 0;        // 0 silent .. 12
   bool epigraph = true;       // maxima over the cycle as smooth rows (see ipopt_driver.cpp)
+  // The KKT systems' solver: "dense" (an eigendecomposition, for mechopt's
+  // few-variable problems; ipopt_dense_solver.cpp) or "mumps" (Ipopt's own).
+  std::string linear_solver = "dense";
   // NLopt's random algorithms (GN_ISRES) draw from this seed: runs repeat.
   unsigned long seed = 1;
   // NLopt G_MLSL_LDS: the local algorithm of each search
@@ -69,6 +72,7 @@ struct Result {
   std::vector<double> constraint_values;  // metric values of the constraints at x
   int evaluations = 0;
   int infeasible_evaluations = 0;
+  int iterations = 0;  // Ipopt's iterations; 0 for libraries that do not count them
   double seconds = 0;
   std::string library, algorithm;
   std::vector<HistoryRow> history;

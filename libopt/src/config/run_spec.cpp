@@ -68,12 +68,13 @@ DriverOptions parse_driver(const ConfigNode& n) {
   if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt", "line"});
   if (o.library == "ipopt") {
     n.allow_only({"library", "tol", "max_iterations", "max_seconds", "constraint_tol",
-                  "print_level", "epigraph", "hessian"});
+                  "print_level", "epigraph", "hessian", "linear_solver"});
     o.algorithm = "interior-point";
     if (n.has("tol")) o.tol = n.at("tol").number();
     if (n.has("max_iterations")) o.max_iterations = n.at("max_iterations").integer(1, 100000000);
     if (n.has("print_level")) o.print_level = n.at("print_level").integer(0, 12);
     if (n.has("epigraph")) o.epigraph = n.at("epigraph").boolean();
+    if (n.has("linear_solver")) o.linear_solver = n.at("linear_solver").choice({"dense", "mumps"});
     if (n.has("hessian")) n.at("hessian").choice({"limited-memory"});  // no model gives exact Hessians yet
     if (!(o.tol > 0)) n.at("tol").fail("expected a tolerance > 0");
   } else if (o.library == "line") {

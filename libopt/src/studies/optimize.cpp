@@ -51,9 +51,11 @@ OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out, 
                                                                 : nlohmann::json(nullptr)}}},
             {"constraints", cons},
             {"evaluations", r.evaluations},
+            {"iterations", r.iterations},  // Ipopt's; 0 for NLopt and line, which do not count them
             {"infeasible_evaluations", r.infeasible_evaluations},
             {"wall_seconds", r.seconds},
             {"history", dir + "history.csv"}};
+  if (r.library == "ipopt") o.json["driver"]["linear_solver"] = s.driver.linear_solver;
   const nlohmann::json at = metrics_json(p, r.x);
   o.json["metrics"] = at["metrics"];
   o.json["design_status"] = at["status"];
