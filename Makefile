@@ -6,7 +6,7 @@ JOBS   ?= $(shell nproc)
 MAKEFLAGS += --no-print-directory
 # ccache (when present) shares objects between clones and worktrees.
 export CCACHE_BASEDIR := $(CURDIR)
-DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev liblapack-dev \
+DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \
   libsundials-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libcli11-dev \
   nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath python3-yaml \
   libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin librsvg2-bin

@@ -118,11 +118,12 @@ TEST(DriverFailures, DerivativeFreeAndCcsaDriversStopOnTheKink) {
 TEST(DriverFailures, IpoptOnTheBareMaximumFailsWithoutClaimingInfeasibility) {
   const auto [o, j] = run_with("ipopt_bare", "{library: ipopt, epigraph: false}");
   ASSERT_TRUE(o.exited(0)) << o.output;
-  EXPECT_EQ(j["status"], "failure") << j["message"];
+  // Ipopt gives up one way or another (a failed restoration, "infeasible" at
+  // a design that meets every constraint, which the driver does not pass on,
+  // or the iteration limit, as from one start of docs/drivers.md's kink map):
+  // never converged, never infeasible, and the message says what to do.
+  EXPECT_TRUE(j["status"] == "failure" || j["status"] == "max_evaluations") << j["status"] << ": " << j["message"];
   const std::string message = j["message"];
-  // Ipopt gives up one way or another (a failed restoration, or
-  // "infeasible" at a design that meets every constraint, which the driver
-  // does not pass on); either way the message says what to do.
   if (message.find("Infeasible_Problem_Detected") != std::string::npos) {
     EXPECT_NE(message.find("the final design meets every constraint"), std::string::npos) << message;
   }

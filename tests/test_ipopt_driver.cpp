@@ -84,6 +84,30 @@ TEST(DenseSymSolver, InertiaAndSolutionsMatchAnEigendecomposition) {
   EXPECT_GE(blocks_checked, 150);  // the near-singular skips are few
 }
 
+// Zero diagonals need Bunch-Kaufman's 2x2 pivots: [[0, 1], [1, 0]] has
+// eigenvalues -1 and 1; the 3x3 [[0, 2, 1], [2, 0, 0], [1, 0, 1e-3]] has one
+// negative eigenvalue (det -4e-3 < 0 and trace > 0, so one or three, and
+// the leading 2x2 block is indefinite).
+TEST(DenseSymSolver, TwoByTwoPivotsOnZeroDiagonals) {
+  opt::detail::DenseSymSolver s;
+  Eigen::MatrixXd a(2, 2);
+  a << 0, 1, 1, 0;
+  Eigen::VectorXd b(2);
+  b << 3, 5;
+  ASSERT_EQ(solve(s, triplets(a), 2, b), Ipopt::SYMSOLVER_SUCCESS);
+  EXPECT_EQ(s.NumberOfNegEVals(), 1);
+  EXPECT_EQ(b[0], 5);
+  EXPECT_EQ(b[1], 3);
+  Eigen::MatrixXd c(3, 3);
+  c << 0, 2, 1, 2, 0, 0, 1, 0, 1e-3;
+  Eigen::VectorXd x(3), y(3);
+  x << 1, -2, 3;
+  y = c * x;
+  ASSERT_EQ(solve(s, triplets(c), 3, y), Ipopt::SYMSOLVER_SUCCESS);
+  EXPECT_EQ(s.NumberOfNegEVals(), 1);
+  EXPECT_LE((y - x).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(DenseSymSolver, SingularAndNonFiniteMatricesAreSaidSo) {
   Eigen::MatrixXd a(3, 3);
   a << 1, 2, 0, 2, 4, 0, 0, 0, 0;  // rank 1, and an empty row and column
@@ -129,6 +153,15 @@ TEST(IpoptDriver, DenseAndMumpsReachTheSameOptimum) {
     ASSERT_EQ(c.status, opt::DriverStatus::converged) << ls << ": " << c.message;
     EXPECT_NEAR(c.x[0], kConveyor, kTol * kConveyor) << ls;
   }
+}
+
+// Ipopt's timers read mechopt's clock (ipopt_driver.cpp), not getrusage:
+// the definitions in the executable take the place of libipopt.so's.
+TEST(IpoptDriver, IpoptsTimersReadTheCheapClock) {
+  const long before = opt::detail::ipopt_clock_reads.load();
+  const auto r = run(*rod_length(), "mean_kinetic_energy", {}, "dense");
+  ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
+  EXPECT_GT(opt::detail::ipopt_clock_reads.load() - before, 10 * r.iterations);
 }
 
 // One Ipopt application serves every run of a thread: a run between two

@@ -1,5 +1,5 @@
 // Ipopt's "custom" linear solver for mechopt's small KKT systems: the
-// matrix assembled dense and factorised by LAPACK's Bunch-Kaufman L D L^T.
+// matrix assembled dense and factorised by Bunch-Kaufman's L D L^T.
 // Why and how: ipopt_dense_solver.cpp and docs/drivers.md, "Ipopt's linear
 // solver". Needs Ipopt's internal headers (tools/ipopt_headers.sh).
 #pragma once
@@ -7,6 +7,7 @@
 #include <IpAugSystemSolver.hpp>
 #include <IpSparseSymLinearSolverInterface.hpp>
 
+#include <atomic>
 #include <vector>
 
 namespace opt::detail {
@@ -32,14 +33,18 @@ class DenseSymSolver : public Ipopt::SparseSymLinearSolverInterface {
 
  private:
   Ipopt::ESymSolverStatus factorize(const Ipopt::Index* ia, const Ipopt::Index* ja);
+  void solve(double* b) const;
 
   int dim_ = 0;
-  std::vector<double> values_, a_;  // the triplets' values; the dense factor (column-major)
-  std::vector<int> pivots_;
-  std::vector<double> work_ = std::vector<double>(256);
+  std::vector<double> values_, a_;  // the triplets' values; the factors (column-major, full storage)
+  std::vector<int> pivots_;         // the row each step's last pivot row was swapped with
+  std::vector<bool> block_;         // in a 2x2 block of D
   int negative_ = 0;
   bool singular_ = false;
 };
+
+// Calls of Ipopt's CpuTime() that reached mechopt's cheap clock (ipopt_driver.cpp).
+inline std::atomic<long> ipopt_clock_reads{0};
 
 // A new augmented-system solver over a DenseSymSolver, for AlgorithmBuilder
 // and linear_solver = "custom". One per Ipopt run.
