@@ -38,7 +38,7 @@ def google_benchmark(binary, repetitions, benchmark_filter=None, min_time=0.1):
             rows[b["run_name"].replace("/iterations:1", "")] = {"seconds": b["real_time"] * unit, "value": b.get("value"),
                                    "steps": b.get("steps"), "ok": b.get("ok"),
                                    "gradient": b.get("gradient"),
-                                   "evaluations": b.get("evaluations"),
+                                   "evaluations": b.get("evaluations"), "iterations": b.get("iterations"),
                                    "error": b.get("error"), "converged": b.get("converged"),
                                    "multiplier": b.get("multiplier")}
     return rows
@@ -370,7 +370,7 @@ def drivers_blocks(m):
             _, scene, driver, tol = name.split("/")
             scenes.setdefault(scene, {}).setdefault(driver, []).append(
                 (int(tol), a["seconds"], int(a["evaluations"]), a["error"], bool(a["converged"]) and a["error"] == a["error"],
-                 int(a.get("iterations", 0))))
+                 int(a.get("iterations") or 0)))
     label = lambda scene, d: {"ipopt": "ipopt (L-BFGS)" if scene == "rod_length" else "ipopt, epigraph",
                               "ipopt_mumps": "ipopt with MUMPS" if scene == "rod_length" else "ipopt, epigraph, MUMPS",
                               "ipopt_plain": "ipopt, plain (no epigraph)"}.get(d, d.replace("_", " ", 1))
