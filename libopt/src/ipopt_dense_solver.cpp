@@ -84,9 +84,7 @@ ESymSolverStatus DenseSymSolver::factorize(const Index* ia, const Index* ja) {
       if (std::abs(at(i, k)) > colmax) colmax = std::abs(at(i, k)), imax = i;
     int kp = k;
     step = 1;
-    if (std::max(akk, colmax) == 0) {
-      singular_ = true;  // a zero column: the factorization goes on, as dsytf2's
-    } else if (akk < alpha * colmax) {
+    if (akk < alpha * colmax) {  // (a zero column takes the 1x1 branch, d = 0 below)
       double rowmax = 0;
       for (int j = k; j < n; ++j)
         if (j != imax) rowmax = std::max(rowmax, std::abs(at(imax, j)));

@@ -46,8 +46,9 @@ struct DriverOptions {
   int max_iterations = 3000;
   int print_level = 0;        // 0 silent .. 12
   bool epigraph = true;       // maxima over the cycle as smooth rows (see ipopt_driver.cpp)
-  // The KKT systems' solver: "dense" (an eigendecomposition, for mechopt's
-  // few-variable problems; ipopt_dense_solver.cpp) or "mumps" (Ipopt's own).
+  // The KKT systems' solver: "dense" (Bunch-Kaufman on the assembled
+  // matrix, for mechopt's few-variable problems; ipopt_dense_solver.cpp) or
+  // "mumps" (Ipopt's own).
   std::string linear_solver = "dense";
   // NLopt's random algorithms (GN_ISRES) draw from this seed: runs repeat.
   unsigned long seed = 1;
