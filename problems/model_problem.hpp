@@ -34,7 +34,11 @@ using opt::whole;
 template <class S>
 class MetricSink {
  public:
-  explicit MetricSink(const opt::MetricSet& wanted) : wanted_(wanted) {}
+  explicit MetricSink(const opt::MetricSet& wanted) : result(own_), wanted_(wanted) {}
+  // Into `into`, cleared, its storage reused.
+  MetricSink(const opt::MetricSet& wanted, opt::Evaluation& into) : result(into), wanted_(wanted) { into.clear(); }
+  MetricSink(const MetricSink&) = delete;  // `result` may refer to its own evaluation
+  MetricSink& operator=(const MetricSink&) = delete;
   template <class Id>
   bool want(Id id) const { return wanted_.contains(static_cast<opt::MetricId>(id)); }
   template <class... Ids>
@@ -42,12 +46,17 @@ class MetricSink {
   template <class Id>
   void put(Id id, const S& v) {
     if (!want(id)) return;
-    opt::MetricValue mv;
+    opt::MetricValue& mv = result.slot(static_cast<opt::MetricId>(id));
     mv.value = mech::value(v);
-    if constexpr (mech::is_dual<S>) mv.gradient = mech::gradient(v);
-    result.set(static_cast<opt::MetricId>(id), std::move(mv));
+    if constexpr (mech::is_dual<S>) mech::gradient_into(v, mv.gradient);
+    else mv.gradient.resize(0);
   }
-  opt::Evaluation result;
+
+ private:
+  opt::Evaluation own_;
+
+ public:
+  opt::Evaluation& result;
 
  private:
   const opt::MetricSet& wanted_;
@@ -112,10 +121,15 @@ class ModelProblem : public TabledProblem {
 
   opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
                                     bool gradient) const override {
-    return with_scalar(x, gradient, [&](const auto& xs) {
-      MetricSink<typename std::decay_t<decltype(xs)>::value_type> sink(wanted);
+    opt::Evaluation e;
+    evaluate_model_into(x, wanted, gradient, e);
+    return e;
+  }
+  void evaluate_model_into(const Eigen::VectorXd& x, const opt::MetricSet& wanted, bool gradient,
+                           opt::Evaluation& out) const override {
+    with_scalar(x, gradient, [&](const auto& xs) {
+      MetricSink<typename std::decay_t<decltype(xs)>::value_type> sink(wanted, out);
       static_cast<const Derived&>(*this).evaluate_model(xs, sink);
-      return std::move(sink.result);
     });
   }
 

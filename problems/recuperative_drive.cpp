@@ -143,6 +143,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   }
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
+    if (metric != M::peak_kinetic_energy && metric != M::peak_crank_torque) return {};
     const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
     if (mech::check(d) != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return drive(xs); };
@@ -151,12 +152,10 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
       return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
         return std::decay_t<decltype(phi)>(mech::drive_point(dr, phi).kinetic_energy);
       });
-    if (metric == M::peak_crank_torque)
-      return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
-        using std::abs;
-        return std::decay_t<decltype(phi)>(abs(mech::drive_point(dr, phi).total_moment()));
-      });
-    return {};
+    return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {  // peak_crank_torque
+      using std::abs;
+      return std::decay_t<decltype(phi)>(abs(mech::drive_point(dr, phi).total_moment()));
+    });
   }
 
   template <class S>

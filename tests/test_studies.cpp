@@ -81,6 +81,63 @@ TEST(Evaluate, NonFiniteMetricIsAStatusNotAValue) {
   EXPECT_EQ(gradient.message, "hole has a non-finite gradient");
 }
 
+// An evaluation written into one reused for other designs (what the drivers
+// and the DOE workers do, to allocate nothing per design) is the fresh
+// evaluation's every bit: status, message, which metrics, values, gradients,
+// and no gradient left from an earlier design when none was asked for.
+void expect_same(const opt::Evaluation& reused, const opt::Evaluation& fresh) {
+  EXPECT_EQ(reused.status, fresh.status);
+  EXPECT_EQ(reused.message, fresh.message);
+  ASSERT_TRUE(reused.names && fresh.names);
+  ASSERT_EQ(*reused.names, *fresh.names);
+  for (opt::MetricId i = 0; i < static_cast<opt::MetricId>(fresh.names->size()); ++i) {
+    ASSERT_EQ(reused.has(i), fresh.has(i)) << (*fresh.names)[i];
+    if (!fresh.has(i)) continue;
+    EXPECT_EQ(reused[i].value, fresh[i].value) << (*fresh.names)[i];
+    ASSERT_EQ(reused[i].gradient.size(), fresh[i].gradient.size()) << (*fresh.names)[i];
+    for (Eigen::Index j = 0; j < fresh[i].gradient.size(); ++j)
+      EXPECT_EQ(reused[i].gradient[j], fresh[i].gradient[j]) << (*fresh.names)[i];
+  }
+}
+
+TEST(Evaluate, IntoAReusedEvaluationEqualsAFreshOne) {
+  const auto p = problems::make_problem(opt::ConfigNode::parse(
+      "problem: recuperative_drive\n"
+      "variables: {rod_length: {min: 0.1 m, max: 1.5 m}, phase_shift: {min: 0 deg, max: 180 deg}}\n",
+      "<reuse>"));
+  struct Step {
+    double rod_length, phase_shift;
+    bool gradient;
+    std::vector<std::string> metrics;
+  };
+  const std::vector<Step> steps = {
+      {0.8, 1.5, true, {}},                            // every metric, with gradients
+      {0.1, 1.5, false, {}},                           // the rod cannot reach: cannot_assemble
+      {0.7, 1.0, true, {"mean_kinetic_energy"}},       // fewer metrics than before
+      {0.7, 1.0, false, {}},                           // values alone after gradients
+      {0.9, 2.0, true, {"k1", "crank_rod_ratio"}}};
+  opt::Evaluation reused;
+  for (const Step& s : steps) {
+    const Eigen::Vector2d x(s.rod_length, s.phase_shift);
+    const opt::MetricSet wanted = s.metrics.empty() ? opt::MetricSet::all() : p->metric_set(s.metrics);
+    p->evaluate(x, wanted, s.gradient, reused);
+    expect_same(reused, p->evaluate(x, wanted, s.gradient));
+  }
+  EXPECT_EQ(reused.status, mech::Status::ok);
+  // A problem without its own in-place evaluation, through a non-finite design.
+  const auto nan = std::numeric_limits<double>::quiet_NaN();
+  testing_problems::Analytic a(
+      "hole", {{"x", opt::Dimension::dimensionless, 0, 1, 0.5}},
+      {{"hole", [&](const Eigen::VectorXd& x) {
+          return opt::MetricValue{x[0] < 0.25 ? nan : x[0], Eigen::VectorXd::Ones(1)};
+        }}});
+  opt::Evaluation b;
+  for (double x : {0.5, 0.1, 0.6}) {
+    a.evaluate(Eigen::VectorXd::Constant(1, x), opt::MetricSet::all(), true, b);
+    expect_same(b, a.evaluate(Eigen::VectorXd::Constant(1, x), opt::MetricSet::all(), true));
+  }
+}
+
 // Metrics travel by id: the id a problem puts a value under is the row of
 // its metric table, checked when the problem is built, and a name resolves
 // to the same id everywhere.

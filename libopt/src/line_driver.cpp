@@ -44,7 +44,7 @@ Result LineDriver::minimize(const Problem& problem, const Objective& objective,
     if (result.evaluations >= options_.max_evaluations)
       throw Ended{DriverStatus::max_evaluations, detail::stop_message(DriverStatus::max_evaluations, options_)};
     last.x = Eigen::VectorXd::Constant(1, x);
-    last.e = problem.evaluate(last.x, wanted, true);
+    problem.evaluate(last.x, wanted, true, last.e);  // storage reused
     ++result.evaluations;
     const bool ok = last.e.ok() && last.e.has(f.id);
     if (options_.record_history)

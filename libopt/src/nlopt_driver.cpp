@@ -43,30 +43,35 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 // What an NLopt algorithm takes, from NLopt's documentation
 // (doc/docs/NLopt_Algorithms.md): derivatives, nonlinear constraints, finite
 // bounds (every global algorithm), a least dimension.
+// NLopt's own name lookup (nlopt_algorithm_from_string) compares against
+// all of its ~50 names, 0.15 us a run: mechopt looks a name up in this
+// table once a run instead.
 struct Algorithm {
   const char* name;
+  nlopt_algorithm id;
   bool gradient;    // needs exact gradients
   bool inequality;  // nonlinear inequality constraints
   bool equality;    // nonlinear equality constraints
   bool global;      // global search: needs finite bounds on every variable
+  bool random;      // draws from NLopt's random-number generator (then seeded)
   int min_variables;
 };
 
 constexpr Algorithm kAlgorithms[] = {
-    {"LN_COBYLA", false, true, true, false, 1},
-    {"LN_BOBYQA", false, false, false, false, 1},
-    {"LN_NEWUOA_BOUND", false, false, false, false, 2},  // "NEWUOA requires n >= 2"
-    {"LN_NELDERMEAD", false, false, false, false, 1},
-    {"LN_SBPLX", false, false, false, false, 1},
-    {"LD_SLSQP", true, true, true, false, 1},
-    {"LD_MMA", true, true, false, false, 1},
-    {"LD_CCSAQ", true, true, false, false, 1},
-    {"LD_LBFGS", true, false, false, false, 1},
-    {"GN_DIRECT_L", false, false, false, true, 1},
-    {"GN_DIRECT", false, false, false, true, 1},
-    {"GN_ISRES", false, true, true, true, 1},
+    {"LN_COBYLA", NLOPT_LN_COBYLA, false, true, true, false, false, 1},
+    {"LN_BOBYQA", NLOPT_LN_BOBYQA, false, false, false, false, false, 1},
+    {"LN_NEWUOA_BOUND", NLOPT_LN_NEWUOA_BOUND, false, false, false, false, false, 2},  // "NEWUOA requires n >= 2"
+    {"LN_NELDERMEAD", NLOPT_LN_NELDERMEAD, false, false, false, false, false, 1},
+    {"LN_SBPLX", NLOPT_LN_SBPLX, false, false, false, false, false, 1},
+    {"LD_SLSQP", NLOPT_LD_SLSQP, true, true, true, false, false, 1},
+    {"LD_MMA", NLOPT_LD_MMA, true, true, false, false, false, 1},
+    {"LD_CCSAQ", NLOPT_LD_CCSAQ, true, true, false, false, false, 1},
+    {"LD_LBFGS", NLOPT_LD_LBFGS, true, false, false, false, false, 1},
+    {"GN_DIRECT_L", NLOPT_GN_DIRECT_L, false, false, false, true, false, 1},
+    {"GN_DIRECT", NLOPT_GN_DIRECT, false, false, false, true, false, 1},
+    {"GN_ISRES", NLOPT_GN_ISRES, false, true, true, true, true, 1},
     // Multistart: bounds only; gradients as its local_algorithm needs them.
-    {"G_MLSL_LDS", false, false, false, true, 1},
+    {"G_MLSL_LDS", NLOPT_G_MLSL_LDS, false, false, false, true, true, 1},
 };
 
 const Algorithm* find_algorithm(const std::string& name) {
@@ -290,7 +295,8 @@ struct Context {
       nlopt_force_stop(opt);
       return nullptr;
     }
-    last = {xv, problem->evaluate(xv, wanted, gradient)};
+    last.x = xv;  // storage reused: no allocation per evaluation
+    problem->evaluate(last.x, wanted, gradient, last.e);
     last_has_gradient = gradient;
     last_usable = last.e.ok() && std::none_of(barrier.begin(), barrier.end(), [&](const Constraint& k) {
                     return k.g(last.e[k.id].value) > 0;
@@ -394,15 +400,6 @@ double constraint_cb(unsigned n, const double* x, double* grad, void* data) {
     nlopt_force_stop(c.opt);
     return kInfeasibleValue;
   }
-}
-
-// NLopt's algorithms that draw from its random-number generator: the
-// stochastic global ones, MLSL's random starts, PRAXIS and StoGO's
-// randomised variant.
-bool draws_random_numbers(const std::string& algorithm) {
-  for (const char* word : {"CRS", "ISRES", "ESCH", "MLSL", "PRAXIS", "STOGO_RAND"})
-    if (algorithm.find(word) != std::string::npos) return true;
-  return false;
 }
 
 DriverStatus map_status(nlopt_result r) {
@@ -536,7 +533,9 @@ void finish(const Problem& problem, const Objective& objective_named,
     result.message += "; the final design was not evaluated again";
     return;
   }
-  const Evaluation e = reuse ? last->e : problem.evaluate(result.x, wanted, false);
+  Evaluation fresh;
+  if (!reuse) problem.evaluate(result.x, wanted, false, fresh);
+  const Evaluation& e = reuse ? last->e : fresh;
   const bool converged = result.status == DriverStatus::converged;
   if (!e.ok()) {
     if (converged) result.status = DriverStatus::infeasible;
@@ -570,7 +569,8 @@ void finish(const Problem& problem, const Objective& objective_named,
     result.message += "; but the final design meets every constraint, so the problem is not shown infeasible";
   }
   if (result.status != DriverStatus::converged) return;
-  if (result.library == "nlopt" && !algorithm_uses_gradient(result.algorithm)) {
+  const Algorithm* nlopt = result.library == "nlopt" ? find_algorithm(result.algorithm) : nullptr;
+  if (nlopt && !nlopt->gradient) {
     const std::vector<int> flat = flat_variables(problem, objective, result.x, result.objective);
     std::string names;
     for (int j : flat) names += (names.empty() ? "" : ", ") + problem.variables()[j].name;
@@ -602,8 +602,7 @@ void finish(const Problem& problem, const Objective& objective_named,
   // A kink that passed is an optimum; a global algorithm's answer is polished,
   // not checked; the line driver ends on a bracket where the derivative turns
   // from falling to rising (or on a bound it falls toward): a minimum by construction.
-  if (kink || result.library == "line" || (result.library == "nlopt" && algorithm_is_global(result.algorithm)))
-    return;
+  if (kink || result.library == "line" || (nlopt && nlopt->global)) return;
   if (const auto slope = check_slope(problem, objective, all, result.x, result.objective, &e)) {
     char text[160];
     std::snprintf(text, sizeof text, "a step of %.2g%% of the variables' ranges takes it from %.10g to %.10g",
@@ -662,7 +661,8 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   // Implicit constraints keep the model evaluable: constraints for the
   // algorithms that take them, a barrier (kInfeasibleValue) for the others,
   // which then start inside it.
-  const bool constrained_alg = algorithm_supports_constraints(algorithm);
+  const Algorithm& alg = *find_algorithm(algorithm);  // known: driver_incompatibility checked it
+  const bool constrained_alg = alg.inequality;
   Eigen::VectorXd x = x0;
   const detail::Start start = detail::prepare_start(problem, objective, x, result, stop, !constrained_alg);
   const Objective bound = problem.bind(objective);
@@ -670,7 +670,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
             &stop, &result, nullptr, nullptr, {}, false, false, false, {}, {}, {}, std::nullopt, std::nullopt};
   for (const auto& k : problem.bind(problem.implicit_constraints()))
     (constrained_alg ? c.constraints : c.barrier).push_back(k);
-  c.watch_gradient = !algorithm_is_global(algorithm);
+  c.watch_gradient = !alg.global;
   c.lower = problem.lower_bounds(), c.upper = problem.upper_bounds();
   c.range = c.upper - c.lower;  // or, where unbounded, the start's size
   for (Eigen::Index i = 0; i < c.range.size(); ++i)
@@ -680,7 +680,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   for (const auto& k : c.barrier) c.wanted.add(k.id);
 
   const unsigned n = static_cast<unsigned>(x0.size());
-  nlopt_opt opt = nlopt_create(nlopt_algorithm_from_string(algorithm.c_str()), n);
+  nlopt_opt opt = nlopt_create(alg.id, n);
   c.opt = opt;
   const Eigen::VectorXd lb = problem.lower_bounds(), ub = problem.upper_bounds();
   nlopt_set_lower_bounds(opt, lb.data());
@@ -709,10 +709,10 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   // one's is a few small dense solves, and NLopt's check, a gettimeofday at
   // each of its stop tests (14 a run of the rod length's L-BFGS), was 6% of
   // that run.
-  if (algorithm_is_global(algorithm))
+  if (alg.global)
     nlopt_set_maxtime(opt, std::max(options_.max_seconds - stop.seconds(), 1e-9));
-  if (algorithm == "G_MLSL_LDS") {  // multistart: local searches from a low-discrepancy sequence
-    nlopt_opt local = nlopt_create(nlopt_algorithm_from_string(options_.local_algorithm.c_str()), n);
+  if (alg.id == NLOPT_G_MLSL_LDS) {  // multistart: local searches from a low-discrepancy sequence
+    nlopt_opt local = nlopt_create(find_algorithm(options_.local_algorithm)->id, n);
     nlopt_set_xtol_rel(local, options_.xtol_rel);
     nlopt_set_local_optimizer(opt, local);
     nlopt_destroy(local);  // NLopt keeps its own copy
@@ -720,7 +720,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
 
   // Seeding costs about as much as a dozen model evaluations (NLopt's
   // Mersenne twister): only the algorithms that draw random numbers need it.
-  if (draws_random_numbers(algorithm)) nlopt_srand(options_.seed);
+  if (alg.random) nlopt_srand(options_.seed);
   double f = 0;
   const nlopt_result code = stop.reason ? NLOPT_FORCED_STOP : nlopt_optimize(opt, x.data(), &f);
   nlopt_destroy(opt);
@@ -731,8 +731,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
                        ? "the objective's gradient is zero to roundoff (mechopt's test; NLopt has none)"
                        : std::string("NLopt: ") + nlopt_result_to_string(code);
   result.x = c.stationary && !stop.reason ? *c.stationary : x;
-  if (code == NLOPT_ROUNDOFF_LIMITED && !stop.reason && !c.stationary && algorithm_uses_gradient(algorithm) &&
-      !algorithm_is_global(algorithm)) {
+  if (code == NLOPT_ROUNDOFF_LIMITED && !stop.reason && !c.stationary && alg.gradient && !alg.global) {
     // NLopt: "the optimization still typically returns a useful result".
     // Where the design meets the constraints and no first-order descent is
     // left, it is a KKT point: SLSQP ends so when its line search cannot

@@ -18,7 +18,13 @@ double Evaluation::at(const std::string& name) const {
 }
 
 Evaluation Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient) const {
-  Evaluation e = evaluate_model_at(x, wanted, gradient);
+  Evaluation e;
+  evaluate(x, wanted, gradient, e);
+  return e;
+}
+
+void Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& e) const {
+  evaluate_model_into(x, wanted, gradient, e);
   e.names = shared_metric_names();
   for (MetricId i = 0; i < static_cast<MetricId>(e.values.size()); ++i) {
     if (!e.has(i)) continue;
@@ -26,15 +32,13 @@ Evaluation Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, 
     if (std::isfinite(m.value) && m.gradient.allFinite()) continue;
     // Metrics stay defined where the design is not (implicit constraints)
     // and may be kept; a non-finite one never is.
-    Evaluation bad;
-    bad.names = e.names;
-    bad.status = e.ok() ? Status::non_finite : e.status;
-    bad.message = e.ok() ? (*e.names)[static_cast<size_t>(i)] +
-                               (std::isfinite(m.value) ? " has a non-finite gradient" : " is not finite")
-                         : e.message;
-    return bad;
+    if (e.ok())
+      e.message = (*e.names)[static_cast<size_t>(i)] +
+                  (std::isfinite(m.value) ? " has a non-finite gradient" : " is not finite");
+    e.status = e.ok() ? Status::non_finite : e.status;
+    e.computed = MetricSet();
+    return;
   }
-  return e;
 }
 
 Evaluation Problem::evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted,

@@ -199,7 +199,10 @@ std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& o
              return e.has(i) && e[i].gradient.size() == x.size();
            });
   };
-  const Evaluation e = at_x && has_gradients(*at_x) ? *at_x : problem.evaluate(x, wanted, true);
+  const bool given = at_x && has_gradients(*at_x);
+  Evaluation fresh;
+  if (!given) problem.evaluate(x, wanted, true, fresh);
+  const Evaluation& e = given ? *at_x : fresh;
   if (!has_gradients(e)) return std::nullopt;
   const Eigen::VectorXd scale = variable_scales(problem, x);
   const double sign = objective.maximize ? -1 : 1;

@@ -64,6 +64,13 @@ inline Dual atan2(const Dual& y, const Dual& x) {
 inline Eigen::VectorXd gradient(const Dual& x) { return Eigen::VectorXd::Constant(1, x.d); }
 template <class D>
 Eigen::VectorXd gradient(const Eigen::AutoDiffScalar<D>& x) { return x.derivatives(); }
+// The same into `out`, whose storage is reused when its size fits.
+inline void gradient_into(const Dual& x, Eigen::VectorXd& out) {
+  out.resize(1);
+  out[0] = x.d;
+}
+template <class D>
+void gradient_into(const Eigen::AutoDiffScalar<D>& x, Eigen::VectorXd& out) { out = x.derivatives(); }
 
 inline double value(double x) { return x; }
 inline double value(const Dual& x) { return x.v; }

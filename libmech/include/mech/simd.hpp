@@ -294,16 +294,21 @@ inline void store_lanes(double* out, const Lanes& a, int m) {
     for (int j = 0; j < m; ++j) out[j] = a[j];
 }
 
-// a with its lanes from m on set to zero.
+// a with its lanes from m on set to zero (a itself for a full block, the
+// grid's every block but a last partial one: inline, no copy).
 inline Lanes first_lanes(Lanes a, int m) {
   for (int j = m; j < kLanes; ++j) a[j] = 0.0;
   return a;
 }
 template <int N>
-LaneDual<N> first_lanes(LaneDual<N> a, int m) {
+LaneDual<N> first_lanes_slow(LaneDual<N> a, int m) {
   a.v = first_lanes(a.v, m);
   for (auto& d : a.d) d = first_lanes(d, m);
   return a;
+}
+template <int N>
+[[gnu::always_inline]] inline LaneDual<N> first_lanes(const LaneDual<N>& a, int m) {
+  return m >= kLanes ? a : first_lanes_slow(a, m);
 }
 
 }  // namespace mech

@@ -67,10 +67,20 @@ struct Evaluation {
   bool ok() const { return status == Status::ok; }
   bool has(MetricId i) const { return i >= 0 && computed.contains(i); }
   const MetricValue& operator[](MetricId i) const { return values[static_cast<size_t>(i)]; }
-  void set(MetricId i, MetricValue v) {
+  void set(MetricId i, MetricValue v) { slot(i) = std::move(v); }
+  // Metric i, marked computed, to be written in place (its gradient's
+  // storage reused from an earlier evaluation of the same size).
+  MetricValue& slot(MetricId i) {
     if (values.size() <= static_cast<size_t>(i)) values.resize(static_cast<size_t>(i) + 1);
-    values[static_cast<size_t>(i)] = std::move(v);
     computed.add(i);
+    return values[static_cast<size_t>(i)];
+  }
+  // Ready for a new evaluation: status ok, no message, nothing computed
+  // (the values' storage is kept).
+  void clear() {
+    status = Status::ok;
+    message.clear();
+    computed = MetricSet();
   }
   // By name, for reports and tests (a search over the names).
   bool has(const std::string& name) const;
@@ -159,6 +169,9 @@ class Problem {
   // lies: a design whose metrics (or gradients) come out NaN or infinite has
   // status non_finite and no metrics.
   Evaluation evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient) const;
+  // The same into `out`, reusing its storage: a driver's loop over designs
+  // then allocates nothing per evaluation.
+  void evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& out) const;
   // The same by names (all metrics if empty), for reports and tests.
   Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted, bool gradient) const;
   // Curves over one crank revolution at x, at n + 1 angles from 0 to 2 pi
@@ -210,6 +223,11 @@ class Problem {
   // The model's evaluation behind evaluate().
   virtual Evaluation evaluate_model_at(const Eigen::VectorXd& x, const MetricSet& wanted,
                                        bool gradient) const = 0;
+  // The same into `out` (cleared first), for models that reuse its storage.
+  virtual void evaluate_model_into(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient,
+                                   Evaluation& out) const {
+    out = evaluate_model_at(x, wanted, gradient);
+  }
 };
 
 }  // namespace opt

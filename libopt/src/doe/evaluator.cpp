@@ -68,7 +68,8 @@ Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
   mech::set_deadline(spec_.sample_seconds);  // checked inside long computations
   try {
     const Sample s = sample(maker, i, r.factors);
-    const Evaluation e = s.problem->evaluate(s.x, MetricSet::all(), false);
+    thread_local Evaluation e;  // storage reused from the thread's previous sample
+    s.problem->evaluate(s.x, MetricSet::all(), false, e);
     r.status = mech::to_string(e.status);
     r.message = e.message;
     for (size_t m = 0; m < metrics_; ++m)
