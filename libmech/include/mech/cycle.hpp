@@ -13,7 +13,6 @@
 #include <numbers>
 #include <span>
 #include <type_traits>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -48,9 +47,10 @@ struct GridTable {
   std::vector<Lanes> c, s;
 };
 inline const GridTable* grid_table(int n) {
-  if (n > 512) return nullptr;
-  static thread_local std::unordered_map<int, GridTable> tables;
-  GridTable& t = tables[n];
+  constexpr int kMost = 512;
+  if (n > kMost || n < 1) return nullptr;
+  static thread_local std::vector<GridTable> tables(kMost + 1);  // by n: no hashing per evaluation
+  GridTable& t = tables[static_cast<std::size_t>(n)];
   if (t.c.empty()) {
     for (int k = 0; k < n; k += kLanes) {
       Lanes c, s;
