@@ -5,7 +5,6 @@
 // the shaking force on the frame. Defaults: the paper's data and improved
 // design. Design and readings: docs/design/balanced_slider_crank.md.
 #include <array>
-#include <span>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -227,7 +226,7 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
 
   // The improved mechanism at design x.
   template <class S>
-  Mechanism<S> improved(std::span<const S> x) const {
+  Mechanism<S> improved(const std::vector<S>& x) const {
     S a(m_.cam_offset), rod(m_.rod_length), rate(m_.spring_rate), neutral(m_.spring_neutral);
     for (size_t i = 0; i < x.size(); ++i) {
       switch (slots_[i]) {
@@ -257,7 +256,7 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
   }
 
   template <class S>
-  void evaluate_model(std::span<const S> x, MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     const Mechanism<S> imp = improved(x), orig = original<S>();
     out.put(M::rod_length, imp.rod_length);
     for (const auto* m : {&imp, &orig}) {
@@ -319,7 +318,7 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    const auto imp = improved(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    const auto imp = improved(std::vector<double>(x.data(), x.data() + x.size()));
     const auto orig = original<double>();
     if (mech::check(imp) != mech::Status::ok || mech::check(orig) != mech::Status::ok) return {};
     opt::CycleCurves c{{"crank_angle", "balancing_torque", "original_balancing_torque", "support_reaction",
@@ -335,7 +334,7 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
   }
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
-    if (mech::check(improved(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())))) != mech::Status::ok) return {};
+    if (mech::check(improved(std::vector<double>(x.data(), x.data() + x.size()))) != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return improved(xs); };
     const int n = m_.cycle_points;
     if (metric == M::peak_balancing_torque) return cycle_local_maxima(x, n, model_at, at_angle(absolute(torque)));

@@ -2,7 +2,6 @@
 #include "problems/registry.hpp"
 
 #include <cmath>
-#include <span>
 #include <numbers>
 
 #include "mech/conveyor_swing.hpp"
@@ -179,7 +178,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   template <class S>
-  void evaluate_model(std::span<const S> x, MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     using std::abs;
     const Design<S> d = design(x);
     const auto& k = d.mech.linkage;
@@ -209,7 +208,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    const Design<double> d = design(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    const Design<double> d = design(std::vector<double>(x.data(), x.data() + x.size()));
     if (d.status() != mech::Status::ok) return {};
     opt::CycleCurves c{{"crank_angle", "balancing_moment", "inertia_moment", "friction_moment",
                         "pressure_angle", "rocker_angle"},
@@ -224,7 +223,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
-    const Design<double> d = design(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    const Design<double> d = design(std::vector<double>(x.data(), x.data() + x.size()));
     if (d.status() != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return design(xs).mech; };
     const int n = mech::swing_grid_points(mech::toggle_poles(d.mech.linkage), model_.cycle_points);  // swing_metrics' grid
@@ -255,7 +254,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   };
 
   template <class S>
-  Design<S> design(std::span<const S> x) const {
+  Design<S> design(const std::vector<S>& x) const {
     Design<S> d{model_.mech.template cast<S>()};
     S l_co1(model_.l_co1);
     for (size_t i = 0; i < x.size(); ++i) {

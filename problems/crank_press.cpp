@@ -4,7 +4,6 @@
 // the pressing stroke, and the drive power. The readings the guide leaves
 // open are choices named as in docs/design/crank_press.md.
 #include <cmath>
-#include <span>
 #include <numbers>
 #include <string>
 
@@ -174,7 +173,7 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
   }
 
   template <class S>
-  void evaluate_model(std::span<const S> x, MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     using std::asin;
     using std::exp;
     const mech::CrankPress<S> k = press(x);
@@ -219,7 +218,7 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
   // force laws (zero while the piston is free, phi < phi_c), the configured
   // one the chart's primary, and the piston travel.
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    mech::CrankPress<double> k = press(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    mech::CrankPress<double> k = press(std::vector<double>(x.data(), x.data() + x.size()));
     if (mech::check(k) != mech::Status::ok) return {};
     const double phi_c = mech::compaction_start(k);
     opt::CycleCurves c{{"crank_angle", "torque_constant_force", "torque_pressure_law", "piston_travel"},
@@ -239,7 +238,7 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
 
  private:
   template <class S>
-  mech::CrankPress<S> press(std::span<const S> x) const {
+  mech::CrankPress<S> press(const std::vector<S>& x) const {
     S len[4] = {S(m_.r), S(m_.l_sh), S(m_.l), S(m_.l_p)};  // rows 0-3 of kTable
     for (size_t i = 0; i < x.size(); ++i) len[slots_[i]] = x[i];
     if (m_.stroke > 0) len[2] = m_.stroke * len[3] / (2.0 * len[0]);

@@ -5,7 +5,6 @@
 // the scalar; nothing here knows which driver runs it.
 #pragma once
 #include <algorithm>
-#include <span>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -113,7 +112,7 @@ class TabledProblem : public opt::Problem {
 };
 
 // Derived implements:
-//   template <class S> void evaluate_model(std::span<const S> x, MetricSink<S>& out) const;
+//   template <class S> void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const;
 // setting out.result.status for an infeasible design.
 template <class Derived>
 class ModelProblem : public TabledProblem {
@@ -140,13 +139,13 @@ class ModelProblem : public TabledProblem {
   // size up to 4 variables, sized at run time beyond.
   template <class F>
   auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
-    if (!gradient) return f(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));  // no copy
+    if (!gradient) return f(seeded<double>(x));
     switch (variables().size()) {
-      case 1: return seeded<mech::Dual>(x, f);  // value and slope: no Eigen expression templates
-      case 2: return seeded<mech::DualN<2>>(x, f);
-      case 3: return seeded<mech::DualN<3>>(x, f);
-      case 4: return seeded<mech::DualN<4>>(x, f);
-      default: return seeded<mech::DualX>(x, f);
+      case 1: return f(seeded<mech::Dual>(x));  // value and slope: no Eigen expression templates
+      case 2: return f(seeded<mech::DualN<2>>(x));
+      case 3: return f(seeded<mech::DualN<3>>(x));
+      case 4: return f(seeded<mech::DualN<4>>(x));
+      default: return f(seeded<mech::DualX>(x));
     }
   }
 
@@ -155,7 +154,7 @@ class ModelProblem : public TabledProblem {
   template <class ModelAt, class G>
   std::vector<opt::MetricValue> cycle_local_maxima(const Eigen::VectorXd& x, int n,
                                                    ModelAt&& model_at, G&& g) const {
-    const auto angles = mech::cycle_max_angles(model_at(std::span<const double>(x.data(), static_cast<std::size_t>(x.size()))), n, g);
+    const auto angles = mech::cycle_max_angles(model_at(seeded<double>(x)), n, g);
     return with_scalar(x, true, [&](const auto& xs) {
       using S = typename std::decay_t<decltype(xs)>::value_type;
       const auto model = model_at(xs);
@@ -171,17 +170,15 @@ class ModelProblem : public TabledProblem {
   }
 
  private:
-  // f(xs) with xs the variables seeded as S. (A stack array instead makes
-  // GCC's -Warray-bounds flag a model that reads variable 5 in the
-  // unreachable 4-variable case.)
-  template <class S, class F>
-  static auto seeded(const Eigen::VectorXd& x, F& f) {
+  template <class S>
+  static std::vector<S> seeded(const Eigen::VectorXd& x) {
     std::vector<S> xs(x.size());
     for (int i = 0; i < x.size(); ++i) {
       if constexpr (std::is_same_v<S, mech::Dual>) xs[i] = mech::seed(x[i]);
-      else xs[i] = S(x[i], static_cast<int>(x.size()), i);
+      else if constexpr (mech::is_dual<S>) xs[i] = S(x[i], static_cast<int>(x.size()), i);
+      else xs[i] = x[i];
     }
-    return f(std::span<const S>(xs));
+    return xs;
   }
 };
 

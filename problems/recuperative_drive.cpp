@@ -2,7 +2,6 @@
 #include "problems/registry.hpp"
 
 #include <cmath>
-#include <span>
 #include <numbers>
 
 #include "opt/parameters.hpp"
@@ -129,7 +128,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    const auto d = drive(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
     if (mech::check(d) != mech::Status::ok) return {};
     // The chart: the crank moments (the energy stays in cycle.csv).
     opt::CycleCurves c{{"crank_angle", "kinetic_energy", "total_moment", "inertia_moment", "static_moment"},
@@ -145,7 +144,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
     if (metric != M::peak_kinetic_energy && metric != M::peak_crank_torque) return {};
-    const auto d = drive(std::span<const double>(x.data(), static_cast<std::size_t>(x.size())));
+    const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
     if (mech::check(d) != mech::Status::ok) return {};
     auto model_at = [&](const auto& xs) { return drive(xs); };
     const int n = points(d);
@@ -165,14 +164,14 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   }
 
   template <class S>
-  mech::TwinDrive<S> drive(std::span<const S> x) const {
+  mech::TwinDrive<S> drive(const std::vector<S>& x) const {
     mech::TwinDrive<S> d = model_.drive.template cast<S>();
     for (size_t i = 0; i < x.size(); ++i) slot(d, slots_[i]) = x[i];
     return d;
   }
 
   template <class S>
-  void evaluate_model(std::span<const S> x, MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     const mech::TwinDrive<S> d = drive(x);
     using std::abs;
     out.put(M::crank_rod_ratio, (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere

@@ -5,7 +5,6 @@
 // productivity and the compaction power. The readings the guide leaves open
 // are choices named as in docs/design/crank_press.md, section 9.
 #include <cmath>
-#include <span>
 #include <numbers>
 #include <string>
 
@@ -197,7 +196,7 @@ class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
   }
 
   template <class S>
-  void evaluate_model(std::span<const S> x, MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     S design[2] = {S(m_.roller_ratio), S(m_.gap)};  // rows 0-1 of kTable
     for (size_t i = 0; i < x.size(); ++i) design[slots_[i]] = x[i];
     const auto r = mech::roller_forming(m_.c, design[0], design[1]);

@@ -4,7 +4,6 @@
 // problem: its parameter table, metrics, evaluation on any scalar, and its
 // registration; docs/adding-a-problem.md walks through it.
 #include <cmath>
-#include <span>
 
 #include "mech/cycle.hpp"
 #include "mech/slider_crank.hpp"
@@ -75,7 +74,7 @@ class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
   }
 
   template <class S>
-  void evaluate_model(std::span<const S> x, MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
     mech::SliderCrank<S> k{S(m_.mechanism.r), S(m_.mechanism.l), S(m_.mechanism.e), 1, m_.mechanism.kinematics};
     for (size_t i = 0; i < x.size(); ++i) slot(k, slots_[i]) = x[i];
     if (!mech::assembles_over_cycle(k)) {

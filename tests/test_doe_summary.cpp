@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <span>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -29,7 +28,7 @@ class Ishigami : public problems::ModelProblem<Ishigami> {
   enum Metric { f };
   explicit Ishigami(std::vector<opt::Variable> v) : ModelProblem("ishigami", {{f, "f", ""}}, std::move(v)) {}
   template <class S>
-  void evaluate_model(std::span<const S> x, problems::MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, problems::MetricSink<S>& out) const {
     using std::sin;
     out.put(f, sin(x[0]) + 7 * sin(x[1]) * sin(x[1]) + 0.1 * x[2] * x[2] * x[2] * x[2] * sin(x[0]));
   }

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <span>
 
 #include "opt/config.hpp"
 #include "opt/derivatives.hpp"
@@ -96,7 +95,7 @@ class SixVariables : public problems::ModelProblem<SixVariables> {
       : ModelProblem("six_variables", {{mean, "mean_kinetic_energy", "J"}, {least, "least_mean_kinetic_energy", "J"}},
                      std::move(v)) {}
   template <class S>
-  void evaluate_model(std::span<const S> x, problems::MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, problems::MetricSink<S>& out) const {
     mech::TwinDrive<S> d = mech::TwinDrive<double>{0.2, 0.8, 1.5, 0, 10, 1000, 80, 0.9, 3562}.cast<S>();
     d.rod_length = x[0], d.phase_shift = x[1], d.crank_radius = x[2], d.offset = x[3];
     d.cart_mass = x[4], d.crank_speed = x[5];
