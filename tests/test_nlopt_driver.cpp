@@ -175,7 +175,7 @@ TEST(Finish, LibraryInfeasibleAtAFeasibleDesignIsAFailure) {
     r.library = "ipopt";
     r.status = opt::DriverStatus::infeasible;
     r.x = x;
-    opt::detail::finish(t, {"f"}, kCons, r, nullptr);
+    opt::detail::finish(t, opt::detail::Bound(t, {"f"}, kCons), r, nullptr);
     return r;
   };
   const auto feasible = finished(Eigen::Vector2d(1.0 / 3, 8.0 / 27));

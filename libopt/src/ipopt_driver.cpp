@@ -386,8 +386,9 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
   result.algorithm = options_.epigraph ? "interior-point, L-BFGS, epigraph" : "interior-point, L-BFGS";
   if (!why.empty()) return result;
   Eigen::VectorXd x = x0;
-  const detail::Start start = detail::prepare_start(problem, objective, x, result, stop);
-  const Objective f = problem.bind(objective);
+  const detail::Bound b(problem, objective, constraints);
+  const detail::Start start = detail::prepare_start(problem, b, x, result, stop);
+  const Objective& f = b.objective;
 
   // Rows: user constraints, then the problem's implicit ones; maxima
   // expanded into their peaks when bounded above.
@@ -400,8 +401,8 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
     }
     rows.push_back({k, peaks});
   };
-  for (const auto& k : problem.bind(constraints)) add(k);
-  for (const auto& k : problem.bind(problem.implicit_constraints())) add(k);
+  for (const auto& k : b.constraints) add(k);
+  for (const auto& k : b.implicit) add(k);
 
   int objective_peaks = 0;
   double t0 = 0;
@@ -455,7 +456,7 @@ Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
     result.message += "; Ipopt ended beyond a variable bound given to it as none (more than " +
                       std::to_string(static_cast<int>(kFarBound)) + " x the start's magnitude away)";
   }
-  detail::finish(problem, objective, constraints, result, &nlp->last());
+  detail::finish(problem, b, result, &nlp->last());
   if (!options_.epigraph && !objective.maximize && !stop.reason && result.status != DriverStatus::converged &&
       !problem.local_maxima(result.x, f.id).empty())
     result.message += "; " + objective.metric + " is a maximum over the cycle, with kinks where two peaks are " +

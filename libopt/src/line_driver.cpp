@@ -31,7 +31,8 @@ Result LineDriver::minimize(const Problem& problem, const Objective& objective,
   result.library = "line";
   result.algorithm = "Brent on the derivative";
   if (!why.empty()) return result;
-  const Objective f = problem.bind(objective);
+  const detail::Bound b(problem, objective, constraints);
+  const Objective& f = b.objective;
   MetricSet wanted;
   wanted.add(f.id);
   const double sign = objective.maximize ? -1.0 : 1.0;
@@ -93,7 +94,7 @@ Result LineDriver::minimize(const Problem& problem, const Objective& objective,
     result.message = e.message;
     result.x = std::isfinite(best_x) ? Eigen::VectorXd::Constant(1, best_x) : Eigen::VectorXd::Constant(1, x_start);
   }
-  detail::finish(problem, objective, constraints, result, &last);
+  detail::finish(problem, b, result, &last);
   result.seconds = stop.seconds();
   return result;
 }

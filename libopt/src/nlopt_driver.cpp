@@ -297,12 +297,20 @@ struct Context {
     }
     last.x = xv;  // storage reused: no allocation per evaluation
     problem->evaluate(last.x, wanted, gradient, last.e);
+    remembered(gradient);
+    if ((*stop)()) nlopt_force_stop(opt);
+    return &last;
+  }
+  // `at` the evaluation of the start (prepare_start's), as if just made.
+  void remember(detail::EvaluationAt&& at, bool gradient) {
+    last = std::move(at);
+    remembered(gradient);
+  }
+  void remembered(bool gradient) {
     last_has_gradient = gradient;
     last_usable = last.e.ok() && std::none_of(barrier.begin(), barrier.end(), [&](const Constraint& k) {
                     return k.g(last.e[k.id].value) > 0;
                   });
-    if ((*stop)()) nlopt_force_stop(opt);
-    return &last;
   }
 };
 
@@ -484,46 +492,67 @@ int restore_feasibility(const Problem& problem, Eigen::VectorXd& x, detail::Stop
 
 namespace detail {
 
-Start prepare_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
-                    Result& result, StopCheck& stop, bool inside_implicit) {
-  const std::vector<Constraint> implicit = problem.bind(problem.implicit_constraints());
-  const MetricId f_id = problem.bind(objective).id;
-  MetricSet wanted;
-  wanted.add(f_id);
+Bound::Bound(const Problem& problem, const Objective& objective_named, const std::vector<Constraint>& constraints_named)
+    : objective(problem.bind(objective_named)),
+      constraints(problem.bind(constraints_named)),
+      implicit(problem.bind(problem.implicit_constraints())) {
+  wanted.add(objective.id);
+  for (const auto& k : constraints) wanted.add(k.id);
   for (const auto& k : implicit) wanted.add(k.id);
+}
+
+std::vector<Constraint> Bound::all() const {
+  std::vector<Constraint> out = constraints;
+  out.insert(out.end(), implicit.begin(), implicit.end());
+  return out;
+}
+
+Start prepare_start(const Problem& problem, const Bound& b, Eigen::VectorXd& x, Result& result, StopCheck& stop,
+                    bool inside_implicit, EvaluationAt* first) {
+  MetricSet wanted = b.wanted;
+  if (!first) {  // the objective and the implicit constraints only
+    wanted = MetricSet();
+    wanted.add(b.objective.id);
+    for (const auto& k : b.implicit) wanted.add(k.id);
+  }
+  const bool gradient = first && problem.provides_gradients();
   // Usable: the model can evaluate x, and (when asked) x satisfies the implicit constraints.
   auto usable = [&](const Evaluation& e) {
-    return e.ok() && (!inside_implicit || std::none_of(implicit.begin(), implicit.end(), [&](const auto& k) {
+    return e.ok() && (!inside_implicit || std::none_of(b.implicit.begin(), b.implicit.end(), [&](const auto& k) {
                         return k.g(e[k.id].value) > 0;
                       }));
   };
   Start s;
-  Evaluation e = problem.evaluate(x, wanted, false);
-  if (!usable(e) && problem.provides_gradients()) {  // phase 1 needs the margins' gradients
-    const std::string before = e.ok() ? "outside the problem's own constraints" : std::string(mech::to_string(e.status));
+  EvaluationAt here;
+  EvaluationAt& at = first ? *first : here;
+  at.x = x;
+  problem.evaluate(x, wanted, gradient, at.e);
+  if (!usable(at.e) && problem.provides_gradients()) {  // phase 1 needs the margins' gradients
+    const std::string before =
+        at.e.ok() ? "outside the problem's own constraints" : std::string(mech::to_string(at.e.status));
     const int used = restore_feasibility(problem, x, stop);
     result.evaluations += used;
-    e = problem.evaluate(x, wanted, false);
+    at.x = x;
+    problem.evaluate(x, wanted, gradient, at.e);
     s.note = "; the start was infeasible (" + before + "), phase 1 " +
-             (usable(e) ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
+             (usable(at.e) ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
              " evaluations";
   }
   stop();
-  const double f = e.ok() && e.has(f_id) ? std::abs(e[f_id].value) : 0.0;
+  const MetricId f_id = b.objective.id;
+  const double f = at.e.ok() && at.e.has(f_id) ? std::abs(at.e[f_id].value) : 0.0;
   s.scale = std::isfinite(f) && f > 0 ? f : 1.0;
   return s;
 }
 
-void finish(const Problem& problem, const Objective& objective_named,
-            const std::vector<Constraint>& constraints_named, Result& result, const EvaluationAt* last) {
-  const std::vector<Constraint> implicit = problem.bind(problem.implicit_constraints());
-  const std::vector<Constraint> constraints = problem.bind(constraints_named);
-  const Objective objective = problem.bind(objective_named);
+void finish(const Problem& problem, const Bound& b, Result& result, const EvaluationAt* last) {
+  const std::vector<Constraint>& implicit = b.implicit;
+  const std::vector<Constraint>& constraints = b.constraints;
+  const Objective& objective = b.objective;
   std::vector<MetricId> ids{objective.id};
   for (const auto& k : constraints) ids.push_back(k.id);
   for (const auto& k : implicit) ids.push_back(k.id);
-  MetricSet wanted;
-  for (MetricId i : ids) wanted.add(i);
+  const MetricSet& wanted = b.wanted;
   const bool reuse = last && last->x.size() == result.x.size() && last->x == result.x &&
                      (!last->e.ok() || std::all_of(ids.begin(), ids.end(), [&](MetricId i) {
                        return last->e.has(i);
@@ -586,8 +615,7 @@ void finish(const Problem& problem, const Objective& objective_named,
       result.message += "; " + objective.metric + " does not change with " + names +
                         " here (0.1% of its range either way): the optimum is not unique in it";
   }
-  std::vector<Constraint> all = constraints;
-  all.insert(all.end(), implicit.begin(), implicit.end());
+  const std::vector<Constraint> all = b.all();
   const auto kink = check_kink(problem, objective, all, result.x);
   if (kink && kink->measure > kKinkTolerance) {
     char measure[32];
@@ -664,20 +692,19 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   const Algorithm& alg = *find_algorithm(algorithm);  // known: driver_incompatibility checked it
   const bool constrained_alg = alg.inequality;
   Eigen::VectorXd x = x0;
-  const detail::Start start = detail::prepare_start(problem, objective, x, result, stop, !constrained_alg);
-  const Objective bound = problem.bind(objective);
-  Context c{&problem, &bound, start.scale, problem.bind(constraints), {}, {}, options_.record_history,
+  const detail::Bound b(problem, objective, constraints);
+  detail::EvaluationAt first;  // a gradient algorithm's first call: x with gradients
+  const detail::Start start =
+      detail::prepare_start(problem, b, x, result, stop, !constrained_alg, alg.gradient ? &first : nullptr);
+  Context c{&problem, &b.objective, start.scale, b.constraints, {}, b.wanted, options_.record_history,
             &stop, &result, nullptr, nullptr, {}, false, false, false, {}, {}, {}, std::nullopt, std::nullopt};
-  for (const auto& k : problem.bind(problem.implicit_constraints()))
-    (constrained_alg ? c.constraints : c.barrier).push_back(k);
+  for (const auto& k : b.implicit) (constrained_alg ? c.constraints : c.barrier).push_back(k);
+  if (alg.gradient) c.remember(std::move(first), problem.provides_gradients());
   c.watch_gradient = !alg.global;
   c.lower = problem.lower_bounds(), c.upper = problem.upper_bounds();
   c.range = c.upper - c.lower;  // or, where unbounded, the start's size
   for (Eigen::Index i = 0; i < c.range.size(); ++i)
     if (!std::isfinite(c.range[i]) || !(c.range[i] > 0)) c.range[i] = std::max(1.0, std::abs(x0[i]));
-  c.wanted.add(bound.id);
-  for (const auto& k : c.constraints) c.wanted.add(k.id);
-  for (const auto& k : c.barrier) c.wanted.add(k.id);
 
   const unsigned n = static_cast<unsigned>(x0.size());
   nlopt_opt opt = nlopt_create(alg.id, n);
@@ -736,9 +763,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
     // Where the design meets the constraints and no first-order descent is
     // left, it is a KKT point: SLSQP ends so when its line search cannot
     // move along an active constraint's curve by more than roundoff.
-    std::vector<Constraint> all = problem.bind(constraints), implicit = problem.bind(problem.implicit_constraints());
-    all.insert(all.end(), implicit.begin(), implicit.end());
-    if (const auto measure = kkt_measure(problem, problem.bind(objective), all, result.x);
+    if (const auto measure = kkt_measure(problem, b.objective, b.all(), result.x);
         measure && *measure <= kKktTolerance) {
       char text[96];
       std::snprintf(text, sizeof text, " at a KKT point (first-order measure %.2g, mechopt's check)", *measure);
@@ -748,7 +773,7 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   }
   result.message += start.note;
   if (result.stopped()) result.message = detail::stop_message(result.status, options_) + " (" + result.message + ")";
-  detail::finish(problem, objective, constraints, result, &c.last);
+  detail::finish(problem, b, result, &c.last);
   result.seconds = stop.seconds();
   return result;
 }

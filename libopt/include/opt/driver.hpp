@@ -273,6 +273,17 @@ struct EvaluationAt {
   Evaluation e;
 };
 
+// A run's objective and constraints with their metric ids, bound once a run
+// (std::invalid_argument naming an unknown metric): the user's constraints,
+// the problem's own (implicit) ones, and every metric the three need.
+struct Bound {
+  Bound(const Problem& problem, const Objective& objective, const std::vector<Constraint>& constraints);
+  std::vector<Constraint> all() const;  // the user's, then the implicit ones
+  Objective objective;
+  std::vector<Constraint> constraints, implicit;
+  MetricSet wanted;
+};
+
 // The start of a run, from one evaluation at x. If the model cannot be
 // evaluated there (or, with inside_implicit, x violates an implicit
 // constraint), x moves into the region of the implicit constraints (phase 1:
@@ -280,21 +291,22 @@ struct EvaluationAt {
 // |f(x)| of the objective (1 if not finite or zero): the drivers pass the
 // objective divided by it, since SLSQP in particular fails on badly scaled
 // objectives (a peak moment of 1.5e5 N m stops it at its first step).
+// With `first`, that evaluation is of every metric the run wants, with
+// gradients where the problem has them, and is left there (at the start x)
+// for the driver's first call, which then costs nothing.
 struct Start {
   std::string note;
   double scale = 1;
 };
-Start prepare_start(const Problem& problem, const Objective& objective, Eigen::VectorXd& x,
-                    Result& result, StopCheck& stop, bool inside_implicit = false);
+Start prepare_start(const Problem& problem, const Bound& bound, Eigen::VectorXd& x, Result& result,
+                    StopCheck& stop, bool inside_implicit = false, EvaluationAt* first = nullptr);
 
 // The final report at result.x: the objective and constraint values, status
 // `infeasible` when a converged run ends at a design that violates a
 // constraint (the problem's implicit ones included) or that the model cannot
 // evaluate. Reuses `last` when it was evaluated at result.x; an interrupted
 // run evaluates nothing more (its objective is then NaN).
-void finish(const Problem& problem, const Objective& objective,
-            const std::vector<Constraint>& constraints, Result& result,
-            const EvaluationAt* last = nullptr);
+void finish(const Problem& problem, const Bound& bound, Result& result, const EvaluationAt* last = nullptr);
 
 // A result that did no work: the start point, a NaN objective, a status.
 Result no_work(DriverStatus status, std::string message, const Eigen::VectorXd& x0);
