@@ -709,9 +709,8 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   const unsigned n = static_cast<unsigned>(x0.size());
   nlopt_opt opt = nlopt_create(alg.id, n);
   c.opt = opt;
-  const Eigen::VectorXd lb = problem.lower_bounds(), ub = problem.upper_bounds();
-  nlopt_set_lower_bounds(opt, lb.data());
-  nlopt_set_upper_bounds(opt, ub.data());
+  nlopt_set_lower_bounds(opt, c.lower.data());
+  nlopt_set_upper_bounds(opt, c.upper.data());
   nlopt_set_min_objective(opt, objective_cb, &c);
   std::vector<ConstraintData> cdata(c.constraints.size());
   for (size_t i = 0; i < c.constraints.size(); ++i) {
