@@ -100,6 +100,39 @@ TEST(NloptDriver, RoundoffStopEndsAtTheMinimumNotBeforeIt) {
   }
 }
 
+// A gradient algorithm's first call reuses the start's evaluation that
+// prepare_start made (with gradients), so the model runs once per
+// evaluation the run counts and not once more; and a start whose values
+// are fine but whose gradient is not is still a usable start (no phase 1),
+// the gradient's failure met by the run as before.
+TEST(NloptDriver, TheStartIsEvaluatedOnce) {
+  int calls = 0;
+  const testing_problems::Analytic counted(
+      "counted", {{"x", opt::Dimension::dimensionless, -1, 1, 0.9}},
+      {{"f", [&calls](const Eigen::VectorXd& v) {
+          ++calls;
+          return opt::MetricValue{std::cosh(v[0] - 0.3), Eigen::VectorXd::Constant(1, std::sinh(v[0] - 0.3))};
+        }}});
+  opt::DriverOptions o;
+  o.algorithm = "LD_SLSQP";
+  o.xtol_rel = 1e-12;
+  const auto r = opt::NloptDriver(o).minimize(counted, {"f"}, {}, counted.initial_point());
+  ASSERT_EQ(r.status, opt::DriverStatus::converged) << r.message;
+  EXPECT_NEAR(r.x[0], 0.3, 1e-12);
+  EXPECT_EQ(calls, r.evaluations) << "prepare_start's evaluation of the start was made again";
+
+  const testing_problems::Analytic kinked(
+      "kinked_start", {{"x", opt::Dimension::dimensionless, -1, 1, 0.9}},
+      {{"f", [](const Eigen::VectorXd& v) {
+          const double g = v[0] == 0.9 ? HUGE_VAL : std::sinh(v[0] - 0.3);  // no slope at the start itself
+          return opt::MetricValue{std::cosh(v[0] - 0.3), Eigen::VectorXd::Constant(1, g)};
+        }}});
+  const auto k = opt::NloptDriver(o).minimize(kinked, {"f"}, {}, kinked.initial_point());
+  EXPECT_EQ(k.message.find("phase 1"), std::string::npos) << k.message;
+  EXPECT_EQ(k.message.find("start was infeasible"), std::string::npos) << k.message;
+  EXPECT_GE(k.infeasible_evaluations, 1) << "the first call meets the failed gradient";
+}
+
 // check_slope on closed forms: the bowl's gradient (sinh(x - 0.3),
 // sinh(y + 0.2)) vanishes only at its minimum; a bound that holds a
 // variable whose gradient points out of the box leaves a KKT point; the

@@ -508,12 +508,9 @@ std::vector<Constraint> Bound::all() const {
 
 Start prepare_start(const Problem& problem, const Bound& b, Eigen::VectorXd& x, Result& result, StopCheck& stop,
                     bool inside_implicit, EvaluationAt* first) {
-  MetricSet wanted = b.wanted;
-  if (!first) {  // the objective and the implicit constraints only
-    wanted = MetricSet();
-    wanted.add(b.objective.id);
-    for (const auto& k : b.implicit) wanted.add(k.id);
-  }
+  MetricSet wanted;  // the objective and the implicit constraints
+  wanted.add(b.objective.id);
+  for (const auto& k : b.implicit) wanted.add(k.id);
   const bool gradient = first && problem.provides_gradients();
   // Usable: the model can evaluate x, and (when asked) x satisfies the implicit constraints.
   auto usable = [&](const Evaluation& e) {
@@ -521,25 +518,34 @@ Start prepare_start(const Problem& problem, const Bound& b, Eigen::VectorXd& x, 
                         return k.g(e[k.id].value) > 0;
                       }));
   };
-  Start s;
+  // x's evaluation (into `first`, with gradients, when given); a start is
+  // judged on the values alone, as without `first`: where only a gradient
+  // fails, they are evaluated again without (and the run's first call
+  // meets the failed gradient, as it would have).
   EvaluationAt here;
   EvaluationAt& at = first ? *first : here;
-  at.x = x;
-  problem.evaluate(x, wanted, gradient, at.e);
-  if (!usable(at.e) && problem.provides_gradients()) {  // phase 1 needs the margins' gradients
-    const std::string before =
-        at.e.ok() ? "outside the problem's own constraints" : std::string(mech::to_string(at.e.status));
-    const int used = restore_feasibility(problem, x, stop);
-    result.evaluations += used;
+  Evaluation values;
+  auto evaluate = [&]() -> const Evaluation& {
     at.x = x;
     problem.evaluate(x, wanted, gradient, at.e);
+    if (at.e.ok() || !gradient) return at.e;
+    problem.evaluate(x, wanted, false, values);
+    return values;
+  };
+  Start s;
+  const Evaluation* e = &evaluate();
+  if (!usable(*e) && problem.provides_gradients()) {  // phase 1 needs the margins' gradients
+    const std::string before = e->ok() ? "outside the problem's own constraints" : std::string(mech::to_string(e->status));
+    const int used = restore_feasibility(problem, x, stop);
+    result.evaluations += used;
+    e = &evaluate();
     s.note = "; the start was infeasible (" + before + "), phase 1 " +
-             (usable(at.e) ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
+             (usable(*e) ? "restored it" : "could not restore it") + " in " + std::to_string(used) +
              " evaluations";
   }
   stop();
   const MetricId f_id = b.objective.id;
-  const double f = at.e.ok() && at.e.has(f_id) ? std::abs(at.e[f_id].value) : 0.0;
+  const double f = e->ok() && e->has(f_id) ? std::abs((*e)[f_id].value) : 0.0;
   s.scale = std::isfinite(f) && f > 0 ? f : 1.0;
   return s;
 }
@@ -692,13 +698,15 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   const bool constrained_alg = alg.inequality;
   Eigen::VectorXd x = x0;
   const detail::Bound b(problem, objective, constraints);
-  detail::EvaluationAt first;  // a gradient algorithm's first call: x with gradients
-  const detail::Start start =
-      detail::prepare_start(problem, b, x, result, stop, !constrained_alg, alg.gradient ? &first : nullptr);
+  // A gradient algorithm's first call asks for x with gradients: prepare_start
+  // makes that evaluation where the run wants no more metrics than it does.
+  const bool seed = alg.gradient && b.constraints.empty();
+  detail::EvaluationAt first;
+  const detail::Start start = detail::prepare_start(problem, b, x, result, stop, !constrained_alg, seed ? &first : nullptr);
   Context c{&problem, &b.objective, start.scale, b.constraints, {}, b.wanted, options_.record_history,
             &stop, &result, nullptr, nullptr, {}, false, false, false, {}, {}, {}, std::nullopt, std::nullopt};
   for (const auto& k : b.implicit) (constrained_alg ? c.constraints : c.barrier).push_back(k);
-  if (alg.gradient) c.remember(std::move(first), problem.provides_gradients());
+  if (seed) c.remember(std::move(first), problem.provides_gradients());
   c.watch_gradient = !alg.global;
   c.lower = problem.lower_bounds(), c.upper = problem.upper_bounds();
   c.range = c.upper - c.lower;  // or, where unbounded, the start's size

@@ -291,9 +291,10 @@ struct Bound {
 // |f(x)| of the objective (1 if not finite or zero): the drivers pass the
 // objective divided by it, since SLSQP in particular fails on badly scaled
 // objectives (a peak moment of 1.5e5 N m stops it at its first step).
-// With `first`, that evaluation is of every metric the run wants, with
-// gradients where the problem has them, and is left there (at the start x)
-// for the driver's first call, which then costs nothing.
+// That evaluation is of the objective and the implicit constraints; with
+// `first`, it has their gradients where the problem has them and is left
+// there (at the start x) for the driver's first call, which then costs
+// nothing.
 struct Start {
   std::string note;
   double scale = 1;
