@@ -171,14 +171,14 @@ class ElasticDriveProblem : public TabledProblem {
   opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
                                     bool) const override {
     const mech::ElasticDrive d = drive(x);
-    MetricSink<double> out(wanted);
-    opt::Evaluation& e = out.result;
+    opt::Evaluation e;
+    MetricSink<double> out(wanted, e);
     auto put = [&](M::Id id, double v) { out.put(id, v); };
     const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
     if (s.status != mech::Status::ok) {
       e.status = s.status;
       e.message = s.message;
-      return std::move(out.result);
+      return e;
     }
     const double side = m_.motor_side ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
     put(M::peak_coupling_torque, s.coupling_peak * side);
@@ -203,12 +203,12 @@ class ElasticDriveProblem : public TabledProblem {
       if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
         e.status = st.status;
         e.message = st.message;
-        return std::move(out.result);
+        return e;
       }
       put(M::peak_startup_coupling_torque, st.peak_coupling * side);
       put(M::time_to_steady, st.time_to_steady);
     }
-    return std::move(out.result);
+    return e;
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int) const override {

@@ -34,11 +34,8 @@ using opt::whole;
 template <class S>
 class MetricSink {
  public:
-  explicit MetricSink(const opt::MetricSet& wanted) : result(own_), wanted_(wanted) {}
   // Into `into`, cleared, its storage reused.
   MetricSink(const opt::MetricSet& wanted, opt::Evaluation& into) : result(into), wanted_(wanted) { into.clear(); }
-  MetricSink(const MetricSink&) = delete;  // `result` may refer to its own evaluation
-  MetricSink& operator=(const MetricSink&) = delete;
   template <class Id>
   bool want(Id id) const { return wanted_.contains(static_cast<opt::MetricId>(id)); }
   template <class... Ids>
@@ -51,11 +48,6 @@ class MetricSink {
     if constexpr (mech::is_dual<S>) mech::gradient_into(v, mv.gradient);
     else mv.gradient.resize(0);
   }
-
- private:
-  opt::Evaluation own_;
-
- public:
   opt::Evaluation& result;
 
  private:
