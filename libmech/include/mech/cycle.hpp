@@ -22,6 +22,12 @@
 namespace mech {
 
 inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// std::round (halves away from zero) without libm's call: x - trunc(x) is
+// exact, so the same value for every x.
+inline double round_half_away(double x) {
+  const double t = std::trunc(x);
+  return std::abs(x - t) >= 0.5 ? t + std::copysign(1.0, x) : t;
+}
 // An angle taken into [0, 2 pi).
 inline double wrap_angle(double phi) { return phi - kTwoPi * std::floor(phi / kTwoPi); }
 
@@ -211,23 +217,35 @@ class LaneRootSearch {
   // x at g = 0 through seen_[0..m) and through seen_[0..m-1) (m >= 2),
   // Lagrange's form on offsets from seen_[0].x, in one pass: the weights of
   // the m points are those of the m - 1 over (g_last - g_i).
-  std::pair<double, double> interpolate(int m) const {
+  // Unrolled for each m (the same operations in the same order).
+  template <int M>
+  std::pair<double, double> interpolate() const {
     const Point* p = seen_;
-    const double last = p[m - 1].g;
+    const double last = p[M - 1].g;
     double all = 1, sum = 0, sum_less = 0;
-    for (int i = 0; i + 1 < m; ++i) all *= p[i].g;
-    for (int i = 1; i + 1 < m; ++i) {  // p[0] has offset 0
+    for (int i = 0; i + 1 < M; ++i) all *= p[i].g;
+    for (int i = 1; i + 1 < M; ++i) {  // p[0] has offset 0
       double den = p[i].g;
-      for (int j = 0; j + 1 < m; ++j)
+      for (int j = 0; j + 1 < M; ++j)
         if (j != i) den *= p[j].g - p[i].g;
       const double w = (p[i].x - p[0].x) / den;
       sum_less += w;
       sum += w / (last - p[i].g);
     }
     double den = last;
-    for (int j = 0; j + 1 < m; ++j) den *= p[j].g - last;
-    sum += (p[m - 1].x - p[0].x) / den;
+    for (int j = 0; j + 1 < M; ++j) den *= p[j].g - last;
+    sum += (p[M - 1].x - p[0].x) / den;
     return {p[0].x + all * last * sum, p[0].x + all * sum_less};
+  }
+  std::pair<double, double> interpolate(int m) const {
+    static_assert(kUsed == 6);
+    switch (m) {
+      case 2: return interpolate<2>();
+      case 3: return interpolate<3>();
+      case 4: return interpolate<4>();
+      case 5: return interpolate<5>();
+      default: return interpolate<6>();
+    }
   }
   void plan() {
     const double tol = rel_tol_ * std::max(std::abs(a_.x), std::abs(b_.x)) + 1e-300;
@@ -353,6 +371,42 @@ inline std::pair<double, double> max_and_curvature(std::span<const double> v) {
   return {std::max(top0, top1), std::max(bend0, bend1)};
 }
 
+// The grid points k of v (periodic) no lower than their neighbours and
+// than floor_v, ascending: four points a step without a branch (the test of
+// every point took a sixth of a recuperative design's maxima searches, most
+// of it mispredicted branches). The span is reused by the next call.
+inline std::span<const int> grid_maxima(std::span<const double> v, double floor_v) {
+  static thread_local std::vector<int> out;
+  out.clear();
+  const std::size_t n = v.size();
+  auto test = [&](std::size_t k, std::size_t before, std::size_t after) {
+    if (!(v[k] < v[before] || v[k] < v[after] || v[k] < floor_v)) out.push_back(static_cast<int>(k));
+  };
+  if (n < kLanes + 2) {
+    for (std::size_t k = 0; k < n; ++k) test(k, k == 0 ? n - 1 : k - 1, k + 1 == n ? 0 : k + 1);
+    return out;
+  }
+  test(0, n - 1, 1);
+  using Raw = Lanes::Raw;
+  auto load = [&](std::size_t i) {
+    Raw r;
+    std::memcpy(&r, &v[i], sizeof r);
+    return r;
+  };
+  const Raw floor_lanes = Raw{} + floor_v;
+  std::size_t k = 1;
+  for (; k + kLanes < n; k += kLanes) {  // k .. k + 3, their neighbours inside v
+    const Raw here = load(k);
+    const auto low = (here < load(k - 1)) | (here < load(k + 1)) | (here < floor_lanes);
+    if ((low[0] & low[1] & low[2] & low[3]) != 0) continue;  // all -1: none here
+    for (int j = 0; j < kLanes; ++j)
+      if (!low[j]) out.push_back(static_cast<int>(k) + j);
+  }
+  for (; k + 1 < n; ++k) test(k, k - 1, k + 1);
+  test(n - 1, n - 2, 0);
+  return out;
+}
+
 // The maxima over the cycle of a periodic f sampled as v[k] = f(2 pi k / n),
 // found by find_cycle_maxima. `kinks`: the angles where f has kinks (a
 // slider's dead centres for |M|); `slopes`: df on the grid, where the caller
@@ -456,24 +510,29 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     const double h = kTwoPi / n, eps = 1e-9 * h;  // eps: either side of a kink, its one-sided slopes
     const auto [vmax, curvature] = max_and_curvature(v);
     const double margin = s.global ? 0.25 * curvature : s.margin;
-    for (int k = 0; k < n; ++k) {
+    const double floor_v = vmax - margin;
+    for (int k : grid_maxima(v, floor_v)) {
       const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
-      if (v[k] < v[before] || v[k] < v[after] || v[k] < vmax - margin) continue;
       if (v[after] == v[k] && k + 1 < n) continue;  // a flat top: refine it once
       const double phi_k = k * h;
       const int first = static_cast<int>(points.size()), around[3] = {before, k, after};
       for (int i = 0; i < 3; ++i) points.push_back({phi_k + (i - 1) * h, s.slopes.empty() ? nan : s.slopes[around[i]]});
       for (double kink : s.kinks) {
-        const double kc = kink + kTwoPi * std::round((phi_k - kink) / kTwoPi);  // the copy nearest phi_k
-        if (kc - eps > phi_k - h && kc + eps < phi_k + h) points.insert(points.end(), {{kc - eps, nan, -1, true}, {kc + eps, nan, -1, true}});
+        const double kc = kink + kTwoPi * round_half_away((phi_k - kink) / kTwoPi);  // the copy nearest phi_k
+        if (kc - eps > phi_k - h && kc + eps < phi_k + h) {
+          points.push_back({kc - eps, nan, -1, true});
+          points.push_back({kc + eps, nan, -1, true});
+        }
       }
-      std::sort(points.begin() + first, points.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
+      // By angle: insertion (what std::sort does for so few, without its calls).
+      for (auto p = points.begin() + first + 1; p != points.end(); ++p)
+        for (auto q = p; q != points.begin() + first && q->x < (q - 1)->x; --q) std::iter_swap(q, q - 1);
       for (auto p = points.begin() + first; p != points.end(); ++p)
         if (std::isnan(p->g)) p->query = ask(p->x, f, true);
       cands.push_back({f, phi_k, first, static_cast<int>(points.size()) - first});
     }
     if (!s.global) continue;
-    auto at = [&](int i) { return v[static_cast<std::size_t>(((i % n) + n) % n)]; };
+    auto at = [&](int i) { return v[static_cast<std::size_t>(i < 0 ? i + n : i >= n ? i - n : i)]; };  // -n <= i < 2n: no division
     for (double kink : s.kinks) {
       kink_queries.push_back(ask(kink, f, false));
       const int j = static_cast<int>(std::floor(kink / h));  // grid points j <= kink < j + 1
