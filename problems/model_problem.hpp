@@ -131,7 +131,7 @@ class ModelProblem : public TabledProblem {
   // size up to 4 variables, sized at run time beyond.
   template <class F>
   auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
-    if (!gradient) return f(seeded<double>(x));
+    if (!gradient) return with_doubles(x, f);
     switch (variables().size()) {
       case 1: return f(seeded<mech::Dual>(x));  // value and slope: no Eigen expression templates
       case 2: return f(seeded<mech::DualN<2>>(x));
@@ -162,6 +162,21 @@ class ModelProblem : public TabledProblem {
   }
 
  private:
+  // f(x as doubles) from a vector kept by the thread: a batch evaluates
+  // millions of designs, and an allocation each cost a DOE sample ~3%. A
+  // call inside f (a model evaluating another design) gets its own vector.
+  template <class F>
+  static auto with_doubles(const Eigen::VectorXd& x, F& f) {
+    thread_local std::vector<double> kept;
+    thread_local bool busy = false;
+    if (busy) return f(seeded<double>(x));
+    busy = true;
+    struct Release {
+      ~Release() { busy = false; }
+    } release;
+    kept.assign(x.data(), x.data() + x.size());
+    return f(kept);
+  }
   template <class S>
   static std::vector<S> seeded(const Eigen::VectorXd& x) {
     std::vector<S> xs(x.size());

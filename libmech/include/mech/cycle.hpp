@@ -705,14 +705,14 @@ struct ArcMeans {
   S mean, mean_abs, mean_square;
 };
 
-// Cycle means when f is smooth between the angles `ends` (its kinks, and its
+// Cycle means when f is smooth between the angles `kinks` (its kinks, and its
 // zeros for |f|): Gauss-Legendre on each arc with nodes in proportion to the
 // arc's length (n per revolution, at least 12 per arc), so kinks cost no
 // accuracy. f(phi, cos phi, sin phi) returns a scalar S (which may carry
 // design derivatives); the arc ends are held fixed under differentiation,
 // exact when f is continuous there (the Leibniz boundary terms of adjacent
 // arcs cancel).
-// mean_abs is right when `ends` holds every sign change of f.
+// mean_abs is right when `kinks` holds every sign change of f.
 // An f that takes Lanes and returns the lane form of S (simd.hpp) gets
 // kLanes nodes a call.
 //
@@ -773,11 +773,13 @@ void for_each_panel(double a, double b, int n, std::span<const NearPole> poles, 
 }
 
 template <class S, class F>
-ArcMeans<S> piecewise_means(F&& f, std::vector<double> ends, int n, std::span<const NearPole> poles = {}) {
+ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std::span<const NearPole> poles = {}) {
   constexpr bool kLanesOfF = [] {
     if constexpr (has_lanes<S>) return std::is_invocable_r_v<lanes_of<S>, F&, Lanes, Lanes, Lanes>;
     return false;
   }();
+  static thread_local std::vector<double> ends;  // sorted; no allocation per call once warm
+  ends.assign(kinks.begin(), kinks.end());
   std::sort(ends.begin(), ends.end());
   if (ends.empty()) ends.push_back(0.0);
   ArcMeans<S> out{S(0.0), S(0.0), S(0.0)};

@@ -197,11 +197,11 @@ struct CycleMetrics {
 // psi with sin psi = -e/(l + r), stretched, or e/(l - r), folded; the cosine's
 // sign from the slider's side sigma). The binomial series: the sign changes
 // of the slider velocity on the n-point grid, refined by Brent.
+// Into `out` (its storage reused):
 template <class S>
-std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
+void dead_centres(const TwinDrive<S>& d, int n, std::vector<double>& out) {
   const TwinDrive<double> dv = d.template cast<double>();
-  std::vector<double> out;
-  out.reserve(4);
+  out.clear();
   for (int i = 0; i < 2; ++i) {
     const auto m = dv.mechanism(i);
     const double shift = i == 0 ? 0.0 : dv.phase_shift;
@@ -219,6 +219,11 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
     for (int k = 0; k < n; ++k) v[k] = dx(kTwoPi * k / n);
     for (double r : periodic_roots(v, dx)) out.push_back(r);
   }
+}
+template <class S>
+std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
+  std::vector<double> out;
+  dead_centres(d, n, out);
   return out;
 }
 
@@ -295,12 +300,13 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   m.mean_kinetic_energy = sumT / double(n);
   m.least_mean_kinetic_energy = least_mean_kinetic_energy(d);
   m.k2 = m.mean_kinetic_energy / m.least_mean_kinetic_energy;
-  std::vector<double> kinks;  // of M: where a cart stops and its resistance flips
+  static thread_local std::vector<double> kinks;  // of M: where a cart stops and its resistance flips
+  kinks.clear();
   if (needs.moments) {
     if (d.resistance == Resistance::opposes_motion) {
       // |dx/dphi| has kinks at the dead centres, where the trapezoidal rule
       // drops to O(h^2): integrate piecewise between them instead.
-      kinks = dead_centres(d, n);
+      dead_centres(d, n, kinks);
       const auto [mean, mean2] = piecewise_moment_means(d, n, kinks);
       sumM = mean * double(n);
       sumM2 = mean2 * double(n);

@@ -30,7 +30,8 @@ ConfigNode run_root(const ConfigNode& root, const DoeSpec& spec) {
 }
 
 Evaluator::Evaluator(const Problem& base, const DoeSpec& spec, const Sampler& sampler)
-    : base_(base), spec_(spec), sampler_(sampler), metrics_(base.metric_names().size()) {
+    : base_(base), spec_(spec), sampler_(sampler), metrics_(base.metric_names().size()),
+      initial_(base.initial_point(false)) {
   for (const auto& f : spec.factors) {
     int index = -1;
     for (size_t v = 0; v < base.variables().size(); ++v)
@@ -43,6 +44,13 @@ Evaluator::Evaluator(const Problem& base, const DoeSpec& spec, const Sampler& sa
 Evaluator::Sample Evaluator::sample(const SampleMaker& maker, std::int64_t index,
                                     const std::vector<double>& factors) const {
   Sample s;
+  sample_into(maker, index, factors, s);
+  return s;
+}
+
+void Evaluator::sample_into(const SampleMaker& maker, std::int64_t index, const std::vector<double>& factors,
+                            Sample& s) const {
+  s.own.reset();
   s.problem = &base_;
   if (model_factors_) {  // model values change: the problem is built for this sample
     YAML::Node over(YAML::NodeType::Map);
@@ -51,11 +59,12 @@ Evaluator::Sample Evaluator::sample(const SampleMaker& maker, std::int64_t index
         set_dotted(over["model"], spec_.factors[j].factor.name, value_node(spec_.factors[j].parameter, factors[j]));
     s.own = maker(over, "sample " + std::to_string(index));
     s.problem = s.own.get();
+    s.x = s.problem->initial_point(false);
+  } else {
+    s.x = initial_;  // same size: no allocation
   }
-  s.x = s.problem->initial_point(false);
   for (size_t j = 0; j < variable_.size(); ++j)
     if (variable_[j] >= 0) s.x[variable_[j]] = factors[j];
-  return s;
 }
 
 Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
@@ -66,14 +75,15 @@ Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
   r.metrics.assign(metrics_, kNan);
   const auto t0 = Clock::now();
   mech::set_deadline(spec_.sample_seconds);  // checked inside long computations
+  thread_local Sample s;      // storage reused from the thread's previous sample
+  thread_local Evaluation out;  // likewise
   try {
-    const Sample s = sample(maker, i, r.factors);
-    thread_local Evaluation e;  // storage reused from the thread's previous sample
-    s.problem->evaluate(s.x, MetricSet::all(), false, e);
-    r.status = mech::to_string(e.status);
-    r.message = e.message;
+    sample_into(maker, i, r.factors, s);
+    s.problem->evaluate(s.x, MetricSet::all(), false, out);
+    r.status = mech::to_string(out.status);
+    r.message = out.message;
     for (size_t m = 0; m < metrics_; ++m)
-      if (e.has(static_cast<MetricId>(m))) r.metrics[m] = e[static_cast<MetricId>(m)].value;
+      if (out.has(static_cast<MetricId>(m))) r.metrics[m] = out[static_cast<MetricId>(m)].value;
   } catch (const mech::TimedOut& e) {
     r.status = mech::to_string(Status::timed_out);
     r.message = e.what();
@@ -88,6 +98,7 @@ Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
     std::fill(r.metrics.begin(), r.metrics.end(), kNan);
   }
   mech::set_deadline(0);
+  s.own.reset();  // no problem outlives its sample in the thread's storage
   r.wall_time = since(t0);
   return r;
 }

@@ -40,6 +40,8 @@ class Evaluator {
     Eigen::VectorXd x;
   };
   Sample sample(const SampleMaker& maker, std::int64_t index, const std::vector<double>& factors) const;
+  // The same into `s`, its x's storage reused.
+  void sample_into(const SampleMaker& maker, std::int64_t index, const std::vector<double>& factors, Sample& s) const;
 
   // Sample i as a row: a status (never an exception) and every metric.
   Row evaluate(const SampleMaker& maker, std::int64_t i) const;
@@ -53,6 +55,7 @@ class Evaluator {
   const DoeSpec& spec_;
   const Sampler& sampler_;
   std::size_t metrics_;
+  Eigen::VectorXd initial_;  // the base problem's start: every x before its factors are written
   std::vector<int> variable_;
   bool model_factors_ = false;
 };
