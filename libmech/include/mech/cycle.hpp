@@ -690,14 +690,33 @@ inline std::vector<std::pair<double, double>> compute_gauss_legendre(int m) {
 // The m-point rule for 1 <= m <= kMaxGaussNodes, each computed on its first
 // use (thread-safe): 128 nodes integrate an analytic arc to roundoff. The
 // whole table at once took 7-10 ms, a third of a small `mechopt run`.
+// `pairs` and `weights`: the rule's +-x pairs (the first (m+1)/2 nodes, x >=
+// 0; odd m has x = 0 last among them, exactly 0 here) kLanes at a time, the
+// missing lanes of the last block 0 (piecewise_means's lanes).
 inline constexpr int kMaxGaussNodes = 128;
-inline const std::vector<std::pair<double, double>>& gauss_legendre(int m) {
+struct GaussRule {
+  std::vector<std::pair<double, double>> nodes;  // (x, w) on [-1, 1]
+  std::vector<Lanes> pairs, weights;
+};
+inline const GaussRule& gauss_rule(int m) {
   static std::array<std::once_flag, kMaxGaussNodes + 1> once;
-  static std::array<std::vector<std::pair<double, double>>, kMaxGaussNodes + 1> table;
+  static std::array<GaussRule, kMaxGaussNodes + 1> table;
   const auto k = static_cast<size_t>(std::clamp(m, 1, kMaxGaussNodes));
-  std::call_once(once[k], [k] { table[k] = compute_gauss_legendre(static_cast<int>(k)); });
+  std::call_once(once[k], [k] {
+    GaussRule& r = table[k];
+    r.nodes = compute_gauss_legendre(static_cast<int>(k));
+    const std::size_t pairs = (k + 1) / 2;
+    for (std::size_t i = 0; i < pairs; i += kLanes) {
+      Lanes x(0.0), w(0.0);
+      for (std::size_t j = 0; j < kLanes && i + j < pairs; ++j)
+        x[static_cast<int>(j)] = 2 * (i + j) + 1 == k ? 0.0 : r.nodes[i + j].first, w[static_cast<int>(j)] = r.nodes[i + j].second;
+      r.pairs.push_back(x);
+      r.weights.push_back(w);
+    }
+  });
   return table[k];
 }
+inline const std::vector<std::pair<double, double>>& gauss_legendre(int m) { return gauss_rule(m).nodes; }
 
 // Cycle means of a periodic f, of |f| and of f^2.
 template <class S>
@@ -788,7 +807,8 @@ ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std:
     if (b - a <= 0) continue;
     S arc(0.0);
     for_each_panel(a, b, n, poles, [&](double mid, double half, int panel_nodes) {
-      const auto& nodes = gauss_legendre(panel_nodes);
+      const GaussRule& rule = gauss_rule(panel_nodes);
+      const auto& nodes = rule.nodes;
       const std::size_t k = nodes.size();
       if constexpr (kLanesOfF) {
         // The nodes are +-x pairs (the table's first (k+1)/2 hold x >= 0;
@@ -813,9 +833,8 @@ ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std:
         std::size_t count = 0;
         for (std::size_t i = 0; i < pairs; i += kLanes) {
           const std::size_t valid = std::min<std::size_t>(kLanes, pairs - i);
-          Lanes t, weight, ct, st;
-          for (std::size_t j = 0; j < valid; ++j)
-            t[j] = 2 * (i + j) + 1 == k ? 0.0 : half * nodes[i + j].first, weight[j] = nodes[i + j].second;
+          const Lanes t = half * rule.pairs[i / kLanes], weight = rule.weights[i / kLanes];
+          Lanes ct, st;
           sincos(t, st, ct);
           put(node_c + count, cm * ct - sm * st), put(node_s + count, sm * ct + cm * st);
           put(node_phi + count, mid + t), put(node_w + count, weight);
