@@ -315,6 +315,34 @@ struct AngleQuery {
   double out = 0;
 };
 
+// A list for the searches' working storage, kept by the thread: appending
+// is inline (std::vector's emplace_back stayed a call in the model's
+// translation unit, 5% of a recuperative DOE design) and the storage is
+// never given back. T: an aggregate.
+template <class T>
+class Grow {
+ public:
+  void clear() { n_ = 0; }
+  std::size_t size() const { return n_; }
+  bool empty() const { return n_ == 0; }
+  T* begin() { return data_.data(); }
+  T* end() { return data_.data() + n_; }
+  const T* begin() const { return data_.data(); }
+  const T* end() const { return data_.data() + n_; }
+  T& operator[](std::size_t i) { return data_[i]; }
+  const T& operator[](std::size_t i) const { return data_[i]; }
+  operator std::span<T>() { return {begin(), n_}; }  // NOLINT: a view of the list
+  [[gnu::always_inline]] void push_back(const T& x) {
+    if (n_ == data_.size()) [[unlikely]] grow();
+    data_[n_++] = x;
+  }
+
+ private:
+  [[gnu::noinline]] void grow() { data_.resize(std::max<std::size_t>(16, 2 * data_.size())); }
+  std::vector<T> data_;
+  std::size_t n_ = 0;
+};
+
 // Calls block(q, lanes, c, s, i) for the queries `order` points to, kLanes
 // at a time: q = &order[i], lanes how many (at most kLanes), c and s the cos
 // and sin of their angles (missing lanes take the first angle again).
@@ -333,9 +361,9 @@ void for_query_blocks(std::span<AngleQuery* const> order, F&& block) {
 // Runs root searches side by side until every one is done, one batch a
 // step: search i asks for function fn[i] (its slope when `slope`).
 template <class Eval>
-void run_side_by_side(std::vector<LaneRootSearch>& searches, const std::vector<int>& fn, bool slope,
-                      std::vector<AngleQuery>& batch, Eval& eval) {
-  static thread_local std::vector<int> asked;  // the batch's first query of each search, and one past the last
+void run_side_by_side(std::vector<LaneRootSearch>& searches, std::span<const int> fn, bool slope,
+                      Grow<AngleQuery>& batch, Eval& eval) {
+  static thread_local Grow<int> asked;  // the batch's first query of each search, and one past the last
   while (true) {
     batch.clear(), asked.clear();
     for (std::size_t i = 0; i < searches.size(); ++i) {
@@ -346,11 +374,11 @@ void run_side_by_side(std::vector<LaneRootSearch>& searches, const std::vector<i
     if (batch.empty()) return;
     asked.push_back(static_cast<int>(batch.size()));
     eval(std::span<AngleQuery>(batch));
-    static thread_local std::vector<double> g;
-    g.resize(batch.size());
-    for (std::size_t q = 0; q < batch.size(); ++q) g[q] = batch[q].out;
+    static thread_local Grow<double> g;
+    g.clear();
+    for (const AngleQuery& q : batch) g.push_back(q.out);
     for (std::size_t i = 0; i < searches.size(); ++i)
-      if (asked[i + 1] > asked[i]) searches[i].feed(std::span<const double>(g).subspan(asked[i], asked[i + 1] - asked[i]));
+      if (asked[i + 1] > asked[i]) searches[i].feed(std::span<const double>(g.begin() + asked[i], g.begin() + asked[i + 1]));
   }
 }
 
@@ -468,13 +496,13 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   };
   // Working storage reused by every call on a thread (eval must not call
   // find_cycle_maxima): no allocation per design once warm.
-  static thread_local std::vector<AngleQuery> batch;
-  static thread_local std::vector<Point> points;
-  static thread_local std::vector<Candidate> cands;
-  static thread_local std::vector<Root> roots, beside_roots;
-  static thread_local std::vector<Bracket> beside;
-  static thread_local std::vector<int> kink_queries, root_fn;
-  static thread_local std::vector<double> kink_f;
+  static thread_local Grow<AngleQuery> batch;
+  static thread_local Grow<Point> points;
+  static thread_local Grow<Candidate> cands;
+  static thread_local Grow<Root> roots, beside_roots;
+  static thread_local Grow<Bracket> beside;
+  static thread_local Grow<int> kink_queries, root_fn;
+  static thread_local Grow<double> kink_f;
   static thread_local std::vector<LaneRootSearch> roots_searched;
   points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
   kink_queries.clear(), kink_f.clear(), roots_searched.clear(), root_fn.clear();
@@ -487,7 +515,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   };
   // A root search where the slope falls through zero from a to b; `beside`:
   // a third point on the same piece of f, to start the interpolation from.
-  auto root_of = [&](int fn, const Point& a, const Point& b, std::vector<Root>& to, const Point* beside = nullptr) {
+  auto root_of = [&](int fn, const Point& a, const Point& b, Grow<Root>& to, const Point* beside = nullptr) {
     if (const int fall = falls_through_zero(a.g, b.g); fall == 1) {
       to.push_back({fn, nan, static_cast<int>(roots_searched.size())});
       roots_searched.emplace_back(a.x, b.x, a.g, b.g, beside ? beside->x : nan, beside ? beside->g : nan);
@@ -912,7 +940,7 @@ std::vector<double> periodic_roots_together(std::span<const std::span<const doub
       }
     }
   }
-  std::vector<AngleQuery> batch;
+  Grow<AngleQuery> batch;
   run_side_by_side(searches, fn, false, batch, eval);
   for (std::size_t i = 0; i < searches.size(); ++i) roots[slot[i]] = searches[i].root();
   return roots;
