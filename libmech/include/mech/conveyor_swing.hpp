@@ -166,7 +166,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   });
   // The batched searches' evaluations, kLanes angles at a time.
   auto in_blocks = [](std::span<AngleQuery> qs, auto&& block) {
-    static thread_local std::vector<AngleQuery*> order;
+    static thread_local Grow<AngleQuery*> order;
     order.clear();
     for (AngleQuery& q : qs) order.push_back(&q);
     for_query_blocks(order, block);

@@ -331,7 +331,8 @@ class Grow {
   const T* end() const { return data_.data() + n_; }
   T& operator[](std::size_t i) { return data_[i]; }
   const T& operator[](std::size_t i) const { return data_[i]; }
-  operator std::span<T>() { return {begin(), n_}; }  // NOLINT: a view of the list
+  operator std::span<T>() { return {begin(), n_}; }               // NOLINT: a view of the list
+  operator std::span<const T>() const { return {begin(), n_}; }   // NOLINT
   [[gnu::always_inline]] void push_back(const T& x) {
     if (n_ == data_.size()) [[unlikely]] grow();
     data_[n_++] = x;

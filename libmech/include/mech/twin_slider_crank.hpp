@@ -332,7 +332,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     // The slopes of |M| need the dual number: they go first, and a block of
     // kLanes queries with one of them answers all from the dual (its values
     // are the plain evaluation's bits).
-    static thread_local std::vector<AngleQuery*> order;
+    static thread_local Grow<AngleQuery*> order;
     order.clear();
     for (AngleQuery& q : qs)
       if (q.fn == moment && q.slope) order.push_back(&q);
