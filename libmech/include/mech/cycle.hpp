@@ -695,9 +695,10 @@ std::vector<double> cycle_max_angles(const M& model, int n, G&& g) {
 
 // Nodes and weights of the m-point Gauss-Legendre rule on [-1, 1] (Newton on
 // the Legendre recurrence; nodes to ~1e-16).
-inline std::vector<std::pair<double, double>> compute_gauss_legendre(int m) {
-  std::vector<std::pair<double, double>> nw(m);
-  for (int i = 0; i < m; ++i) {
+// The first `count` of them (all by default: x descending).
+inline std::vector<std::pair<double, double>> compute_gauss_legendre(int m, int count = -1) {
+  std::vector<std::pair<double, double>> nw(count < 0 ? m : count);
+  for (int i = 0; i < static_cast<int>(nw.size()); ++i) {
     double x = std::cos(std::numbers::pi * (i + 0.75) / (m + 0.5)), dp = 1;
     for (int it = 0; it < 100; ++it) {
       double p0 = 1, p1 = x;
@@ -719,12 +720,23 @@ inline std::vector<std::pair<double, double>> compute_gauss_legendre(int m) {
 // The m-point rule for 1 <= m <= kMaxGaussNodes, each computed on its first
 // use (thread-safe): 128 nodes integrate an analytic arc to roundoff. The
 // whole table at once took 7-10 ms, a third of a small `mechopt run`.
-// `pairs` and `weights`: the rule's +-x pairs (the first (m+1)/2 nodes, x >=
-// 0; odd m has x = 0 last among them, exactly 0 here) kLanes at a time, the
-// missing lanes of the last block 0 (piecewise_means's lanes).
 inline constexpr int kMaxGaussNodes = 128;
+inline const std::vector<std::pair<double, double>>& gauss_legendre(int m) {
+  static std::array<std::once_flag, kMaxGaussNodes + 1> once;
+  static std::array<std::vector<std::pair<double, double>>, kMaxGaussNodes + 1> table;
+  const auto k = static_cast<size_t>(std::clamp(m, 1, kMaxGaussNodes));
+  std::call_once(once[k], [k] { table[k] = compute_gauss_legendre(static_cast<int>(k)); });
+  return table[k];
+}
+
+// The m-point rule as piecewise_means uses it: its +-x pairs, the first
+// (m+1)/2 nodes (x >= 0; odd m has x = 0 last among them, exactly 0 in
+// `pairs`), the same bits as gauss_legendre(m)'s and half its work (a DOE's
+// process computed ~10 ms of rules); `pairs` and `weights` kLanes at a time,
+// the missing lanes of the last block 0.
 struct GaussRule {
-  std::vector<std::pair<double, double>> nodes;  // (x, w) on [-1, 1]
+  int m = 0;
+  std::vector<std::pair<double, double>> nodes;  // (x, w) on [-1, 1], the first (m+1)/2
   std::vector<Lanes> pairs, weights;
 };
 inline const GaussRule& gauss_rule(int m) {
@@ -733,8 +745,9 @@ inline const GaussRule& gauss_rule(int m) {
   const auto k = static_cast<size_t>(std::clamp(m, 1, kMaxGaussNodes));
   std::call_once(once[k], [k] {
     GaussRule& r = table[k];
-    r.nodes = compute_gauss_legendre(static_cast<int>(k));
     const std::size_t pairs = (k + 1) / 2;
+    r.m = static_cast<int>(k);
+    r.nodes = compute_gauss_legendre(r.m, static_cast<int>(pairs));
     for (std::size_t i = 0; i < pairs; i += kLanes) {
       Lanes x(0.0), w(0.0);
       for (std::size_t j = 0; j < kLanes && i + j < pairs; ++j)
@@ -745,7 +758,6 @@ inline const GaussRule& gauss_rule(int m) {
   });
   return table[k];
 }
-inline const std::vector<std::pair<double, double>>& gauss_legendre(int m) { return gauss_rule(m).nodes; }
 
 // Cycle means of a periodic f, of |f| and of f^2.
 template <class S>
@@ -838,7 +850,7 @@ ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std:
     for_each_panel(a, b, n, poles, [&](double mid, double half, int panel_nodes) {
       const GaussRule& rule = gauss_rule(panel_nodes);
       const auto& nodes = rule.nodes;
-      const std::size_t k = nodes.size();
+      const auto k = static_cast<std::size_t>(rule.m);
       if constexpr (kLanesOfF) {
         // The nodes are +-x pairs (the table's first (k+1)/2 hold x >= 0;
         // odd k has x = 0 last among them): one sincos of t = half x, kLanes
