@@ -340,12 +340,15 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     for (AngleQuery& q : qs)
       if (!(q.fn == moment && q.slope)) order.push_back(&q);
     for_query_blocks(order, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t i) {
+      // Each query's answer picked from the four without a branch (mixed
+      // queries in a block mispredicted): T, dT/dphi, |M|, d|M|/dphi.
       auto answer = [&](const Lanes& T, const Lanes& I, const Lanes& M, const Lanes* dM) {
+        Lanes four[4] = {T, I, abs(M), Lanes(0.0)};
+        if (dM)
+          for (int j = 0; j < kLanes; ++j) four[3][j] = (M[j] >= 0 ? 1.0 : -1.0) * (*dM)[j];
         for (int j = 0; j < lanes; ++j) {
           AngleQuery& a = *q[j];
-          a.out = a.fn == energy ? (a.slope ? I[j] : T[j])
-                  : a.slope      ? (M[j] >= 0 ? 1.0 : -1.0) * (*dM)[j]
-                                 : std::abs(M[j]);
+          a.out = four[2 * (a.fn != energy) + a.slope][j];
         }
       };
       if (i < duals) {
