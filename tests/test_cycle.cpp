@@ -16,6 +16,25 @@ namespace {
 
 using mech::kTwoPi;
 
+TEST(Cycle, RoundHalfAwayIsStdRound) {
+  // The maxima search's kink copies use it instead of libm's call: the same
+  // value as std::round everywhere (halves, the doubles next to them,
+  // negative zero, huge values, infinities), and NaN for NaN.
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> xs = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994, -0.49999999999999994,
+                            std::nextafter(0.5, 1.0), 4503599627370495.5, -4503599627370495.5, 1e300, -1e300, inf,
+                            -inf, std::numeric_limits<double>::denorm_min()};
+  std::mt19937_64 gen(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int i = 0; i < 100000; ++i) xs.push_back(u(gen));
+  for (double x : xs) {
+    const double want = std::round(x), got = mech::round_half_away(x);
+    EXPECT_EQ(got, want) << x;
+    EXPECT_EQ(std::signbit(got), std::signbit(want)) << x;
+  }
+  EXPECT_TRUE(std::isnan(mech::round_half_away(std::numeric_limits<double>::quiet_NaN())));
+}
+
 TEST(Cycle, BrentFindsPiOverTwo) {
   // cos on [1, 2] vanishes at pi/2: the root to within a couple of ulps.
   int evaluations = 0;

@@ -278,7 +278,7 @@ class LaneRootSearch {
     xs_[asked_++] = a_.x + width / 3, xs_[asked_++] = b_.x - width / 3;
   }
   Point a_, b_;        // the bracket, a_.x < b_.x
-  Point seen_[kUsed];  // the points of smallest |g|, ascending
+  Point seen_[kUsed] = {};  // the points of smallest |g|, ascending
   int seen_count_ = 0;
   double xs_[kPoints];
   int asked_ = 0;
@@ -317,7 +317,7 @@ struct AngleQuery {
 
 // A list for the searches' working storage, kept by the thread: appending
 // is inline (std::vector's emplace_back stayed a call in the model's
-// translation unit, 5% of a recuperative DOE design) and the storage is
+// translation unit, 6% of a recuperative DOE design) and the storage is
 // never given back. T: an aggregate.
 template <class T>
 class Grow {
@@ -398,42 +398,6 @@ inline std::pair<double, double> max_and_curvature(std::span<const double> v) {
   }
   if (k + 1 < n) top0 = std::max(top0, v[k]), bend0 = std::max(bend0, second(k));
   return {std::max(top0, top1), std::max(bend0, bend1)};
-}
-
-// The grid points k of v (periodic) no lower than their neighbours and
-// than floor_v, ascending: four points a step without a branch (the test of
-// every point took a sixth of a recuperative design's maxima searches, most
-// of it mispredicted branches). The span is reused by the next call.
-inline std::span<const int> grid_maxima(std::span<const double> v, double floor_v) {
-  static thread_local std::vector<int> out;
-  out.clear();
-  const std::size_t n = v.size();
-  auto test = [&](std::size_t k, std::size_t before, std::size_t after) {
-    if (!(v[k] < v[before] || v[k] < v[after] || v[k] < floor_v)) out.push_back(static_cast<int>(k));
-  };
-  if (n < kLanes + 2) {
-    for (std::size_t k = 0; k < n; ++k) test(k, k == 0 ? n - 1 : k - 1, k + 1 == n ? 0 : k + 1);
-    return out;
-  }
-  test(0, n - 1, 1);
-  using Raw = Lanes::Raw;
-  auto load = [&](std::size_t i) {
-    Raw r;
-    std::memcpy(&r, &v[i], sizeof r);
-    return r;
-  };
-  const Raw floor_lanes = Raw{} + floor_v;
-  std::size_t k = 1;
-  for (; k + kLanes < n; k += kLanes) {  // k .. k + 3, their neighbours inside v
-    const Raw here = load(k);
-    const auto low = (here < load(k - 1)) | (here < load(k + 1)) | (here < floor_lanes);
-    if ((low[0] & low[1] & low[2] & low[3]) != 0) continue;  // all -1: none here
-    for (int j = 0; j < kLanes; ++j)
-      if (!low[j]) out.push_back(static_cast<int>(k) + j);
-  }
-  for (; k + 1 < n; ++k) test(k, k - 1, k + 1);
-  test(n - 1, n - 2, 0);
-  return out;
 }
 
 // The maxima over the cycle of a periodic f sampled as v[k] = f(2 pi k / n),
@@ -539,9 +503,9 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     const double h = kTwoPi / n, eps = 1e-9 * h;  // eps: either side of a kink, its one-sided slopes
     const auto [vmax, curvature] = max_and_curvature(v);
     const double margin = s.global ? 0.25 * curvature : s.margin;
-    const double floor_v = vmax - margin;
-    for (int k : grid_maxima(v, floor_v)) {
+    for (int k = 0; k < n; ++k) {
       const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
+      if (v[k] < v[before] || v[k] < v[after] || v[k] < vmax - margin) continue;
       if (v[after] == v[k] && k + 1 < n) continue;  // a flat top: refine it once
       const double phi_k = k * h;
       const int first = static_cast<int>(points.size()), around[3] = {before, k, after};
@@ -561,7 +525,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
       cands.push_back({f, phi_k, first, static_cast<int>(points.size()) - first});
     }
     if (!s.global) continue;
-    auto at = [&](int i) { return v[static_cast<std::size_t>(i < 0 ? i + n : i >= n ? i - n : i)]; };  // -n <= i < 2n: no division
+    auto at = [&](int i) { return v[static_cast<std::size_t>(((i % n) + n) % n)]; };
     for (double kink : s.kinks) {
       kink_queries.push_back(ask(kink, f, false));
       const int j = static_cast<int>(std::floor(kink / h));  // grid points j <= kink < j + 1

@@ -160,8 +160,8 @@ struct LaneDual {
   }
   // Sum, quotient, square root and absolute value: always inlined for N = 1
   // (left out of line in the recuperative problem's translation unit, they
-  // cost a DOE design 7%); for N > 1 forcing them made the two-variable
-  // gradient loop 2.8 times slower (GCC's spills).
+  // cost a DOE design 3%, the model alone 6%); for N > 1 forcing them made
+  // the two-variable gradient loop 2.8 times slower (GCC's spills).
   [[gnu::always_inline]] LaneDual& operator+=(const LaneDual& o) requires(N == 1) { return add(o); }
   LaneDual& operator+=(const LaneDual& o) requires(N != 1) { return add(o); }
   LaneDual& operator-=(const LaneDual& o) { return *this += -o; }

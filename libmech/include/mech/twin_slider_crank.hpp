@@ -340,8 +340,8 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     for (AngleQuery& q : qs)
       if (!(q.fn == moment && q.slope)) order.push_back(&q);
     for_query_blocks(order, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t i) {
-      // Each query's answer picked from the four without a branch (mixed
-      // queries in a block mispredicted): T, dT/dphi, |M|, d|M|/dphi.
+      // Each query's answer picked from the four by its kind, without a
+      // branch: T, dT/dphi, |M|, d|M|/dphi.
       auto answer = [&](const Lanes& T, const Lanes& I, const Lanes& M, const Lanes* dM) {
         Lanes four[4] = {T, I, abs(M), Lanes(0.0)};
         if (dM)
