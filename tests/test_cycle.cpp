@@ -35,6 +35,30 @@ TEST(Cycle, RoundHalfAwayIsStdRound) {
   EXPECT_TRUE(std::isnan(mech::round_half_away(std::numeric_limits<double>::quiet_NaN())));
 }
 
+TEST(Cycle, AHugePhaseShiftKeepsTheDeadCentresOnTheCircle) {
+  // A phase shift of -1e308 rad (a fuzzed DOE factor's bound) put slider
+  // 2's dead centres far outside [0, 2 pi): the maxima search indexed its
+  // grid with them and crashed. They are wrapped exactly now, and the cycle
+  // metrics come out finite (this test also runs under ASan and UBSan).
+  for (const double shift : {-1e308, 1e300, -4.5e15, 1e17}) {
+    mech::TwinDrive<double> d{0.2, 0.8, shift, 0.05, 10.0, 1000, 80, 0.9, 3562};
+    d.resistance = mech::Resistance::opposes_motion;
+    ASSERT_EQ(mech::check(d), mech::Status::ok);
+    const int n = mech::auto_cycle_points(d);
+    for (double c : mech::dead_centres(d, n)) {
+      EXPECT_GE(c, 0.0) << shift;
+      EXPECT_LT(c, kTwoPi) << shift;
+    }
+    const auto m = mech::cycle_metrics(d, n);
+    EXPECT_TRUE(std::isfinite(m.peak_total_moment) && std::isfinite(m.rms_total_moment) && std::isfinite(m.k1))
+        << shift;
+  }
+  EXPECT_EQ(mech::wrap_angle(1.0), 1.0);
+  EXPECT_EQ(mech::wrap_angle(-1.0), -1.0 + kTwoPi);
+  EXPECT_TRUE(std::isnan(mech::wrap_angle(std::numeric_limits<double>::quiet_NaN())));
+  EXPECT_TRUE(std::isnan(mech::wrap_angle(std::numeric_limits<double>::infinity())));
+}
+
 TEST(Cycle, BrentFindsPiOverTwo) {
   // cos on [1, 2] vanishes at pi/2: the root to within a couple of ulps.
   int evaluations = 0;

@@ -28,8 +28,14 @@ inline double round_half_away(double x) {
   const double t = std::trunc(x);
   return std::abs(x - t) >= 0.5 ? t + std::copysign(1.0, x) : t;
 }
-// An angle taken into [0, 2 pi).
-inline double wrap_angle(double phi) { return phi - kTwoPi * std::floor(phi / kTwoPi); }
+// An angle taken into [0, 2 pi) (NaN stays NaN). Past |phi| ~ 1e16 the
+// product's rounding leaves the range; the exact remainder then.
+inline double wrap_angle(double phi) {
+  const double w = phi - kTwoPi * std::floor(phi / kTwoPi);
+  if ((w >= 0 && w < kTwoPi) || std::isnan(w)) return w;
+  const double r = std::fmod(phi, kTwoPi);  // exact; NaN for an infinity
+  return r < 0 ? (r + kTwoPi < kTwoPi ? r + kTwoPi : 0.0) : r;
+}
 
 // Calls f(k, c, s) for phi_k = 2*pi*k/n, k = 0..n-1, with c = cos(phi_k) and
 // s = sin(phi_k) advanced by rotation (no trig call per point; drift ~n*eps).
@@ -528,7 +534,8 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     auto at = [&](int i) { return v[static_cast<std::size_t>(((i % n) + n) % n)]; };
     for (double kink : s.kinks) {
       kink_queries.push_back(ask(kink, f, false));
-      const int j = static_cast<int>(std::floor(kink / h));  // grid points j <= kink < j + 1
+      if (!std::isfinite(kink)) continue;  // its value asked above: NaN, never the peak
+      const int j = static_cast<int>(std::floor(wrap_angle(kink) / h));  // grid points j <= kink < j + 1
       if (std::max(at(j), at(j + 1)) < vmax - margin) continue;
       auto cell = [&](double a, double b) {
         beside.push_back({f, {a, nan, ask(a, f, true)}, {b, nan, ask(b, f, true)}});
