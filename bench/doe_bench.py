@@ -5,11 +5,11 @@ run by run_bench.py or alone:
   /usr/bin/python3 bench/doe_bench.py [--build build] [--repetitions 3]
 
 - designs per second of each configs/doe/ problem, every metric and the
-  store, on 1 thread, on 1 core (the thread and the writer pinned to one
-  CPU), on 2 threads and on 2 MPI ranks, with the scaling efficiency over
-  threads (rate(2) / (2 rate(1 thread)), the writer free on the second core
-  at 1 thread) and over cores (rate(2) / (2 rate(1 core))); the recuperative DOE runs its first quarter
-  (--shard 0/4: 250 000 designs), the others whole;
+  store, on 1 thread, on 2 threads and on 2 MPI ranks, with the scaling
+  efficiency rate(2) / (2 rate(1)) (--threads N runs N threads in all, each
+  evaluating and taking its turn at the store: N threads, N cores); the
+  recuperative DOE runs its first quarter (--shard 0/4: 250 000 designs),
+  the others whole;
 - the store's rows per second against its column count (bench_doe_store);
 - a same-run peer for the recuperative DOE (bench/doe/peer_recuperative_doe.py):
   chunked numpy computing the same metrics, checked against mechopt's rows,
@@ -38,16 +38,13 @@ CASES = [("recuperative_drive", "configs/doe/recuperative_drive.yaml", "0/4"),
          ("elastic_drive", "configs/doe/elastic_drive.yaml", None)]
 
 
-def run_doe(binary, config, out, threads, shard, ranks=1, one_core=False):
-    """One run into a fresh `out` (one_core: pinned to CPU 0, the writer
-    sharing the worker's core): (result.json, whole-process seconds)."""
+def run_doe(binary, config, out, threads, shard, ranks=1):
+    """One run into a fresh `out`: (result.json, whole-process seconds)."""
     shutil.rmtree(out, ignore_errors=True)
     cmd = [binary, "run", os.path.join(ROOT, config), "--output", out, "--progress", "none",
            "--threads", str(threads)] + (["--shard", shard] if shard else [])
     if ranks > 1:
         cmd = ["mpirun", "-n", str(ranks), "--oversubscribe"] + cmd
-    if one_core:
-        cmd = ["taskset", "-c", "0"] + cmd
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, capture_output=True, env={**os.environ, **MPI_ENV})
     seconds = time.perf_counter() - t0
@@ -80,16 +77,14 @@ def measure(build, repetitions):
     rows = []
     try:
         for name, config, shard in CASES:
-            # "1 core": one thread and the writer on one core, the baseline of
-            # scaling over cores (with "1 thread" the writer has the other core).
-            runs = {"1 thread": (1, 1, False), "1 core": (1, 1, True), "2 threads": (2, 1, False)}
+            runs = {"1 thread": (1, 1), "2 threads": (2, 1)}
             if mpi:
-                runs["2 ranks"] = (1, 2, False)
+                runs["2 ranks"] = (1, 2)
             med = {}
-            for label, (threads, ranks, one_core) in runs.items():
+            for label, (threads, ranks) in runs.items():
                 rates, walls, evaluations = [], [], []
                 for _ in range(repetitions):
-                    j, wall = run_doe(binary, config, os.path.join(work, name), threads, shard, ranks, one_core)
+                    j, wall = run_doe(binary, config, os.path.join(work, name), threads, shard, ranks)
                     if j["ranks"] != ranks:
                         sys.exit(f"doe_bench: {name} {label}: {j['ranks']} ranks ran (mechopt built without MPI?)")
                     rates.append(j["rate"])
@@ -103,7 +98,6 @@ def measure(build, repetitions):
                        "mean_evaluation_seconds": statistics.median(evaluations)}
                 if label in ("2 threads", "2 ranks"):
                     row["efficiency"] = med[label] / (2 * med["1 thread"])
-                    row["core_efficiency"] = med[label] / (2 * med["1 core"])
                 rows.append(row)
             if name == "recuperative_drive":  # the peer checks its values against this run's store
                 peer = json.loads(subprocess.run(
@@ -141,17 +135,14 @@ def fmt_rate(r):
 def block(rows):
     """The markdown of performance.md's generated block `doe`."""
     by = {r["case"]: r for r in rows}
-    lines = ["| problem (samples) | 1 thread | 1 core | 2 threads | efficiency over threads, over cores | 2 ranks | "
-             "efficiency over threads, over cores | one evaluation |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["| problem (samples) | 1 thread | 2 threads | efficiency | 2 ranks | efficiency | one evaluation |",
+             "|---|---|---|---|---|---|---|"]
     for name, config, shard in CASES:
-        one, core, two = by[f"doe_{name}_1_thread"], by[f"doe_{name}_1_core"], by[f"doe_{name}_2_threads"]
+        one, two = by[f"doe_{name}_1_thread"], by[f"doe_{name}_2_threads"]
         ranks = by.get(f"doe_{name}_2_ranks")
         lines.append(f"| {name} ({one['samples']}) | {fmt_rate(one['designs_per_second'])} | "
-                     f"{fmt_rate(core['designs_per_second'])} | "
-                     f"{fmt_rate(two['designs_per_second'])} | {two['efficiency']:.0%}, {two['core_efficiency']:.0%} | "
-                     + (f"{fmt_rate(ranks['designs_per_second'])} | {ranks['efficiency']:.0%}, "
-                        f"{ranks['core_efficiency']:.0%}" if ranks else "- | -")
+                     f"{fmt_rate(two['designs_per_second'])} | {two['efficiency']:.0%} | "
+                     + (f"{fmt_rate(ranks['designs_per_second'])} | {ranks['efficiency']:.0%}" if ranks else "- | -")
                      + f" | {one['mean_evaluation_seconds'] * 1e6:.1f} us |")
     peer = by["doe_recuperative_peer"]
     two = by["doe_recuperative_drive_2_threads"]
@@ -160,7 +151,7 @@ def block(rows):
     lines += ["", "| recuperative DOE, same run | mechopt | numpy peer | ratio | target |", "|---|---|---|---|---|",
               f"| compute per core (designs/s) | {fmt_rate(1 / by['doe_recuperative_drive_1_thread']['mean_evaluation_seconds'])} "
               f"| {fmt_rate(peer['peer_compute_per_second'])} | {peer['compute_ratio_per_core']:.1f} | >= 10 |",
-              f"| end to end, 1 thread + writer (designs/s) | {fmt_rate(by['doe_recuperative_drive_1_thread']['designs_per_second'])} "
+              f"| end to end, 1 thread (designs/s) | {fmt_rate(by['doe_recuperative_drive_1_thread']['designs_per_second'])} "
               f"| {fmt_rate(peer['peer_end_to_end_per_second'])} | {peer['end_to_end_ratio_1_thread']:.1f} | >= 5 |",
               f"| end to end, 2 threads (designs/min) | {two['designs_per_minute'] / 1e6:.1f}M | | | >= 20M |",
               "", f"The peer's values agree with mechopt's rows to {worst[1]:.1e} relative at worst ({worst[0]}); "

@@ -1,7 +1,7 @@
 // The batch runner (docs/doe.md): worker threads take chunks of sample
 // indices from one atomic counter, evaluate them on their own workspace and
-// hand rows to one writer thread, which commits them to the store in
-// batched transactions and reports progress. Only samples the store does not
+// queue the rows; one of them at a time commits the queue to the store in a
+// batched transaction and reports progress. Only samples the store does not
 // hold are evaluated, so running the same command again resumes exactly.
 #include <unistd.h>
 
@@ -81,30 +81,39 @@ class Progress {
   double last_ = -1e9;
 };
 
-// One writer: rows from the workers go to the store in batched transactions.
+// One writer at a time: rows from the workers go to the store in batched
+// transactions, committed by whichever thread finds a batch due (20 000 rows
+// queued, 0.25 s since the last commit, or closing) while no other thread
+// commits. No thread of its own: --threads N runs N threads in all, each
+// evaluating and taking its turn at the store, so N threads use N cores.
 class Writer {
  public:
   Writer(Store& store, Tally& tally, Progress& progress, std::int64_t pending)
-      : store_(store), tally_(tally), progress_(progress), pending_(pending), thread_([this] { run(); }) {}
-  ~Writer() { close(); }
-
-  // Blocks while too many rows wait (memory stays constant in N).
-  void push(std::vector<Row> rows) {
-    std::unique_lock lock(m_);
-    room_.wait(lock, [&] { return queued_ < kMaxQueued || failed_; });
-    queued_ += rows.size();
-    queue_.push_back(std::move(rows));
-    ready_.notify_one();
+      : store_(store), tally_(tally), progress_(progress), pending_(pending) {}
+  ~Writer() {
+    try {
+      close();
+    } catch (...) {  // an unwinding run: its own error is the one to report
+    }
   }
 
-  // Commits what is queued and stops; rethrows the writer's error, if any.
+  // Queues rows and commits the queue if a batch is due. Blocks while too
+  // many rows wait for another thread's commit (memory stays constant in N).
+  void push(std::vector<Row> rows) {
+    std::unique_lock lock(m_);
+    room_.wait(lock, [&] { return queued_ < kMaxQueued || !writing_ || failed_; });
+    queued_ += rows.size();
+    queue_.push_back(std::move(rows));
+    commit_due(lock);
+  }
+
+  // Commits what is queued (the workers have stopped); rethrows the error of
+  // any commit, if one failed.
   void close() {
-    {
-      std::lock_guard lock(m_);
-      closing_ = true;
-      ready_.notify_one();
-    }
-    if (thread_.joinable()) thread_.join();
+    std::unique_lock lock(m_);
+    closing_ = true;
+    room_.wait(lock, [&] { return !writing_; });
+    commit_due(lock);
     if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
   }
 
@@ -113,44 +122,41 @@ class Writer {
  private:
   static constexpr size_t kBatchRows = 20000, kMaxQueued = 200000;
 
-  void run() {
-    std::vector<Row> batch;
-    auto last = Clock::now();
-    try {
-      for (;;) {
-        bool closing;
-        {
-          std::unique_lock lock(m_);
-          ready_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !queue_.empty() || closing_; });
-          while (!queue_.empty()) {
-            auto& rows = queue_.front();
-            queued_ -= rows.size();
-            std::move(rows.begin(), rows.end(), std::back_inserter(batch));
-            queue_.pop_front();
-          }
-          closing = closing_;
-          room_.notify_all();
-        }
-        if (!batch.empty() && (closing || batch.size() >= kBatchRows || since(last) >= 0.25)) {
-          store_.append(batch);
-          tally_.done += static_cast<std::int64_t>(batch.size());
-          tally_.evaluated += static_cast<std::int64_t>(batch.size());
-          for (std::size_t i = 0, j; i < batch.size(); i = j) {  // one map lookup per run of a status
-            for (j = i + 1; j < batch.size() && batch[j].status == batch[i].status;) ++j;
-            tally_.statuses[std::string(batch[i].status)] += static_cast<std::int64_t>(j - i);
-          }
-          batch.clear();
-          last = Clock::now();
-        }
-        progress_.update(tally_, pending_, false);
-        if (closing && batch.empty()) return;
+  // With m_ held: while a batch is due and no thread commits, this one
+  // commits the whole queue (m_ released meanwhile); then progress.
+  void commit_due(std::unique_lock<std::mutex>& lock) {
+    while (!writing_ && !failed_ && !queue_.empty() &&
+           (closing_ || queued_ >= kBatchRows || since(last_) >= 0.25)) {
+      writing_ = true;
+      for (auto& rows : queue_) std::move(rows.begin(), rows.end(), std::back_inserter(batch_));
+      queue_.clear();
+      queued_ = 0;
+      room_.notify_all();
+      lock.unlock();
+      try {
+        store_.append(batch_);
+      } catch (...) {
+        lock.lock();
+        error_ = std::current_exception();
+        failed_ = true;
+        writing_ = false;
+        batch_.clear();
+        room_.notify_all();
+        return;
       }
-    } catch (...) {
-      error_ = std::current_exception();
-      std::lock_guard lock(m_);
-      failed_ = true;
+      lock.lock();
+      tally_.done += static_cast<std::int64_t>(batch_.size());
+      tally_.evaluated += static_cast<std::int64_t>(batch_.size());
+      for (std::size_t i = 0, j; i < batch_.size(); i = j) {  // one map lookup per run of a status
+        for (j = i + 1; j < batch_.size() && batch_[j].status == batch_[i].status;) ++j;
+        tally_.statuses[std::string(batch_[i].status)] += static_cast<std::int64_t>(j - i);
+      }
+      batch_.clear();
+      last_ = Clock::now();
+      writing_ = false;
       room_.notify_all();
     }
+    if (!writing_) progress_.update(tally_, pending_, false);  // the tally is still while no thread commits
   }
 
   Store& store_;
@@ -158,13 +164,14 @@ class Writer {
   Progress& progress_;
   std::int64_t pending_;
   std::mutex m_;
-  std::condition_variable ready_, room_;
+  std::condition_variable room_;  // the queue has room, or a commit ended
   std::deque<std::vector<Row>> queue_;
+  std::vector<Row> batch_;  // the rows being committed (by the thread with writing_)
   size_t queued_ = 0;
-  bool closing_ = false;
+  Clock::time_point last_ = Clock::now();
+  bool writing_ = false, closing_ = false;
   std::atomic<bool> failed_{false};
   std::exception_ptr error_;
-  std::thread thread_;
 };
 
 // The next chunk's size after `count` samples took `seconds` on `threads`

@@ -1,6 +1,6 @@
 // The results store of the batch pipeline (docs/doe.md, "The store" and
 // "Resume, exactly"): one SQLite file DIR/store.sqlite, one row per evaluated
-// sample, written by one writer thread in batched transactions. A row is
+// sample, written by one writer at a time in batched transactions. A row is
 // committed or absent, so a run killed at any moment resumes from the indices
 // the store holds, and a duplicate index is impossible.
 #pragma once
