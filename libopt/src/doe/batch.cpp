@@ -117,16 +117,24 @@ class Writer {
     if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
   }
 
+  // Commits the queue now unless another thread commits: a worker that
+  // finds no more work, so that the rows of the last chunks are not left
+  // for one commit after every worker has stopped.
+  void flush() {
+    std::unique_lock lock(m_);
+    commit_due(lock, true);
+  }
+
   bool failed() const { return failed_; }
 
  private:
   static constexpr size_t kBatchRows = 20000, kMaxQueued = 200000;
 
-  // With m_ held: while a batch is due and no thread commits, this one
-  // commits the whole queue (m_ released meanwhile); then progress.
-  void commit_due(std::unique_lock<std::mutex>& lock) {
+  // With m_ held: while a batch is due (or `now`) and no thread commits,
+  // this one commits the whole queue (m_ released meanwhile); then progress.
+  void commit_due(std::unique_lock<std::mutex>& lock, bool now = false) {
     while (!writing_ && !failed_ && !queue_.empty() &&
-           (closing_ || queued_ >= kBatchRows || since(last_) >= 0.25)) {
+           (now || closing_ || queued_ >= kBatchRows || since(last_) >= 0.25)) {
       writing_ = true;
       for (auto& rows : queue_) std::move(rows.begin(), rows.end(), std::back_inserter(batch_));
       queue_.clear();
@@ -364,7 +372,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
         std::int64_t chunk = 1;
         while (!stop_requested() && !writer.failed()) {
           const std::int64_t begin = next.fetch_add(chunk), end = std::min(hi, begin + chunk);
-          if (begin >= hi) return;
+          if (begin >= hi) return writer.flush();
           std::vector<Row> rows;
           const auto c0 = Clock::now();
           for (std::int64_t i = begin; i < end && !stop_requested(); ++i)

@@ -16,6 +16,9 @@ namespace opt::doe::sql {
 class Db {
  public:
   Db(std::string file, int flags) : file_(std::move(file)) {
+    // No memory statistics: they take a global lock at every allocation.
+    // Only before SQLite's first use in the process (else a harmless no).
+    [[maybe_unused]] static const int no_statistics = sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0);
     sqlite3* db = nullptr;
     // NOMUTEX: one thread uses a connection at a time (the writer), so
     // SQLite's per-call lock is pure cost (a tenth of append's time).
@@ -72,6 +75,11 @@ class Statement {
   void bind(int i, std::string_view v, bool empty_is_null = false) {
     check(empty_is_null && v.empty() ? sqlite3_bind_null(get(), i)
                                      : sqlite3_bind_text(get(), i, v.data(), int(v.size()), SQLITE_TRANSIENT));
+  }
+  // Text that stays put until the statement is stepped (SQLite reads it in
+  // place instead of copying it).
+  void bind_static(int i, std::string_view v) {
+    check(v.empty() ? sqlite3_bind_null(get(), i) : sqlite3_bind_text(get(), i, v.data(), int(v.size()), SQLITE_STATIC));
   }
   void bind(int i, const sqlite3_value* v) { check(sqlite3_bind_value(get(), i, v)); }
   std::int64_t int64(int col) const { return sqlite3_column_int64(get(), col); }

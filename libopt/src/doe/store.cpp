@@ -329,14 +329,14 @@ void Store::append(std::span<const Row> rows) {
     insert.reset();
     int col = 1;
     insert.bind(col++, r.index);
-    insert.bind(col++, r.status);
+    insert.bind_static(col++, r.status);  // the rows and labels outlive the step
     insert.bind(col++, r.wall_time);
-    insert.bind(col++, r.message, true);
+    insert.bind_static(col++, r.message);
     for (std::size_t j = 0; j < l.factors.size(); ++j) {
       if (l.labels[j].empty())
         insert.bind(col++, r.factors[j]);
       else
-        insert.bind(col++, std::string_view(l.labels[j][std::size_t(r.factors[j])]));
+        insert.bind_static(col++, l.labels[j][std::size_t(r.factors[j])]);
     }
     for (double m : r.metrics) insert.bind(col++, m);
     // Never INSERT OR REPLACE: a sample written twice means the scheduler
