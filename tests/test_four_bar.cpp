@@ -48,6 +48,21 @@ TEST(FourBar, ParallelogramTurnsTheRockerWithTheCrank) {
   }
 }
 
+TEST(FourBar, AnAngleWhereTheLoopCannotCloseGivesNaN) {
+  // Crank 1, coupler 0.5, rocker 0.5, crank pivot at (2, 0) from O1: at
+  // phi = 0 the crank pin is 3 from O1, beyond l2 + l3 = 1, so no B closes
+  // the loop. Everything past the crank is NaN, not what p held before.
+  const FourBar<double> k{1.0, 0.5, 0.5, 2.0, 0.0, 1};
+  FourBarPoint<double> p;
+  p.e2 = p.e3 = p.B = {0.25, 0.5};
+  p.w2 = p.w3 = p.alpha2 = p.alpha3 = 0.5;
+  ASSERT_FALSE(mech::four_bar_point(k, 0.0, p));
+  for (double v : {p.B.x, p.B.y, p.e2.x, p.e2.y, p.e3.x, p.e3.y, p.w2, p.w3, p.alpha2, p.alpha3})
+    EXPECT_TRUE(std::isnan(v));
+  EXPECT_TRUE(std::isnan(mech::pressure_angle(p)));
+  EXPECT_DOUBLE_EQ(p.A.x, 3.0) << "the crank pin is still where the crank puts it";
+}
+
 TEST(FourBar, TransferFunctionsAreDerivativesOfPositions) {
   // Central differences, h = 1e-5 rad: truncation ~h^2 |theta'''| ~ 1e-9.
   const auto k = variant(1.4);

@@ -11,6 +11,7 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "mech/autodiff.hpp"
@@ -65,7 +66,9 @@ S dot(const Vec2<S>& a, const Vec2<S>& b) { return a.x * b.x + a.y * b.y; }
 
 // Position, velocity and acceleration analysis at crank angle phi; false when
 // the loop cannot close there (|O1A| outside [|l2 - l3|, l2 + l3]) or sits
-// exactly at a toggle (coupler and rocker collinear).
+// exactly at a toggle (coupler and rocker collinear), and then everything
+// past the crank is NaN: a caller that reads it anyway gets NaN, never
+// stale memory.
 // The same from c = cos(phi), s = sin(phi) (a grid or a quadrature rule has them).
 template <class S>
 bool four_bar_point(const FourBar<S>& m, const S& c, const S& s, FourBarPoint<S>& p) {
@@ -76,7 +79,13 @@ bool four_bar_point(const FourBar<S>& m, const S& c, const S& s, FourBarPoint<S>
   const S d2 = p.A.x * p.A.x + p.A.y * p.A.y;
   const S along = (m.rocker * m.rocker - m.coupler * m.coupler + d2) / (2.0 * d2);  // fraction of O1A
   const S h2 = m.rocker * m.rocker / d2 - along * along;  // (height / |O1A|)^2
-  if (!positive_everywhere(h2)) return false;
+  auto fail = [&] {
+    const S nan(std::numeric_limits<double>::quiet_NaN());
+    p.B = p.e2 = p.e3 = {nan, nan};
+    p.w2 = p.w3 = p.alpha2 = p.alpha3 = nan;
+    return false;
+  };
+  if (!positive_everywhere(h2)) return fail();
   const S h = double(m.branch) * sqrt(h2);
   p.B = {along * p.A.x - h * p.A.y, along * p.A.y + h * p.A.x};
   p.e2 = {(p.B.x - p.A.x) / m.coupler, (p.B.y - p.A.y) / m.coupler};
@@ -85,7 +94,7 @@ bool four_bar_point(const FourBar<S>& m, const S& c, const S& s, FourBarPoint<S>
   // in phi and projected on e2 and e3; sin(ti - tj) = cross(ej, ei),
   // cos(ti - tj) = dot(ei, ej).
   const S s23 = cross(p.e3, p.e2);
-  if (zero_somewhere(s23)) return false;
+  if (zero_somewhere(s23)) return fail();
   const S c12 = dot(p.e1, p.e2), c13 = dot(p.e1, p.e3), c23 = dot(p.e2, p.e3);
   p.w3 = m.crank * cross(p.e1, p.e2) / (m.rocker * s23);
   p.w2 = m.crank * cross(p.e1, p.e3) / (m.coupler * s23);
