@@ -177,6 +177,7 @@ double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter 
 class LaneRootSearch {
  public:
   static constexpr int kPoints = 2;
+  LaneRootSearch() = default;  // storage for a search to come (Grow)
   LaneRootSearch(double a, double b, double ga, double gb, double x3 = NAN, double g3 = NAN,
                  double rel_tol = 4.4e-16)
       : rel_tol_(rel_tol) {
@@ -189,9 +190,14 @@ class LaneRootSearch {
   bool done() const { return done_; }
   std::span<const double> xs() const { return {xs_, static_cast<std::size_t>(asked_)}; }
   void feed(std::span<const double> g) {
+    feed_each([&](int i) { return g[static_cast<std::size_t>(i)]; });
+  }
+  // The same, g at xs()[i] from g_at(i).
+  template <class G>
+  void feed_each(G&& g_at) {
     const double width = b_.x - a_.x;
     for (int i = 0; i < asked_; ++i) {
-      const Point p{xs_[i], g[i]};
+      const Point p{xs_[i], g_at(i)};
       if (p.g == 0) {
         done_ = true, root_ = p.x;
         return;
@@ -368,24 +374,22 @@ void for_query_blocks(std::span<AngleQuery* const> order, F&& block) {
 // Runs root searches side by side until every one is done, one batch a
 // step: search i asks for function fn[i] (its slope when `slope`).
 template <class Eval>
-void run_side_by_side(std::vector<LaneRootSearch>& searches, std::span<const int> fn, bool slope,
+void run_side_by_side(std::span<LaneRootSearch> searches, std::span<const int> fn, bool slope,
                       Grow<AngleQuery>& batch, Eval& eval) {
-  static thread_local Grow<int> asked;  // the batch's first query of each search, and one past the last
   while (true) {
-    batch.clear(), asked.clear();
-    for (std::size_t i = 0; i < searches.size(); ++i) {
-      asked.push_back(static_cast<int>(batch.size()));
+    batch.clear();
+    for (std::size_t i = 0; i < searches.size(); ++i)
       if (!searches[i].done())
         for (double x : searches[i].xs()) batch.push_back({x, fn[i], slope});
-    }
     if (batch.empty()) return;
-    asked.push_back(static_cast<int>(batch.size()));
     eval(std::span<AngleQuery>(batch));
-    static thread_local Grow<double> g;
-    g.clear();
-    for (const AngleQuery& q : batch) g.push_back(q.out);
-    for (std::size_t i = 0; i < searches.size(); ++i)
-      if (asked[i + 1] > asked[i]) searches[i].feed(std::span<const double>(g.begin() + asked[i], g.begin() + asked[i + 1]));
+    const AngleQuery* q = batch.begin();  // each search's queries, in the order asked
+    for (LaneRootSearch& s : searches) {
+      if (s.done()) continue;
+      const std::size_t asked = s.xs().size();
+      s.feed_each([q](int i) { return q[i].out; });
+      q += asked;
+    }
   }
 }
 
@@ -474,7 +478,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   static thread_local Grow<Bracket> beside;
   static thread_local Grow<int> kink_queries, root_fn;
   static thread_local Grow<double> kink_f;
-  static thread_local std::vector<LaneRootSearch> roots_searched;
+  static thread_local Grow<LaneRootSearch> roots_searched;
   points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
   kink_queries.clear(), kink_f.clear(), roots_searched.clear(), root_fn.clear();
   auto ask = [&](double phi, int fn, bool slope) {
@@ -489,7 +493,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   auto root_of = [&](int fn, const Point& a, const Point& b, Grow<Root>& to, const Point* beside = nullptr) {
     if (const int fall = falls_through_zero(a.g, b.g); fall == 1) {
       to.push_back({fn, nan, static_cast<int>(roots_searched.size())});
-      roots_searched.emplace_back(a.x, b.x, a.g, b.g, beside ? beside->x : nan, beside ? beside->g : nan);
+      roots_searched.push_back(LaneRootSearch(a.x, b.x, a.g, b.g, beside ? beside->x : nan, beside ? beside->g : nan));
       root_fn.push_back(fn);
     } else if (fall == 2) {
       to.push_back({fn, b.x});
@@ -508,10 +512,11 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     const int n = static_cast<int>(v.size()), f = static_cast<int>(fn);
     const double h = kTwoPi / n, eps = 1e-9 * h;  // eps: either side of a kink, its one-sided slopes
     const auto [vmax, curvature] = max_and_curvature(v);
-    const double margin = s.global ? 0.25 * curvature : s.margin;
+    const double margin = s.global ? 0.25 * curvature : s.margin, low = vmax - margin;
     for (int k = 0; k < n; ++k) {
+      if (v[k] < low) continue;  // most points, and a branch that rarely changes its way
       const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
-      if (v[k] < v[before] || v[k] < v[after] || v[k] < vmax - margin) continue;
+      if (v[k] < v[before] || v[k] < v[after]) continue;
       if (v[after] == v[k] && k + 1 < n) continue;  // a flat top: refine it once
       const double phi_k = k * h;
       const int first = static_cast<int>(points.size()), around[3] = {before, k, after};
@@ -713,7 +718,11 @@ struct GaussRule {
 inline const GaussRule& gauss_rule(int m) {
   static std::array<std::once_flag, kMaxGaussNodes + 1> once;
   static std::array<GaussRule, kMaxGaussNodes + 1> table;
+  // Each thread remembers the rules it has seen: call_once costs a design
+  // of a DOE 2% even when the rule is long made.
+  thread_local std::array<const GaussRule*, kMaxGaussNodes + 1> seen{};
   const auto k = static_cast<size_t>(std::clamp(m, 1, kMaxGaussNodes));
+  if (seen[k]) return *seen[k];
   std::call_once(once[k], [k] {
     GaussRule& r = table[k];
     const std::size_t pairs = (k + 1) / 2;
@@ -727,7 +736,7 @@ inline const GaussRule& gauss_rule(int m) {
       r.weights.push_back(w);
     }
   });
-  return table[k];
+  return *(seen[k] = &table[k]);
 }
 
 // Cycle means of a periodic f, of |f| and of f^2.
