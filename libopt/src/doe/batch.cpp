@@ -86,10 +86,15 @@ class Progress {
 // queued, 0.25 s since the last commit, or closing) while no other thread
 // commits. No thread of its own: --threads N runs N threads in all, each
 // evaluating and taking its turn at the store, so N threads use N cores.
+// Under MPI, rank 0 gives the writer a thread of its own (`own_thread`):
+// its serving loop queues every other rank's rows and must never wait for
+// a commit while ranks wait for their next chunk.
 class Writer {
  public:
-  Writer(Store& store, Tally& tally, Progress& progress, std::int64_t pending)
-      : store_(store), tally_(tally), progress_(progress), pending_(pending) {}
+  Writer(Store& store, Tally& tally, Progress& progress, std::int64_t pending, bool own_thread = false)
+      : store_(store), tally_(tally), progress_(progress), pending_(pending), own_thread_(own_thread) {
+    if (own_thread_) thread_ = std::thread([this] { run(); });
+  }
   ~Writer() {
     try {
       close();
@@ -101,17 +106,23 @@ class Writer {
   // many rows wait for another thread's commit (memory stays constant in N).
   void push(std::vector<Row> rows) {
     std::unique_lock lock(m_);
-    room_.wait(lock, [&] { return queued_ < kMaxQueued || !writing_ || failed_; });
+    room_.wait(lock, [&] { return queued_ < kMaxQueued || (!writing_ && !own_thread_) || failed_; });
     queued_ += rows.size();
     queue_.push_back(std::move(rows));
+    if (own_thread_) return ready_.notify_one();
     commit_due(lock);
   }
 
   // Commits what is queued (the workers have stopped); rethrows the error of
   // any commit, if one failed.
   void close() {
+    {
+      std::lock_guard lock(m_);
+      closing_ = true;
+      ready_.notify_one();
+    }
+    if (thread_.joinable()) thread_.join();
     std::unique_lock lock(m_);
-    closing_ = true;
     room_.wait(lock, [&] { return !writing_; });
     commit_due(lock);
     if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
@@ -122,6 +133,7 @@ class Writer {
   // for one commit after every worker has stopped.
   void flush() {
     std::unique_lock lock(m_);
+    if (own_thread_) return ready_.notify_one();
     commit_due(lock, true);
   }
 
@@ -129,6 +141,15 @@ class Writer {
 
  private:
   static constexpr size_t kBatchRows = 20000, kMaxQueued = 200000;
+
+  // The own thread: commits what is due, and progress, at least every 0.1 s.
+  void run() {
+    std::unique_lock lock(m_);
+    while (!failed_ && !(closing_ && queue_.empty())) {
+      ready_.wait_for(lock, std::chrono::milliseconds(100), [&] { return closing_ || queued_ >= kBatchRows; });
+      commit_due(lock);
+    }
+  }
 
   // With m_ held: while a batch is due (or `now`) and no thread commits,
   // this one commits the whole queue (m_ released meanwhile); then progress.
@@ -171,8 +192,10 @@ class Writer {
   Tally& tally_;
   Progress& progress_;
   std::int64_t pending_;
+  const bool own_thread_;
   std::mutex m_;
-  std::condition_variable room_;  // the queue has room, or a commit ended
+  std::condition_variable room_;   // the queue has room, or a commit ended
+  std::condition_variable ready_;  // for the own thread: a batch may be due
   std::deque<std::vector<Row>> queue_;
   std::vector<Row> batch_;  // the rows being committed (by the thread with writing_)
   size_t queued_ = 0;
@@ -180,6 +203,7 @@ class Writer {
   bool writing_ = false, closing_ = false;
   std::atomic<bool> failed_{false};
   std::exception_ptr error_;
+  std::thread thread_;  // declared last: started once the rest is ready
 };
 
 // The next chunk's size after `count` samples took `seconds` on `threads`
@@ -362,7 +386,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   Progress progress(mode, err, hi - lo);
   const auto t0 = Clock::now();
   {
-    Writer writer(store, tally, progress, pending);
+    Writer writer(store, tally, progress, pending, o.peers != nullptr);
     std::atomic<std::int64_t> next{lo};
     std::exception_ptr worker_error;
     std::mutex error_m;
