@@ -202,7 +202,8 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   // slopes in phi by a dual number.
   using LD = LaneDual<1>;
   const SwingMechanism<LD> mdual = md.map([](double x) { return LD(x); });
-  CycleMaxSearch searches[2] = {{.v = gridM, .maxima = {}}, {.v = gridP, .maxima = {}}};
+  static thread_local CycleMaxSearch searches[2];  // kept: no allocation per design
+  searches[0].reset(gridM), searches[1].reset(gridP);
   find_cycle_maxima(std::span(searches), [&](std::span<AngleQuery> qs) {
     in_blocks(qs, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t) {
       LD cl(c), sl(s);  // slopes -sin, cos

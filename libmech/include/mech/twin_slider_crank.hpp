@@ -317,10 +317,10 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   // The peaks of T and |M|, searched together (find_cycle_maxima), kLanes
   // angles an evaluation: dT/dphi is the inertia moment (eqs 18-20, constant
   // speed; the grid has it), d|M|/dphi by a dual number in phi.
-  CycleMaxSearch searches[2];
+  static thread_local CycleMaxSearch searches[2];  // kept: no allocation per design
   int count = 0, energy = -1, moment = -1;
-  if (needs.peak_energy) energy = count, searches[count++] = {.v = gridT, .slopes = gridDT, .maxima = {}};
-  if (needs.moments) moment = count, searches[count++] = {.v = gridM, .kinks = kinks, .maxima = {}};
+  if (needs.peak_energy) energy = count, searches[count++].reset(gridT, {}, gridDT);
+  if (needs.moments) moment = count, searches[count++].reset(gridM, kinks);
   if (count == 0) return m;
   using LD = LaneDual<1>;
   const TwinDrive<double> dd = d.template cast<double>();
