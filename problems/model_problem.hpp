@@ -41,7 +41,7 @@ class MetricSink {
   template <class... Ids>
   bool want_any(Ids... ids) const { return (want(ids) || ...); }
   template <class Id>
-  void put(Id id, const S& v) {
+  [[gnu::always_inline]] void put(Id id, const S& v) {  // ten a design: inline
     if (!want(id)) return;
     opt::MetricValue& mv = result.slot(static_cast<opt::MetricId>(id));
     mv.value = mech::value(v);
