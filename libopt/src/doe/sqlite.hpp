@@ -76,8 +76,9 @@ class Statement {
     check(empty_is_null && v.empty() ? sqlite3_bind_null(get(), i)
                                      : sqlite3_bind_text(get(), i, v.data(), int(v.size()), SQLITE_TRANSIENT));
   }
-  // Text that stays put until the statement is stepped (SQLite reads it in
-  // place instead of copying it).
+  // Text SQLite reads in place, when the statement is next stepped, instead
+  // of copying it: v must stay put until then, and every parameter bound
+  // so must be bound again before any later step (the pointer is kept).
   void bind_static(int i, std::string_view v) {
     check(v.empty() ? sqlite3_bind_null(get(), i) : sqlite3_bind_text(get(), i, v.data(), int(v.size()), SQLITE_STATIC));
   }
