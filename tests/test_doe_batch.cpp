@@ -334,7 +334,8 @@ TEST(DoeBatch, DryRunShowsTheCostFirst) {
             std::string::npos) << o.output;
   o = cli::run("run " + dir + "/big.yaml --output " + dir + "/big --dry-run");
   EXPECT_TRUE(o.exited(0)) << o.output;
-  for (const char* line : {"dry run: 20000000 samples, 0 already in", "20000000 to evaluate", "estimated time:",
+  for (const char* line : {"dry run: 20000000 samples, 0 already in", "20000000 to evaluate", "us a row in the store",
+                           "estimated time:",
                            "estimated store size:", "more than 10000000 samples: run with --force to go ahead"})
     EXPECT_NE(o.output.find(line), std::string::npos) << line << "\n" << o.output;
   EXPECT_FALSE(fs::exists(dir + "/big")) << "a dry run writes nothing";

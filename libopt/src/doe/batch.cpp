@@ -263,6 +263,29 @@ std::string duration_text(double seconds) {
 // another config is refused as a real run would refuse it), the time a pilot
 // of a few samples predicts for the rest, and the store's size from the
 // pilot rows' record sizes. Nothing is written.
+// The store's seconds a row: the pilot's rows appended to a scratch store
+// in the temporary directory (removed). Threads pay it in turns, so a run
+// of r samples takes about r max((e + w) / threads, w).
+double store_seconds_per_row(const StoreLayout& layout, const std::map<std::string, std::string>& meta,
+                             std::span<const Row> rows) {
+  namespace fs = std::filesystem;
+  if (rows.empty()) return 0;
+  const fs::path dir = fs::temp_directory_path() / ("mechopt-dry-run-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  double seconds = 0;
+  try {
+    Store scratch(dir.string(), layout, meta, false);
+    const auto t0 = Clock::now();
+    scratch.append(rows);
+    seconds = since(t0);
+  } catch (...) {
+    fs::remove_all(dir);
+    throw;
+  }
+  fs::remove_all(dir);
+  return seconds / static_cast<double>(rows.size());
+}
+
 nlohmann::json dry_run(const Evaluator& evaluator, const SampleMaker& maker, const StoreLayout& layout,
                        const std::map<std::string, std::string>& meta, std::int64_t lo, std::int64_t hi, int threads,
                        const BatchOptions& o, std::ostream& out) {
@@ -275,24 +298,29 @@ nlohmann::json dry_run(const Evaluator& evaluator, const SampleMaker& maker, con
   // 4096), after one untimed sample that pays for first-use costs.
   const std::int64_t rest = hi - lo - stored;
   double bytes_per_row = 0;
-  std::int64_t pilot = 0;
-  if (hi > lo) bytes_per_row += row_bytes(evaluator.evaluate(maker, lo), layout);
+  std::vector<Row> rows;
+  if (hi > lo) rows.push_back(evaluator.evaluate(maker, lo));
   const auto t0 = Clock::now();
-  while (lo + 1 + pilot < hi && pilot < 4096 && since(t0) < 0.2)
-    bytes_per_row += row_bytes(evaluator.evaluate(maker, lo + 1 + pilot++), layout);
+  while (lo + static_cast<std::int64_t>(rows.size()) < hi && rows.size() <= 4096 && since(t0) < 0.2)
+    rows.push_back(evaluator.evaluate(maker, lo + static_cast<std::int64_t>(rows.size())));
+  const auto pilot = static_cast<std::int64_t>(rows.size()) - (hi > lo);  // timed: all but the first
   const double per = pilot ? since(t0) / static_cast<double>(pilot) : 0;
-  bytes_per_row /= static_cast<double>(std::max<std::int64_t>(1, std::min(hi - lo, pilot + 1)));
-  const double seconds = per * static_cast<double>(rest) / threads, bytes = bytes_per_row * static_cast<double>(hi - lo);
+  for (const Row& r : rows) bytes_per_row += row_bytes(r, layout);
+  bytes_per_row /= static_cast<double>(std::max<std::size_t>(1, rows.size()));
+  const double store = store_seconds_per_row(layout, meta, rows);
+  const double seconds = static_cast<double>(rest) * std::max((per + store) / threads, store),
+               bytes = bytes_per_row * static_cast<double>(hi - lo);
   const bool needs_force = total > kMaxSamples && !o.force;
   const std::string shard = meta.at("shard");
   out << "dry run: " << hi - lo << " samples" << (o.shard.count > 1 ? " (shard " + shard + ")" : "") << ", "
       << stored << " already in " << o.output_directory << "/store.sqlite, " << rest << " to evaluate on " << threads
-      << " threads\n  pilot: " << pilot << " samples, " << per * 1e6 << " us each\n  estimated time: "
+      << " threads\n  pilot: " << pilot << " samples, " << per * 1e6 << " us each, and " << store * 1e6
+      << " us a row in the store\n  estimated time: "
       << duration_text(seconds) << "\n  estimated store size: " << bytes / 1e6 << " MB (" << bytes_per_row
       << " bytes a row)\n";
   if (needs_force) out << "  more than " << kMaxSamples << " samples: run with --force to go ahead\n";
   return {{"samples", hi - lo}, {"stored", stored}, {"to_evaluate", rest}, {"pilot_samples", pilot},
-          {"seconds_per_sample", per}, {"estimated_seconds", seconds}, {"estimated_store_bytes", bytes},
+          {"seconds_per_sample", per}, {"store_seconds_per_row", store}, {"estimated_seconds", seconds}, {"estimated_store_bytes", bytes},
           {"bytes_per_row", bytes_per_row}, {"needs_force", needs_force}};
 }
 
