@@ -15,7 +15,8 @@ run by run_bench.py or alone:
   chunked numpy computing the same metrics, checked against mechopt's rows,
   and writing them to SQLite.
 Rates are medians over the repetitions of the evaluation phase (`rate` in
-result.json: samples / seconds from the first sample to the last commit).
+result.json: samples / seconds from the first sample to the last commit);
+the peer's too (it runs as many times; its first run checks the values).
 """
 import argparse
 import json
@@ -100,19 +101,16 @@ def measure(build, repetitions):
                     row["efficiency"] = med[label] / (2 * med["1 thread"])
                 rows.append(row)
             if name == "recuperative_drive":  # the peer checks its values against this run's store
-                peer = json.loads(subprocess.run(
-                    [sys.executable, os.path.join(HERE, "doe", "peer_recuperative_doe.py"),
-                     "--samples", str(j["evaluated"]), "--check", os.path.join(work, name, "store.sqlite")],
-                    check=True, capture_output=True, text=True).stdout)
+                peer = peer_runs(j["evaluated"], os.path.join(work, name, "store.sqlite"), repetitions)
                 one = next(r for r in rows if r["case"] == "doe_recuperative_drive_1_thread")
                 two = next(r for r in rows if r["case"] == "doe_recuperative_drive_2_threads")
                 rows.append({"case": "doe_recuperative_peer", "peer_method": peer_method(peer),
                              "samples": peer["designs"],
                              "peer_compute_per_second": peer["compute_rate"],
                              "peer_end_to_end_per_second": peer["total_rate"],
+                             "peer_compute_per_second_runs": peer["compute_rates"],
                              "peer_max_rel_diff": peer.get("max_rel_diff"),
-                             "compute_ratio_per_core": peer["compute_seconds"] / peer["designs"]
-                             / one["mean_evaluation_seconds"],
+                             "compute_ratio_per_core": 1 / (peer["compute_rate"] * one["mean_evaluation_seconds"]),
                              "end_to_end_ratio_1_thread": one["designs_per_second"] / peer["total_rate"],
                              "end_to_end_ratio_2_threads": two["designs_per_second"] / peer["total_rate"]})
     finally:
@@ -121,6 +119,22 @@ def measure(build, repetitions):
         rows.append({"case": f"doe_store_append_{columns}_columns", "columns": columns, "metrics": metrics,
                      "rows_per_second": rate})
     return rows
+
+
+def peer_runs(samples, store, repetitions):
+    """The peer `repetitions` times on the samples of mechopt's run (the first
+    checks its values against mechopt's store): the first run's JSON with
+    the median rates, as mechopt's are medians."""
+    runs = []
+    for k in range(repetitions):
+        cmd = [sys.executable, os.path.join(HERE, "doe", "peer_recuperative_doe.py"), "--samples", str(samples)]
+        runs.append(json.loads(subprocess.run(cmd + (["--check", store] if k == 0 else []),
+                                              check=True, capture_output=True, text=True).stdout))
+    peer = dict(runs[0])
+    for key in ("compute_rate", "total_rate"):
+        peer[key] = statistics.median(r[key] for r in runs)
+    peer["compute_rates"] = [r["compute_rate"] for r in runs]
+    return peer
 
 
 def peer_method(peer):
@@ -155,7 +169,8 @@ def block(rows):
               f"| {fmt_rate(peer['peer_end_to_end_per_second'])} | {peer['end_to_end_ratio_1_thread']:.1f} | >= 5 |",
               f"| end to end, 2 threads (designs/min) | {two['designs_per_minute'] / 1e6:.1f}M | | | >= 20M |",
               "", f"The peer's values agree with mechopt's rows to {worst[1]:.1e} relative at worst ({worst[0]}); "
-              f"peer: {peer['peer_method']}.",
+              f"peer: {peer['peer_method']}; its rates are medians of {len(peer['peer_compute_per_second_runs'])} "
+              f"runs (compute {', '.join(fmt_rate(r) for r in sorted(peer['peer_compute_per_second_runs']))}).",
               "", "| store columns | rows/s (append, 20 000-row batches) |", "|---|---|"]
     for r in rows:
         if r["case"].startswith("doe_store_append_"):
