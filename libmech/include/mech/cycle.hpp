@@ -330,7 +330,8 @@ struct AngleQuery {
 // A list for the searches' working storage, kept by the thread: appending
 // is inline (std::vector's emplace_back stayed a call in the model's
 // translation unit, 6% of a recuperative DOE design) and the storage is
-// never given back. T: an aggregate.
+// never given back. T: default-constructible (the storage is made ahead)
+// and copyable.
 template <class T>
 class Grow {
  public:
