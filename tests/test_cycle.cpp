@@ -154,9 +154,10 @@ TEST(Cycle, MaximaSearchedTogetherOrAloneAgree) {
 
 TEST(Cycle, TwinDrivePeaksInLanesEqualTheScalarSearch) {
   // cycle_metrics searches the peaks of T and |M| together, four angles an
-  // evaluation (|M|'s slope by LaneDual). The same search one angle at a
-  // time with scalar evaluations (|M|'s slope by Dual) must give the same
-  // angles, bit for bit, over random designs of both resistance models.
+  // evaluation (|M|'s slope from third-order transfer functions, in lanes).
+  // The same search one angle at a time with scalar evaluations must give
+  // the same angles, bit for bit, over random designs of both resistance
+  // models.
   std::mt19937_64 gen(11);
   std::uniform_real_distribution<double> u(0, 1);
   int checked = 0;
@@ -181,13 +182,11 @@ TEST(Cycle, TwinDrivePeaksInLanesEqualTheScalarSearch) {
         T[k + j] = p.kinetic_energy, dT[k + j] = p.inertia_moment, M[k + j] = std::abs(p.total_moment());
       }
     });
-    const auto dv = d.cast<mech::Dual>();
     auto dabsM = [&](double phi) {
       double c, s;
       mech::sincos(phi, s, c);
-      const mech::Dual Md = mech::drive_point(dv, mech::Dual(c, -s), mech::Dual(s, c), mech::Dual(cd), mech::Dual(sd))
-                                .total_moment();
-      return (Md.v >= 0 ? 1.0 : -1.0) * Md.d;
+      const auto p = mech::drive_point_slope(d, c, s, cd, sd);
+      return mech::flip_where_negative(p.moment_slope, p.total_moment());
     };
     const std::vector<double> kinks =
         d.resistance == mech::Resistance::opposes_motion ? mech::dead_centres(d, n) : std::vector<double>{};

@@ -164,13 +164,6 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       gridP[k + j] = std::asin(std::abs(cosine[j]));  // pressure_angle
     }
   });
-  // The batched searches' evaluations, kLanes angles at a time.
-  auto in_blocks = [](std::span<AngleQuery> qs, auto&& block) {
-    static thread_local Grow<AngleQuery*> order;
-    order.clear();
-    for (AngleQuery& q : qs) order.push_back(&q);
-    for_query_blocks(order, block);
-  };
   const auto dc = dead_centres(m.linkage);
   // Kinks: rocker reversals (w3 = 0, the friction term: the dead centres, in
   // closed form) and sign changes of M (for |M|, by root searches side by
@@ -178,9 +171,9 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   if (means) {
     const std::span<const double> grid[1] = {M};
     std::vector<double> kinks = periodic_roots_together(std::span(grid), [&](std::span<AngleQuery> qs) {
-      in_blocks(qs, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t) {
+      for_query_blocks(qs, [&](AngleQuery* q, int lanes, const Lanes& c, const Lanes& s) {
         const Lanes moment = swing_point(ml, c, s).moment();
-        for (int j = 0; j < lanes; ++j) q[j]->out = moment[j];
+        for (int j = 0; j < lanes; ++j) q[j].out = moment[j];
       });
     });
     for (double phi : {value(dc.phi_extended), value(dc.phi_folded)})
@@ -205,13 +198,13 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   static thread_local CycleMaxSearch searches[2];  // kept: no allocation per design
   searches[0].reset(gridM), searches[1].reset(gridP);
   find_cycle_maxima(std::span(searches), [&](std::span<AngleQuery> qs) {
-    in_blocks(qs, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t) {
+    for_query_blocks(qs, [&](AngleQuery* q, int lanes, const Lanes& c, const Lanes& s) {
       LD cl(c), sl(s);  // slopes -sin, cos
       cl.d[0] = -s, sl.d[0] = c;
       const auto p = swing_point(mdual, cl, sl);
       const LD moment = p.moment(), u = dot(p.kinematics.e2, p.kinematics.e3);
       for (int j = 0; j < lanes; ++j) {
-        AngleQuery& a = *q[j];
+        AngleQuery& a = q[j];
         const double sign = a.fn == 0 ? (moment.v[j] >= 0 ? 1.0 : -1.0) : (u.v[j] < 0 ? -1.0 : 1.0);
         if (a.fn == 0) a.out = a.slope ? sign * moment.d[0][j] : std::abs(moment.v[j]);
         else  // d asin|u| / dphi = sign(u) u' / sqrt(1 - u^2)

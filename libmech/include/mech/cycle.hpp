@@ -357,18 +357,18 @@ class Grow {
   std::size_t n_ = 0;
 };
 
-// Calls block(q, lanes, c, s, i) for the queries `order` points to, kLanes
-// at a time: q = &order[i], lanes how many (at most kLanes), c and s the cos
-// and sin of their angles (missing lanes take the first angle again).
+// Calls block(q, lanes, c, s) for the queries, kLanes at a time: q =
+// &qs[i], lanes how many (at most kLanes), c and s the cos and sin of their
+// angles (missing lanes take the first angle again).
 template <class F>
-void for_query_blocks(std::span<AngleQuery* const> order, F&& block) {
-  for (std::size_t i = 0; i < order.size(); i += kLanes) {
-    AngleQuery* const* q = &order[i];
-    const int lanes = static_cast<int>(std::min<std::size_t>(kLanes, order.size() - i));
-    Lanes phi(q[0]->phi), c, s;
-    for (int j = 1; j < lanes; ++j) phi[j] = q[j]->phi;
+void for_query_blocks(std::span<AngleQuery> qs, F&& block) {
+  for (std::size_t i = 0; i < qs.size(); i += kLanes) {
+    AngleQuery* q = &qs[i];
+    const int lanes = static_cast<int>(std::min<std::size_t>(kLanes, qs.size() - i));
+    Lanes phi(q[0].phi), c, s;
+    for (int j = 1; j < lanes; ++j) phi[j] = q[j].phi;
     sincos(phi, s, c);
-    block(q, lanes, c, s, i);
+    block(q, lanes, c, s);
   }
 }
 

@@ -10,6 +10,7 @@
 // Units: metres and radians; transfer functions are per radian of crank angle.
 #pragma once
 #include <cmath>
+#include <type_traits>
 
 #include "mech/status.hpp"
 
@@ -47,6 +48,13 @@ struct SliderCrankPoint : SliderCrankVelocity<S> {
   S ddx;           // eqs 5-6
   S ddxs, ddys;    // eqs 7-8
   S ddbeta;
+};
+
+// ... and the third-order ones: what the angle slope of the inertia moment
+// (the derivative of eqs 18-20) needs.
+template <class S>
+struct SliderCrankPoint3 : SliderCrankPoint<S> {
+  S dddx, dddxs, dddys, dddbeta;
 };
 
 // True when the rod reaches the slider axis at every crank angle.
@@ -104,17 +112,21 @@ MECH_INLINE SliderCrankVelocity<S> slider_crank_velocity(const SliderCrank<S>& m
   return v;
 }
 
-// All transfer functions up to second order (see slider_crank_velocity).
-template <class S>
-MECH_INLINE SliderCrankPoint<S> slider_crank_point(const SliderCrank<S>& m, const S& c, const S& s) {
+// All transfer functions up to second order (see slider_crank_velocity), or
+// up to third (P = SliderCrankPoint3). With k = 1/D and dk/dpsi = g k^2
+// (exact extent): dg = (dh^2 + h ddh + g^2) k, ddg = (3 dh ddh + h dddh +
+// 3 g dg) k, dddh = -dh; the binomial extent (k = 1/l) drops the g terms.
+template <class S, class P = SliderCrankPoint<S>>
+MECH_INLINE P slider_crank_point(const SliderCrank<S>& m, const S& c, const S& s) {
   const double sg = m.sigma;
+  const bool exact = m.kinematics == Kinematics::exact;
   const auto x = detail::extent(m, c, s);
-  SliderCrankPoint<S> p;
+  P p;
   detail::first_order(m, x, s, p);
   // dg/dpsi; the exact extent adds g^2/D from the derivative of 1/D.
   S dg = (x.dh * x.dh + x.h * x.ddh) * x.k;
   S ddbeta_inner = x.ddh;
-  if (m.kinematics == Kinematics::exact) {
+  if (exact) {
     dg += x.g * x.g * x.k;
     ddbeta_inner += x.dh * x.g * x.k;
   }
@@ -123,6 +135,18 @@ MECH_INLINE SliderCrankPoint<S> slider_crank_point(const SliderCrank<S>& m, cons
   p.ddxs = 0.5 * (-m.r * c + p.ddx);
   p.ddys = 0.5 * x.ddh;
   p.ddbeta = -sg * ddbeta_inner * x.k;
+  if constexpr (std::is_same_v<P, SliderCrankPoint3<S>>) {
+    const S dddh = -x.dh;
+    S ddg = 3.0 * x.dh * x.ddh + x.h * dddh, dddbeta_inner = dddh;
+    if (exact) {
+      ddg += 3.0 * x.g * dg;
+      dddbeta_inner += (2.0 * x.ddh * x.g + x.dh * dg + 2.0 * x.dh * x.g * x.g * x.k) * x.k;
+    }
+    p.dddx = m.r * s - sg * ddg * x.k;
+    p.dddxs = 0.5 * (m.r * s + p.dddx);
+    p.dddys = 0.5 * dddh;
+    p.dddbeta = -sg * dddbeta_inner * x.k;
+  }
   return p;
 }
 

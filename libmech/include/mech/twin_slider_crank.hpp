@@ -93,14 +93,32 @@ MECH_INLINE S mass_velocity_squared(const TwinDrive<S>& d, const SliderCrankVelo
   return mv2;
 }
 
+// ... and the angle slope of the total moment, dM/dphi (a cart's |dx/dphi|
+// taken one-sided, as abs of a dual number takes it, at its dead centre).
+template <class S>
+struct DrivePointSlope : DrivePoint<S> {
+  S moment_slope;
+};
+
+// u where v >= 0, -u where v < 0 (the slope of |v| given v's slope u).
+inline double flip_where_negative(double u, double v) { return v < 0 ? -u : u; }
+[[gnu::always_inline]] inline Lanes flip_where_negative(const Lanes& u, const Lanes& v) {
+  Lanes r;
+  for (int j = 0; j < kLanes; ++j) r[j] = v[j] < 0 ? -u[j] : u[j];
+  return r;
+}
+
 // Energy and moments at crank angle phi given c = cos(phi), s = sin(phi) and
-// the cos/sin of the phase shift (cd, sd). check(d) must be ok.
-template <class S, class A>
-MECH_INLINE DrivePoint<S> drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S& cd,
-                          const S& sd) {
+// the cos/sin of the phase shift (cd, sd), with the moment's slope when
+// P = DrivePointSlope<S> (drive_point_slope: third-order transfer functions,
+// S double or Lanes). check(d) must be ok.
+template <class S, class A, class P = DrivePoint<S>>
+MECH_INLINE P drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S& cd, const S& sd) {
   using std::abs;
-  const auto p1 = slider_crank_point(d.mechanism(0), S(c), S(s));
-  const auto p2 = slider_crank_point(d.mechanism(1), S(c * cd - s * sd), S(s * cd + c * sd));
+  constexpr bool kSlope = std::is_same_v<P, DrivePointSlope<S>>;
+  using K = std::conditional_t<kSlope, SliderCrankPoint3<S>, SliderCrankPoint<S>>;
+  const auto p1 = slider_crank_point<S, K>(d.mechanism(0), S(c), S(s));
+  const auto p2 = slider_crank_point<S, K>(d.mechanism(1), S(c * cd - s * sd), S(s * cd + c * sd));
   const S w2 = d.crank_speed * d.crank_speed;
   const S rod_mass = d.rod_mass_per_length * d.rod_length;
   // Half the angle derivative of mass_velocity_squared.
@@ -109,13 +127,30 @@ MECH_INLINE DrivePoint<S> drive_point(const TwinDrive<S>& d, const A& c, const A
   if (d.rod == RodModel::full)
     mva += rod_mass * d.rod_length * d.rod_length / 12.0 * (p1.dbeta * p1.ddbeta + p2.dbeta * p2.ddbeta);
   const S force = d.cart_resistance / d.efficiency;
-  DrivePoint<S> out;
+  P out;
   out.kinetic_energy = 0.5 * w2 * mass_velocity_squared<S>(d, p1, p2);
   out.inertia_moment = w2 * mva;
   out.static_moment = d.resistance == Resistance::signed_velocity
                           ? S(force * (p1.dx + p2.dx))
                           : S(force * (abs(p1.dx) + abs(p2.dx)));
+  if constexpr (kSlope) {  // the angle derivatives of mva and of the static moment
+    S dmva = d.cart_mass * (p1.ddx * p1.ddx + p1.dx * p1.dddx + p2.ddx * p2.ddx + p2.dx * p2.dddx) +
+             rod_mass * (p1.ddxs * p1.ddxs + p1.dxs * p1.dddxs + p1.ddys * p1.ddys + p1.dys * p1.dddys +
+                         p2.ddxs * p2.ddxs + p2.dxs * p2.dddxs + p2.ddys * p2.ddys + p2.dys * p2.dddys);
+    if (d.rod == RodModel::full)
+      dmva += rod_mass * d.rod_length * d.rod_length / 12.0 *
+              (p1.ddbeta * p1.ddbeta + p1.dbeta * p1.dddbeta + p2.ddbeta * p2.ddbeta + p2.dbeta * p2.dddbeta);
+    out.moment_slope = w2 * dmva + (d.resistance == Resistance::signed_velocity
+                                        ? S(force * (p1.ddx + p2.ddx))
+                                        : S(force * (flip_where_negative(p1.ddx, p1.dx) +
+                                                     flip_where_negative(p2.ddx, p2.dx))));
+  }
   return out;
+}
+template <class S>
+MECH_INLINE DrivePointSlope<S> drive_point_slope(const TwinDrive<S>& d, const S& c, const S& s, const S& cd,
+                                                 const S& sd) {
+  return drive_point<S, S, DrivePointSlope<S>>(d, c, s, cd, sd);
 }
 
 template <class S>
@@ -316,51 +351,22 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   }
   // The peaks of T and |M|, searched together (find_cycle_maxima), kLanes
   // angles an evaluation: dT/dphi is the inertia moment (eqs 18-20, constant
-  // speed; the grid has it), d|M|/dphi by a dual number in phi.
+  // speed; the grid has it), d|M|/dphi from third-order transfer functions.
   static thread_local CycleMaxSearch searches[2];  // kept: no allocation per design
   int count = 0, energy = -1, moment = -1;
   if (needs.peak_energy) energy = count, searches[count++].reset(gridT, {}, gridDT);
   if (needs.moments) moment = count, searches[count++].reset(gridM, kinks);
   if (count == 0) return m;
-  using LD = LaneDual<1>;
-  const TwinDrive<double> dd = d.template cast<double>();
-  const TwinDrive<Lanes> dl = dd.lanes();
-  const TwinDrive<LD> dl1 = dd.map([](double x) { return LD(x); });
+  const TwinDrive<Lanes> dl = d.template cast<double>().lanes();
   const Lanes cdl(value(cd)), sdl(value(sd));
-  const LD cdl1(cdl), sdl1(sdl);
   find_cycle_maxima(std::span(searches, count), [&](std::span<AngleQuery> qs) {
-    // The slopes of |M| need the dual number: they go first, and a block of
-    // kLanes queries with one of them answers all from the dual (its values
-    // are the plain evaluation's bits).
-    static thread_local Grow<AngleQuery*> order;
-    order.clear();
-    for (AngleQuery& q : qs)
-      if (q.fn == moment && q.slope) order.push_back(&q);
-    const std::size_t duals = order.size();
-    for (AngleQuery& q : qs)
-      if (!(q.fn == moment && q.slope)) order.push_back(&q);
-    for_query_blocks(order, [&](AngleQuery* const* q, int lanes, const Lanes& c, const Lanes& s, std::size_t i) {
+    for_query_blocks(qs, [&](AngleQuery* q, int lanes, const Lanes& c, const Lanes& s) {
+      const auto p = drive_point_slope(dl, c, s, cdl, sdl);
+      const Lanes M = p.total_moment();
       // Each query's answer picked from the four by its kind, without a
       // branch: T, dT/dphi, |M|, d|M|/dphi.
-      auto answer = [&](const Lanes& T, const Lanes& I, const Lanes& M, const Lanes* dM) {
-        Lanes four[4] = {T, I, abs(M), Lanes(0.0)};
-        if (dM)
-          for (int j = 0; j < kLanes; ++j) four[3][j] = (M[j] >= 0 ? 1.0 : -1.0) * (*dM)[j];
-        for (int j = 0; j < lanes; ++j) {
-          AngleQuery& a = *q[j];
-          a.out = four[2 * (a.fn != energy) + a.slope][j];
-        }
-      };
-      if (i < duals) {
-        LD cl(c), sl(s);  // slopes -sin, cos
-        cl.d[0] = -s, sl.d[0] = c;
-        const auto p = drive_point(dl1, cl, sl, cdl1, sdl1);
-        const LD M = p.total_moment();
-        answer(p.kinetic_energy.v, p.inertia_moment.v, M.v, &M.d[0]);
-      } else {
-        const auto p = drive_point(dl, c, s, cdl, sdl);
-        answer(p.kinetic_energy, p.inertia_moment, p.total_moment(), nullptr);
-      }
+      const Lanes four[4] = {p.kinetic_energy, p.inertia_moment, abs(M), flip_where_negative(p.moment_slope, M)};
+      for (int j = 0; j < lanes; ++j) q[j].out = four[2 * (q[j].fn != energy) + q[j].slope][j];
     });
   });
   // The peaks' values: as the search found them (the lanes' sincos and
