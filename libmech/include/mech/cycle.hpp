@@ -347,14 +347,17 @@ class Grow {
   operator std::span<T>() { return {begin(), n_}; }               // NOLINT: a view of the list
   operator std::span<const T>() const { return {begin(), n_}; }   // NOLINT
   [[gnu::always_inline]] void push_back(const T& x) {
-    if (n_ == data_.size()) [[unlikely]] grow();
+    if (n_ == room_) [[unlikely]] grow();
     data_[n_++] = x;
   }
 
  private:
-  [[gnu::noinline]] void grow() { data_.resize(std::max<std::size_t>(16, 2 * data_.size())); }
+  [[gnu::noinline]] void grow() {
+    data_.resize(std::max<std::size_t>(16, 2 * data_.size()));
+    room_ = data_.size();  // kept: data_.size() divides by sizeof(T) on every push
+  }
   std::vector<T> data_;
-  std::size_t n_ = 0;
+  std::size_t n_ = 0, room_ = 0;
 };
 
 // Calls block(q, lanes, c, s) for the queries, kLanes at a time: q =
@@ -395,20 +398,25 @@ void run_side_by_side(std::span<LaneRootSearch> searches, std::span<const int> f
 }
 
 // The largest of v (n >= 3 samples of a periodic function) and the largest
-// |second difference|, with independent running maxima (no chain of
-// dependent max operations through the grid).
+// |second difference|, kLanes points at a time (running maxima in lanes;
+// the largest of a set does not depend on the order it is taken in).
 inline std::pair<double, double> max_and_curvature(std::span<const double> v) {
   const std::size_t n = v.size();
   auto second = [&](std::size_t k) { return std::abs(v[k + 1] - 2 * v[k] + v[k - 1]); };
-  double top0 = v[0], top1 = v[n - 1];
-  double bend0 = std::abs(v[1] - 2 * v[0] + v[n - 1]), bend1 = std::abs(v[0] - 2 * v[n - 1] + v[n - 2]);
+  double top = std::max(v[0], v[n - 1]);
+  double bend = std::max(std::abs(v[1] - 2 * v[0] + v[n - 1]), std::abs(v[0] - 2 * v[n - 1] + v[n - 2]));
   std::size_t k = 1;
-  for (; k + 2 < n; k += 2) {
-    top0 = std::max(top0, v[k]), bend0 = std::max(bend0, second(k));
-    top1 = std::max(top1, v[k + 1]), bend1 = std::max(bend1, second(k + 1));
+  if (n >= kLanes + 2) {
+    Lanes tops(top), bends(bend);
+    for (; k + kLanes < n; k += kLanes) {
+      const Lanes at = load_lanes(&v[k]);
+      tops = max(tops, at);
+      bends = max(bends, abs(load_lanes(&v[k + 1]) - 2 * at + load_lanes(&v[k - 1])));
+    }
+    for (int j = 0; j < kLanes; ++j) top = std::max(top, tops[j]), bend = std::max(bend, bends[j]);
   }
-  if (k + 1 < n) top0 = std::max(top0, v[k]), bend0 = std::max(bend0, second(k));
-  return {std::max(top0, top1), std::max(bend0, bend1)};
+  for (; k + 1 < n; ++k) top = std::max(top, v[k]), bend = std::max(bend, second(k));
+  return {top, bend};
 }
 
 // The maxima over the cycle of a periodic f sampled as v[k] = f(2 pi k / n),
@@ -488,11 +496,11 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   static thread_local Grow<Candidate> cands;
   static thread_local Grow<Root> roots, beside_roots;
   static thread_local Grow<Bracket> beside;
-  static thread_local Grow<int> kink_queries, root_fn;
+  static thread_local Grow<int> kink_queries, root_fn, tops;
   static thread_local Grow<double> kink_f;
   static thread_local Grow<LaneRootSearch> roots_searched;
   points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
-  kink_queries.clear(), kink_f.clear(), roots_searched.clear(), root_fn.clear();
+  kink_queries.clear(), kink_f.clear(), roots_searched.clear(), root_fn.clear(), tops.clear();
   auto ask = [&](double phi, int fn, bool slope) {
     batch.push_back({phi, fn, slope});
     return static_cast<int>(batch.size()) - 1;
@@ -525,8 +533,15 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     const double h = kTwoPi / n, eps = 1e-9 * h;  // eps: either side of a kink, its one-sided slopes
     const auto [vmax, curvature] = max_and_curvature(v);
     const double margin = s.global ? 0.25 * curvature : s.margin, low = vmax - margin;
+    int top = -1;  // the first grid point at vmax (none where v holds a NaN)
     for (int k = 0; k < n; ++k) {
-      if (v[k] < low) continue;  // most points, and a branch that rarely changes its way
+      // Most points lie below low: kLanes of them skipped at a time.
+      if (k % kLanes == 0 && k + kLanes <= n && all_below(load_lanes(&v[k]), low)) {
+        k += kLanes - 1;
+        continue;
+      }
+      if (v[k] < low) continue;
+      if (top < 0 && v[k] == vmax) top = k;
       const int before = k == 0 ? n - 1 : k - 1, after = k + 1 == n ? 0 : k + 1;  // no division per point
       if (v[k] < v[before] || v[k] < v[after]) continue;
       if (v[after] == v[k] && k + 1 < n) continue;  // a flat top: refine it once
@@ -547,6 +562,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
         if (std::isnan(p->g)) p->query = ask(p->x, f, true);
       cands.push_back({f, phi_k, first, static_cast<int>(points.size()) - first});
     }
+    tops.push_back(top);
     if (!s.global) continue;
     auto at = [&](int i) { return v[static_cast<std::size_t>(((i % n) + n) % n)]; };
     for (double kink : s.kinks) {
@@ -626,9 +642,10 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   for (std::size_t fn = 0; fn < searches.size(); ++fn) {
     CycleMaxSearch& s = searches[fn];
     if (!s.global) continue;
-    const auto top = std::max_element(s.v.begin(), s.v.end());
-    s.value = *top;
-    s.phi = kTwoPi * static_cast<double>(top - s.v.begin()) / static_cast<double>(s.v.size());
+    const std::size_t top = tops[fn] >= 0 ? static_cast<std::size_t>(tops[fn])
+                                          : static_cast<std::size_t>(std::max_element(s.v.begin(), s.v.end()) - s.v.begin());
+    s.value = s.v[top];
+    s.phi = kTwoPi * static_cast<double>(top) / static_cast<double>(s.v.size());
     auto consider = [&](double phi, double fv) {
       if (fv > s.value) s.value = fv, s.phi = phi;
     };

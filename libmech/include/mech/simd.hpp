@@ -302,6 +302,24 @@ inline const Lanes& lane_values(const Lanes& a) { return a; }
 template <int N>
 const Lanes& lane_values(const LaneDual<N>& a) { return a.v; }
 
+// kLanes doubles from `from` (any alignment).
+[[gnu::always_inline]] inline Lanes load_lanes(const double* from) {
+  Lanes a;
+  std::memcpy(&a.v, from, sizeof a.v);
+  return a;
+}
+
+// std::max lane by lane (b where a < b, else a).
+[[gnu::always_inline]] inline Lanes max(const Lanes& a, const Lanes& b) { return Lanes(a.v < b.v ? b.v : a.v); }
+
+// Whether a < b in every lane (false where a or b is NaN).
+[[gnu::always_inline]] inline bool all_below(const Lanes& a, double b) {
+  const auto m = a.v < b;
+  bool all = true;
+  for (int j = 0; j < kLanes; ++j) all &= m[j] != 0;
+  return all;
+}
+
 // The first m lanes of a into out[0..m) (all kLanes: one vector store).
 [[gnu::always_inline]] inline void store_lanes(double* out, const Lanes& a, int m) {
   if (m == kLanes) std::memcpy(out, &a.v, sizeof a.v);
