@@ -5,12 +5,15 @@
 // (the same model summed in another order, the design-derivative path).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <limits>
 #include <random>
 #include <tuple>
+#include <vector>
 
 #include "mech/conveyor_swing.hpp"
 #include "mech/simd.hpp"
@@ -70,6 +73,26 @@ TEST(Lanes, SinCosAtSpecialAngles) {
   for (const double x : {HUGE_VAL, -HUGE_VAL, std::numeric_limits<double>::quiet_NaN()}) {
     mech::sincos(x, s, c);
     EXPECT_TRUE(std::isnan(s) && std::isnan(c)) << x;
+  }
+}
+
+TEST(Lanes, SinCosWithoutTheReductionIsTheSameBits) {
+  // sincos_small (|x| < 0.78, the Gauss panels' half-angles) skips the
+  // reduction by pi/2: the same bits as sincos at random angles, at +-0, at
+  // tiny and subnormal ones and next to the bound.
+  std::mt19937_64 gen(3);
+  std::uniform_real_distribution<double> u(-0.78, 0.78);
+  std::vector<double> xs = {0.0, -0.0, 1e-300, -4.9e-324, 1e-160, 1e-8, 0.7799999999999999, -0.7799999999999999};
+  for (int i = 0; i < 20000; ++i) xs.push_back(u(gen));
+  for (std::size_t i = 0; i + kLanes <= xs.size(); i += kLanes) {
+    Lanes x, s, c, s_small, c_small;
+    for (int j = 0; j < kLanes; ++j) x[j] = xs[i + static_cast<std::size_t>(j)];
+    mech::sincos(x, s, c);
+    mech::sincos_small(x, s_small, c_small);
+    for (int j = 0; j < kLanes; ++j) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(s_small[j]), std::bit_cast<std::uint64_t>(s[j])) << x[j];
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(c_small[j]), std::bit_cast<std::uint64_t>(c[j])) << x[j];
+    }
   }
 }
 

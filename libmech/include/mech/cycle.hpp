@@ -881,12 +881,14 @@ ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std:
         double cos_mid, sin_mid;
         sincos(mid, sin_mid, cos_mid);
         const Lanes cm(cos_mid), sm(sin_mid);
+        const bool small = half < 0.78;  // every |t| < pi/4: sincos without its reduction
         std::size_t count = 0;
         for (std::size_t i = 0; i < pairs; i += kLanes) {
           const std::size_t valid = std::min<std::size_t>(kLanes, pairs - i);
           const Lanes t = half * rule.pairs[i / kLanes], weight = rule.weights[i / kLanes];
           Lanes ct, st;
-          sincos(t, st, ct);
+          if (small) sincos_small(t, st, ct);
+          else sincos(t, st, ct);
           put(node_c + count, cm * ct - sm * st), put(node_s + count, sm * ct + cm * st);
           put(node_phi + count, mid + t), put(node_w + count, weight);
           count += valid;

@@ -77,6 +77,25 @@ inline Lanes iota(double k0) {
 }
 
 namespace detail {
+// fdlibm's __kernel_sin (S1..S6) and __kernel_cos (C1..C6) at r + y, |r|
+// <= pi/4 (y: the reduction's tail, |y| < ulp(r)).
+template <class V>
+[[gnu::always_inline]] inline void sincos_kernels(const V& r, const V& y, V& sr, V& cr) {
+  const V z = r * r, v = z * r;
+  const V ps = 8.33333333332248946124e-03 +
+               z * (-1.98412698298579493134e-04 +
+                    z * (2.75573137070700676789e-06 +
+                         z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)));
+  sr = r - ((z * (0.5 * y - v * ps) - y) - v * -1.66666666666666324348e-01);
+  const V pc = z * (4.16666666666666019037e-02 +
+                    z * (-1.38888888888741095749e-03 +
+                         z * (2.48015872894767294178e-05 +
+                              z * (-2.75573143513906633035e-07 +
+                                   z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
+  const V hz = 0.5 * z, w = 1.0 - hz;
+  cr = w + (((1.0 - w) - hz) + (z * pc - r * y));
+}
+
 // sin and cos of x, a double or a Lanes::Raw: the same operations either
 // way (see the header comment), valid for |x| <= kReducedRange.
 inline constexpr double kReducedRange = 823549.6551353541;  // 2^19 pi / 2
@@ -94,28 +113,16 @@ template <class V>
   const V t = x - q * kP1, w1 = q * kP2, w2 = q * kP3;
   const V r1 = t - w1, r = r1 - w2;
   const V y = (((t - r1) - w1) + ((r1 - r) - w2)) - q * kP3t;
-  const V z = r * r, v = z * r;
-  // fdlibm __kernel_sin (S1..S6) and __kernel_cos (C1..C6) with the tail y.
-  const V ps = 8.33333333332248946124e-03 +
-               z * (-1.98412698298579493134e-04 +
-                    z * (2.75573137070700676789e-06 +
-                         z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)));
-  const V sr = r - ((z * (0.5 * y - v * ps) - y) - v * -1.66666666666666324348e-01);
-  const V pc = z * (4.16666666666666019037e-02 +
-                    z * (-1.38888888888741095749e-03 +
-                         z * (2.48015872894767294178e-05 +
-                              z * (-2.75573143513906633035e-07 +
-                                   z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
-  const V hz = 0.5 * z, w = 1.0 - hz;
-  const V cr = w + (((1.0 - w) - hz) + (z * pc - r * y));
+  V s0, c0;
+  sincos_kernels(r, y, s0, c0);
   // Quadrant q mod 4: 0 (s, c), 1 (c, -s), 2 (-s, -c), 3 (-c, s).
   const V m = q - 4.0 * ((q * 0.25 + kRound) - kRound);  // in {-2, -1, 0, 1, 2}
   const auto odd = (m == 1.0) | (m == -1.0);
   const auto sin_negative = (m == 2.0) | (m == -2.0) | (m == -1.0);
   const auto cos_negative = (m == 2.0) | (m == -2.0) | (m == 1.0);
-  const V s0 = odd ? cr : sr, c0 = odd ? sr : cr;
-  sin_x = sin_negative ? V(-s0) : s0;
-  cos_x = cos_negative ? V(-c0) : c0;
+  const V s1 = odd ? c0 : s0, c1 = odd ? s0 : c0;
+  sin_x = sin_negative ? V(-s1) : s1;
+  cos_x = cos_negative ? V(-c1) : c1;
 }
 }  // namespace detail
 
@@ -125,6 +132,10 @@ inline void sincos(const Lanes& x, Lanes& s, Lanes& c) {
   for (int i = 0; i < kLanes; ++i)
     if (!(std::abs(x[i]) <= detail::kReducedRange)) s[i] = std::sin(x[i]), c[i] = std::cos(x[i]);
 }
+
+// The same where every |x| < 0.78 (< pi/4: no reduction, q = 0, the tail
+// y = +0 exactly): the kernels alone, the same bits as sincos.
+inline void sincos_small(const Lanes& x, Lanes& s, Lanes& c) { detail::sincos_kernels(x.v, Lanes::Raw{}, s.v, c.v); }
 
 // The same for one angle: the same bits as in a lane.
 inline void sincos(double x, double& s, double& c) {
