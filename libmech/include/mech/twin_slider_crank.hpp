@@ -230,20 +230,25 @@ struct CycleMetrics {
 // a cart stops and its resistance flips). check(d) must be ok. Exact
 // kinematics: in closed form, where crank and rod are collinear (crank angle
 // psi with sin psi = -e/(l + r), stretched, or e/(l - r), folded; the cosine's
-// sign from the slider's side sigma). The binomial series: the sign changes
-// of the slider velocity on the n-point grid, refined by Brent.
-// Into `out` (its storage reused):
+// sign from the slider's side sigma; both mechanisms have the same r, l and
+// e, so slider 2's psi are slider 1's, or pi minus them when mirrored). The
+// binomial series: the sign changes of the slider velocity on the n-point
+// grid, refined by Brent. Into `out` (its storage reused):
 template <class S>
 void dead_centres(const TwinDrive<S>& d, int n, std::vector<double>& out) {
   const TwinDrive<double> dv = d.template cast<double>();
   out.clear();
+  double first[2];  // slider 1's crank angles, stretched and folded
   for (int i = 0; i < 2; ++i) {
     const auto m = dv.mechanism(i);
     const double shift = i == 0 ? 0.0 : dv.phase_shift;
     if (m.kinematics == Kinematics::exact) {
+      int k = 0;
       for (const auto& [sn, side] : {std::pair{-m.e / (m.l + m.r), 1.0}, std::pair{m.e / (m.l - m.r), -1.0}}) {
-        const double phi = std::atan2(sn, side * m.sigma * std::sqrt(1 - sn * sn)) - shift;
-        out.push_back(wrap_angle(phi));
+        if (i == 0) first[k] = std::atan2(sn, side * m.sigma * std::sqrt(1 - sn * sn));
+        const double psi = i == 0 || m.sigma == dv.mechanism(0).sigma ? first[k] : std::numbers::pi - first[k];
+        out.push_back(wrap_angle(psi - shift));
+        ++k;
       }
       continue;
     }
