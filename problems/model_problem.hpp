@@ -72,18 +72,19 @@ class TabledProblem : public opt::Problem {
       : name_(std::move(name)), metrics_(std::move(metrics)), vars_(std::move(vars)) {
     if (metrics_.size() > static_cast<size_t>(opt::MetricSet::kMax))
       throw std::logic_error(name_ + ": more metrics than opt::MetricSet holds");
+    std::vector<std::string> names;
     for (size_t i = 0; i < metrics_.size(); ++i) {
       if (metrics_[i].id != static_cast<int>(i))
         throw std::logic_error(name_ + ": metric " + metrics_[i].name + " is not at its enum's position");
-      names_.push_back(metrics_[i].name);
+      names.push_back(metrics_[i].name);
     }
-    shared_names_ = std::make_shared<const std::vector<std::string>>(names_);
+    names_ = std::make_shared<const std::vector<std::string>>(std::move(names));
   }
 
   std::string name() const override { return name_; }
   const std::vector<opt::Variable>& variables() const override { return vars_; }
-  const std::vector<std::string>& metric_names() const override { return names_; }
-  std::shared_ptr<const std::vector<std::string>> shared_metric_names() const override { return shared_names_; }
+  const std::vector<std::string>& metric_names() const override { return *names_; }
+  std::shared_ptr<const std::vector<std::string>> shared_metric_names() const override { return names_; }
   std::string renamed_metric(const std::string& old) const override {
     for (const auto& m : metrics_)
       if (!old.empty() && m.formerly == old) return m.name;
@@ -98,8 +99,7 @@ class TabledProblem : public opt::Problem {
  private:
   std::string name_;
   std::vector<MetricSpec> metrics_;
-  std::vector<std::string> names_;
-  std::shared_ptr<const std::vector<std::string>> shared_names_;
+  std::shared_ptr<const std::vector<std::string>> names_;  // shared with the evaluations
   std::vector<opt::Variable> vars_;
 };
 

@@ -25,7 +25,7 @@ Evaluation Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, 
 
 void Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& e) const {
   evaluate_model_into(x, wanted, gradient, e);
-  e.names = shared_metric_names();
+  if (e.names.get() != &metric_names()) e.names = shared_metric_names();  // no reference count churn per design
   for (MetricId i = 0; i < static_cast<MetricId>(e.values.size()); ++i) {
     if (!e.has(i)) continue;
     const MetricValue& m = e[i];

@@ -70,8 +70,8 @@ struct Evaluation {
   void set(MetricId i, MetricValue v) { slot(i) = std::move(v); }
   // Metric i, marked computed, to be written in place (its gradient's
   // storage reused from an earlier evaluation of the same size).
-  MetricValue& slot(MetricId i) {
-    if (values.size() <= static_cast<size_t>(i)) values.resize(static_cast<size_t>(i) + 1);
+  [[gnu::always_inline]] MetricValue& slot(MetricId i) {  // ten a design: inline
+    if (values.size() <= static_cast<size_t>(i)) [[unlikely]] make_room(i);
     computed.add(i);
     return values[static_cast<size_t>(i)];
   }
@@ -82,6 +82,7 @@ struct Evaluation {
     message.clear();
     computed = MetricSet();
   }
+  void make_room(MetricId i) { values.resize(static_cast<size_t>(i) + 1); }
   // By name, for reports and tests (a search over the names).
   bool has(const std::string& name) const;
   double at(const std::string& name) const;  // std::out_of_range unless computed
