@@ -165,9 +165,11 @@ double brent_root(G&& g, double a, double b, double ga, double gb, int max_iter 
 // model's kLanes: while !done(), feed it g at xs(). Each step interpolates
 // x(g) at g = 0 through the (up to five) points seen with the smallest |g|
 // (Lagrange's form; a third point beside the bracket may be given to start
-// from) and asks for g at r - d and r + d around the estimate r, d twice
-// the change the farthest point made to r, so that the next step brackets
-// the root closely and interpolates on points around it. It ends when that
+// from) and asks for g at the estimate r and at r + d, d twice the change
+// the farthest point made to r: g(r), near zero, anchors the next
+// interpolation, and the bracket closes to [r, r + d] when the root lies
+// right of r (asking r - d and r + d instead bracketed more often but took
+// more steps). It ends when that
 // change is within rel_tol |r| (at least four points interpolated) or the
 // bracket is that narrow; where the bracket has not halved in two steps,
 // the next asks for its thirds, so it ends like bisection where
@@ -243,9 +245,9 @@ class LaneRootSearch {
       double den = p[i].g;
       for (int j = 0; j + 1 < M; ++j)
         if (j != i) den *= p[j].g - p[i].g;
-      const double w = (p[i].x - p[0].x) / den;
-      sum_less += w;
-      sum += w / (last - p[i].g);
+      const double to_last = last - p[i].g, t = (p[i].x - p[0].x) / (den * to_last);  // one division
+      sum += t;
+      sum_less += t * to_last;
     }
     double den = last;
     for (int j = 0; j + 1 < M; ++j) den *= p[j].g - last;
@@ -283,7 +285,7 @@ class LaneRootSearch {
       }
       if (!slow_) {
         const double d = std::max(2 * change, tol);
-        for (double x : {r - d, r + d})
+        for (double x : {r, r + d})
           if (x > a_.x && x < b_.x) xs_[asked_++] = x;
         if (asked_ == 0) xs_[asked_++] = r;
         return;
