@@ -366,12 +366,22 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   const Lanes cdl(value(cd)), sdl(value(sd));
   find_cycle_maxima(std::span(searches, count), [&](std::span<AngleQuery> qs) {
     for_query_blocks(qs, [&](AngleQuery* q, int lanes, const Lanes& c, const Lanes& s) {
-      const auto p = drive_point_slope(dl, c, s, cdl, sdl);
-      const Lanes M = p.total_moment();
       // Each query's answer picked from the four by its kind, without a
-      // branch: T, dT/dphi, |M|, d|M|/dphi.
-      const Lanes four[4] = {p.kinetic_energy, p.inertia_moment, abs(M), flip_where_negative(p.moment_slope, M)};
-      for (int j = 0; j < lanes; ++j) q[j].out = four[2 * (q[j].fn != energy) + q[j].slope][j];
+      // branch: T, dT/dphi, |M|, d|M|/dphi; M's slope (third-order transfer
+      // functions) only for a block that asks for it.
+      auto answer = [&](const DrivePoint<Lanes>& p, const Lanes& slope) {
+        const Lanes M = p.total_moment();
+        const Lanes four[4] = {p.kinetic_energy, p.inertia_moment, abs(M), flip_where_negative(slope, M)};
+        for (int j = 0; j < lanes; ++j) q[j].out = four[2 * (q[j].fn != energy) + q[j].slope][j];
+      };
+      bool slope = false;
+      for (int j = 0; j < lanes; ++j) slope |= q[j].fn == moment && q[j].slope;
+      if (slope) {
+        const auto p = drive_point_slope(dl, c, s, cdl, sdl);
+        answer(p, p.moment_slope);
+      } else {
+        answer(drive_point(dl, c, s, cdl, sdl), Lanes(0.0));
+      }
     });
   });
   // The peaks' values: as the search found them (the lanes' sincos and
