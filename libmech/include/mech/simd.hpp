@@ -138,7 +138,7 @@ inline void sincos(const Lanes& x, Lanes& s, Lanes& c) {
 inline void sincos_small(const Lanes& x, Lanes& s, Lanes& c) { detail::sincos_kernels(x.v, Lanes::Raw{}, s.v, c.v); }
 
 // The same for one angle: the same bits as in a lane.
-inline void sincos(double x, double& s, double& c) {
+[[gnu::always_inline]] inline void sincos(double x, double& s, double& c) {
   if (std::abs(x) <= detail::kReducedRange) {
     detail::sincos_reduced(x, s, c);
   } else {
