@@ -259,10 +259,6 @@ std::string duration_text(double seconds) {
   return text;
 }
 
-// --dry-run: the samples the store already holds (read only; a store of
-// another config is refused as a real run would refuse it), the time a pilot
-// of a few samples predicts for the rest, and the store's size from the
-// pilot rows' record sizes. Nothing is written.
 // The store's seconds a row: the pilot's rows appended to a scratch store
 // in the temporary directory (removed). Threads pay it in turns, so a run
 // of r samples takes about r max((e + w) / threads, w).
@@ -286,6 +282,11 @@ double store_seconds_per_row(const StoreLayout& layout, const std::map<std::stri
   return seconds / static_cast<double>(rows.size());
 }
 
+// --dry-run: the samples the store already holds (read only; a store of
+// another config is refused as a real run would refuse it), the time a pilot
+// of a few samples predicts for the rest (their evaluation and their rows in
+// a scratch store), and the store's size from the pilot rows' record sizes.
+// Nothing is written to the output directory.
 nlohmann::json dry_run(const Evaluator& evaluator, const SampleMaker& maker, const StoreLayout& layout,
                        const std::map<std::string, std::string>& meta, std::int64_t lo, std::int64_t hi, int threads,
                        const BatchOptions& o, std::ostream& out) {
