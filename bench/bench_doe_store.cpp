@@ -1,6 +1,7 @@
 // Throughput of the DOE results store (docs/doe.md, "The store"): rows/s of
-// append() in the writer's 20 000-row batches, 4 factors and 4 to 60 metrics
-// (BM_Append/METRICS: rows/s against the column count), and the resume
+// append() in 20 000-row batches, 4 factors and 4 to 60 metrics
+// (BM_Append/METRICS/ROWS: rows/s against the column count, and at 12
+// metrics against the rows a transaction), and the resume
 // bitmap finished() over 10^6 rows. Targets: >= 300k rows/s at 12 metrics,
 // finished(10^6) < 0.3 s, so the store never limits a batch run.
 #include <benchmark/benchmark.h>
@@ -41,9 +42,9 @@ opt::doe::Store store(const std::string& dir, int metrics = 12) {
 }
 
 // Rows first, first+1, ..: values that vary, one failed design in ten.
-std::vector<opt::doe::Row> batch(std::int64_t first, int metrics = 12) {
-  std::vector<opt::doe::Row> rows(kBatch);
-  for (std::int64_t k = 0; k < kBatch; ++k) {
+std::vector<opt::doe::Row> batch(std::int64_t first, int metrics = 12, std::int64_t count = kBatch) {
+  std::vector<opt::doe::Row> rows(static_cast<std::size_t>(count));
+  for (std::int64_t k = 0; k < count; ++k) {
     auto& r = rows[std::size_t(k)];
     const double x = double(first + k);
     r.index = first + k;
@@ -55,21 +56,28 @@ std::vector<opt::doe::Row> batch(std::int64_t first, int metrics = 12) {
   return rows;
 }
 
+// BM_Append/METRICS/ROWS: transactions of ROWS rows each.
 void BM_Append(benchmark::State& state) {
   const int metrics = int(state.range(0));
+  const std::int64_t count = state.range(1);
   BenchDir dir("append");
   auto s = store(dir.path, metrics);
-  auto rows = batch(0, metrics);
+  auto rows = batch(0, metrics, count);
   std::int64_t first = 0;
   for (auto _ : state) {
-    for (std::int64_t k = 0; k < kBatch; ++k) rows[std::size_t(k)].index = first + k;
+    for (std::int64_t k = 0; k < count; ++k) rows[std::size_t(k)].index = first + k;
     s.append(rows);
-    first += kBatch;
+    first += count;
   }
   state.counters["rows_per_second"] = benchmark::Counter(double(first), benchmark::Counter::kIsRate);
   state.counters["columns"] = 8 + metrics;  // idx, status, wall_time, message, 4 factors
+  state.counters["batch_rows"] = double(count);
 }
-BENCHMARK(BM_Append)->Arg(4)->Arg(12)->Arg(28)->Arg(60)->Unit(benchmark::kMillisecond)->UseRealTime();
+// The column counts at 20 000-row batches; the batch sizes at 20 columns.
+BENCHMARK(BM_Append)
+    ->Args({4, kBatch})->Args({12, kBatch})->Args({28, kBatch})->Args({60, kBatch})
+    ->Args({12, 100})->Args({12, 1000})->Args({12, 4096})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Finished(benchmark::State& state) {
   constexpr std::int64_t kRows = 1'000'000;

@@ -76,12 +76,6 @@ class Statement {
     check(empty_is_null && v.empty() ? sqlite3_bind_null(get(), i)
                                      : sqlite3_bind_text(get(), i, v.data(), int(v.size()), SQLITE_TRANSIENT));
   }
-  // Text SQLite reads in place, when the statement is next stepped, instead
-  // of copying it: v must stay put until then, and every parameter bound
-  // so must be bound again before any later step (the pointer is kept).
-  void bind_static(int i, std::string_view v) {
-    check(v.empty() ? sqlite3_bind_null(get(), i) : sqlite3_bind_text(get(), i, v.data(), int(v.size()), SQLITE_STATIC));
-  }
   void bind(int i, const sqlite3_value* v) { check(sqlite3_bind_value(get(), i, v)); }
   std::int64_t int64(int col) const { return sqlite3_column_int64(get(), col); }
   // NULL -> NaN.
