@@ -2,7 +2,7 @@
 """Batch DOE throughput (docs/performance.md, "Batch design of experiments"),
 run by run_bench.py or alone:
 
-  /usr/bin/python3 bench/doe_bench.py [--build build] [--repetitions 3]
+  /usr/bin/python3 bench/doe_bench.py [--build build] [--repetitions 5]
 
 - designs per second of each configs/doe/ problem, every metric and the
   store, on 1 thread, on 2 threads and on 2 MPI ranks, with the scaling
@@ -15,8 +15,11 @@ run by run_bench.py or alone:
   chunked numpy computing the same metrics, checked against mechopt's rows,
   and writing them to SQLite.
 Rates are medians over the repetitions of the evaluation phase (`rate` in
-result.json: samples / seconds from the first sample to the last commit);
-the peer's too (it runs as many times; its first run checks the values).
+result.json: samples / seconds from the first sample to the last commit),
+the labels of a case interleaved (1 thread, 2 threads, 2 ranks, again), so
+that a shared machine's drifting load weighs on the efficiencies' both
+sides alike; the peer's too (it runs as many times; its first run checks
+the values).
 """
 import argparse
 import json
@@ -31,6 +34,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+REPETITIONS = 5  # a 0.3 s run moves by several percent on a shared machine
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 
 # name, config, --shard (None: all of it)
@@ -83,22 +87,25 @@ def measure(build, repetitions):
             runs = {"1 thread": (1, 1), "2 threads": (2, 1)}
             if mpi:
                 runs["2 ranks"] = (1, 2)
-            med = {}
-            for label, (threads, ranks) in runs.items():
-                rates, walls, evaluations = [], [], []
-                for _ in range(repetitions):
+            # Interleaved (1 thread, 2 threads, 2 ranks, then again): a
+            # machine whose load drifts over the minute moves every label alike.
+            rates, walls, evaluations = ({label: [] for label in runs} for _ in range(3))
+            for _ in range(repetitions):
+                for label, (threads, ranks) in runs.items():
                     j, wall = run_doe(binary, config, os.path.join(work, name), threads, shard, ranks)
                     if j["ranks"] != ranks:
                         sys.exit(f"doe_bench: {name} {label}: {j['ranks']} ranks ran (mechopt built without MPI?)")
-                    rates.append(j["rate"])
-                    walls.append(wall)
-                    evaluations.append(mean_sample_seconds(os.path.join(work, name, "store.sqlite")))
-                med[label] = statistics.median(rates)
+                    rates[label].append(j["rate"])
+                    walls[label].append(wall)
+                    evaluations[label].append(mean_sample_seconds(os.path.join(work, name, "store.sqlite")))
+            med = {}
+            for label, (threads, ranks) in runs.items():
+                med[label] = statistics.median(rates[label])
                 row = {"case": f"doe_{name}_{label.replace(' ', '_')}", "config": config, "shard": shard,
                        "samples": j["evaluated"], "threads": threads, "ranks": ranks,
                        "designs_per_second": med[label], "designs_per_minute": 60 * med[label],
-                       "process_seconds": statistics.median(walls),
-                       "mean_evaluation_seconds": statistics.median(evaluations)}
+                       "process_seconds": statistics.median(walls[label]),
+                       "mean_evaluation_seconds": statistics.median(evaluations[label])}
                 if label in ("2 threads", "2 ranks"):
                     row["efficiency"] = med[label] / (2 * med["1 thread"])
                 rows.append(row)
@@ -204,7 +211,7 @@ def run(build, repetitions, write_docs):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--repetitions", type=int, default=3)
+    ap.add_argument("--repetitions", type=int, default=REPETITIONS)
     ap.add_argument("--no-docs", action="store_true", help="do not write docs/performance.md's block")
     a = ap.parse_args()
     rows = run(a.build, a.repetitions, not a.no_docs)

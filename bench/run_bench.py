@@ -753,7 +753,7 @@ def main():
         write_work_precision_svg(path, scene, drivers)
         print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
     print("running the batch DOE cases (bench/doe_bench.py) ...", file=sys.stderr)
-    doe_rows = doe_bench.run(args.build, 3, not args.no_docs)
+    doe_rows = doe_bench.run(args.build, doe_bench.REPETITIONS, not args.no_docs)
     print("running each driver from 49 start points on a kink (bench/kink_map.py) ...", file=sys.stderr)
     kink_rows = kink_map.run(args.build, not args.no_docs)
     out = os.path.join(args.build, "bench-results.json")
