@@ -108,6 +108,8 @@ def measure(build, repetitions):
                        "mean_evaluation_seconds": statistics.median(evaluations[label])}
                 if label in ("2 threads", "2 ranks"):
                     row["efficiency"] = med[label] / (2 * med["1 thread"])
+                    # Each round's own: how far a shared machine moves it.
+                    row["efficiency_rounds"] = [r / (2 * r1) for r, r1 in zip(rates[label], rates["1 thread"])]
                 rows.append(row)
             if name == "recuperative_drive":  # the peer checks its values against this run's store
                 peer = peer_runs(j["evaluated"], os.path.join(work, name, "store.sqlite"), repetitions)
@@ -167,6 +169,9 @@ def block(rows):
                      f"{fmt_rate(two['designs_per_second'])} | {two['efficiency']:.0%} | "
                      + (f"{fmt_rate(ranks['designs_per_second'])} | {ranks['efficiency']:.0%}" if ranks else "- | -")
                      + f" | {one['mean_evaluation_seconds'] * 1e6:.1f} us |")
+    spread = [f"{name} {fmt_range(by[f'doe_{name}_2_threads']['efficiency_rounds'])}" for name, _, _ in CASES]
+    lines += ["", "Efficiency 1 -> 2 threads in each interleaved round (a 1 thread run, then a 2 thread run): "
+              + ", ".join(spread) + "."]
     peer = by["doe_recuperative_peer"]
     two = by["doe_recuperative_drive_2_threads"]
     diffs = peer["peer_max_rel_diff"] or {}
@@ -197,6 +202,11 @@ def write_block(path, body, name="doe", script="bench/doe_bench.py"):
     head, rest = text.split(begin)
     with open(path, "w") as f:
         f.write(head + begin + "\n" + body.strip("\n") + "\n\n" + end + rest.split(end, 1)[1])
+
+
+def fmt_range(values):
+    """'88-97%' for the lowest and highest of fractions."""
+    return f"{min(values):.0%}".rstrip("%") + f"-{max(values):.0%}"
 
 
 def run(build, repetitions, write_docs):
