@@ -149,7 +149,7 @@ class Writer {
  private:
   // A commit rewrites its last, partly filled 64 KiB pages: at 20 columns
   // 4096-row transactions run as fast as 20 000-row ones, 1000-row ones at
-  // two thirds of it (bench_doe_store BM_Append/12/ROWS).
+  // 65-85% of it (bench_doe_store BM_Append/12/ROWS).
   static constexpr size_t kBatchRows = 4096, kMaxQueued = 200000;
 
   // The own thread: commits what is due, and progress, at least every 0.1 s.
