@@ -167,6 +167,7 @@ class Writer {
     while (!writing_ && !failed_ && !queue_.empty() &&
            (now || closing_ || queued_ >= kBatchRows || since(last_) >= 0.25)) {
       writing_ = true;
+      batch_.reserve(queued_);  // once: the spent batch took its storage along
       for (auto& rows : queue_) std::move(rows.begin(), rows.end(), std::back_inserter(batch_));
       queue_.clear();
       queued_ = 0;
