@@ -246,7 +246,7 @@ TEST(DoeStore, DuplicateIndexRollsBackTheBatch) {
     }
   }
   EXPECT_EQ(s.count(), 5);  // 5 to 8 rolled back
-  s.append(std::vector{row(5), row(6)});                                  // and still free
+  s.append(std::vector{row(5), row(6)});  // and still free
   EXPECT_EQ(s.count(), 7);
 }
 
