@@ -7,7 +7,10 @@ run by run_bench.py or alone:
 - designs per second of each configs/doe/ problem, every metric and the
   store, on 1 thread, on 2 threads and on 2 MPI ranks, with the scaling
   efficiency rate(2) / (2 rate(1)) (--threads N runs N threads in all, each
-  evaluating and taking its turn at the store: N threads, N cores); the
+  evaluating and taking its turn at the store: N threads, N cores); as a
+  control, two separate 1 thread runs at once (the sum of their rates over
+  twice one run's: what the machine's two cores give work that shares
+  nothing, measured in the same rounds); the
   recuperative DOE runs its first quarter (--shard 0/4: 250 000 designs),
   the others whole;
 - the store's rows per second against its column count (bench_doe_store);
@@ -16,7 +19,8 @@ run by run_bench.py or alone:
   and writing them to SQLite.
 Rates are medians over the repetitions of the evaluation phase (`rate` in
 result.json: samples / seconds from the first sample to the last commit),
-the labels of a case interleaved (1 thread, 2 threads, 2 ranks, again), so
+the labels of a case interleaved (1 thread, 2 threads, 2 processes, 2
+ranks, again), so
 that a shared machine's drifting load weighs on the efficiencies' both
 sides alike; the peer's too (it runs as many times; its first run checks
 the values).
@@ -43,17 +47,32 @@ CASES = [("recuperative_drive", "configs/doe/recuperative_drive.yaml", "0/4"),
          ("elastic_drive", "configs/doe/elastic_drive.yaml", None)]
 
 
-def run_doe(binary, config, out, threads, shard, ranks=1):
-    """One run into a fresh `out`: (result.json, whole-process seconds)."""
-    shutil.rmtree(out, ignore_errors=True)
-    cmd = [binary, "run", os.path.join(ROOT, config), "--output", out, "--progress", "none",
-           "--threads", str(threads)] + (["--shard", shard] if shard else [])
-    if ranks > 1:
-        cmd = ["mpirun", "-n", str(ranks), "--oversubscribe"] + cmd
+def run_doe(binary, config, out, threads, shard, ranks=1, processes=1):
+    """One run into a fresh `out`: (result.json, whole-process seconds).
+    With processes > 1, as many separate runs of the same work at once, each
+    into its own directory (out, out-1, ..): the first one's result.json
+    with `rate` the sum of theirs, and the slowest one's seconds."""
+    outs = [out] + [f"{out}-{k}" for k in range(1, processes)]
+    cmds = []
+    for o in outs:
+        shutil.rmtree(o, ignore_errors=True)
+        cmd = [binary, "run", os.path.join(ROOT, config), "--output", o, "--progress", "none",
+               "--threads", str(threads)] + (["--shard", shard] if shard else [])
+        cmds.append(["mpirun", "-n", str(ranks), "--oversubscribe"] + cmd if ranks > 1 else cmd)
+    errs = [tempfile.TemporaryFile() for _ in cmds]
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, capture_output=True, env={**os.environ, **MPI_ENV})
+    procs = [subprocess.Popen(c, stdout=subprocess.DEVNULL, stderr=e, env={**os.environ, **MPI_ENV})
+             for c, e in zip(cmds, errs)]
+    codes = [p.wait() for p in procs]
     seconds = time.perf_counter() - t0
-    return json.load(open(os.path.join(out, "result.json"))), seconds
+    for c, code, e in zip(cmds, codes, errs):
+        if code != 0:
+            e.seek(0)
+            sys.exit(f"doe_bench: {' '.join(c)}: exit {code}: {e.read().decode()[-2000:]}")
+    results = [json.load(open(os.path.join(o, "result.json"))) for o in outs]
+    first = dict(results[0])
+    first["rate"] = sum(r["rate"] for r in results)
+    return first, seconds
 
 
 def mean_sample_seconds(store):
@@ -84,29 +103,33 @@ def measure(build, repetitions):
     rows = []
     try:
         for name, config, shard in CASES:
-            runs = {"1 thread": (1, 1), "2 threads": (2, 1)}
+            # label: (threads, ranks, processes). "2 processes" is the
+            # control: two separate 1 thread runs of the same work at once
+            # (two stores), what the machine's two cores give to work that
+            # shares nothing, in the same rounds as the 2 thread run.
+            runs = {"1 thread": (1, 1, 1), "2 threads": (2, 1, 1), "2 processes": (1, 1, 2)}
             if mpi:
-                runs["2 ranks"] = (1, 2)
-            # Interleaved (1 thread, 2 threads, 2 ranks, then again): a
-            # machine whose load drifts over the minute moves every label alike.
+                runs["2 ranks"] = (1, 2, 1)
+            # Interleaved (each label, then again): a machine whose load
+            # drifts over the minute moves every label alike.
             rates, walls, evaluations = ({label: [] for label in runs} for _ in range(3))
             for _ in range(repetitions):
-                for label, (threads, ranks) in runs.items():
-                    j, wall = run_doe(binary, config, os.path.join(work, name), threads, shard, ranks)
+                for label, (threads, ranks, processes) in runs.items():
+                    j, wall = run_doe(binary, config, os.path.join(work, name), threads, shard, ranks, processes)
                     if j["ranks"] != ranks:
                         sys.exit(f"doe_bench: {name} {label}: {j['ranks']} ranks ran (mechopt built without MPI?)")
                     rates[label].append(j["rate"])
                     walls[label].append(wall)
                     evaluations[label].append(mean_sample_seconds(os.path.join(work, name, "store.sqlite")))
             med = {}
-            for label, (threads, ranks) in runs.items():
+            for label, (threads, ranks, processes) in runs.items():
                 med[label] = statistics.median(rates[label])
                 row = {"case": f"doe_{name}_{label.replace(' ', '_')}", "config": config, "shard": shard,
-                       "samples": j["evaluated"], "threads": threads, "ranks": ranks,
+                       "samples": j["evaluated"], "threads": threads, "ranks": ranks, "processes": processes,
                        "designs_per_second": med[label], "designs_per_minute": 60 * med[label],
                        "process_seconds": statistics.median(walls[label]),
                        "mean_evaluation_seconds": statistics.median(evaluations[label])}
-                if label in ("2 threads", "2 ranks"):
+                if label != "1 thread":
                     row["efficiency"] = med[label] / (2 * med["1 thread"])
                     # Each round's own: how far a shared machine moves it.
                     row["efficiency_rounds"] = [r / (2 * r1) for r, r1 in zip(rates[label], rates["1 thread"])]
@@ -160,18 +183,19 @@ def fmt_rate(r):
 def block(rows):
     """The markdown of performance.md's generated block `doe`."""
     by = {r["case"]: r for r in rows}
-    lines = ["| problem (samples) | 1 thread | 2 threads | efficiency | 2 ranks | efficiency | one evaluation |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| problem (samples) | 1 thread | 2 threads | efficiency | control: 2 processes | 2 ranks | efficiency "
+             "| one evaluation |", "|---|---|---|---|---|---|---|---|"]
     for name, config, shard in CASES:
-        one, two = by[f"doe_{name}_1_thread"], by[f"doe_{name}_2_threads"]
+        one, two, control = (by[f"doe_{name}_{label}"] for label in ("1_thread", "2_threads", "2_processes"))
         ranks = by.get(f"doe_{name}_2_ranks")
         lines.append(f"| {name} ({one['samples']}) | {fmt_rate(one['designs_per_second'])} | "
-                     f"{fmt_rate(two['designs_per_second'])} | {two['efficiency']:.0%} | "
+                     f"{fmt_rate(two['designs_per_second'])} | {two['efficiency']:.0%} | {control['efficiency']:.0%} | "
                      + (f"{fmt_rate(ranks['designs_per_second'])} | {ranks['efficiency']:.0%}" if ranks else "- | -")
                      + f" | {one['mean_evaluation_seconds'] * 1e6:.1f} us |")
-    spread = [f"{name} {fmt_range(by[f'doe_{name}_2_threads']['efficiency_rounds'])}" for name, _, _ in CASES]
-    lines += ["", "Efficiency 1 -> 2 threads in each interleaved round (a 1 thread run, then a 2 thread run): "
-              + ", ".join(spread) + "."]
+    spread = [f"{name} {fmt_range(by[f'doe_{name}_2_threads']['efficiency_rounds'])} "
+              f"(control {fmt_range(by[f'doe_{name}_2_processes']['efficiency_rounds'])})" for name, _, _ in CASES]
+    lines += ["", "Efficiency 1 -> 2 threads in each interleaved round (1 thread, 2 threads, 2 processes, "
+              "2 ranks, then again): " + ", ".join(spread) + "."]
     peer = by["doe_recuperative_peer"]
     two = by["doe_recuperative_drive_2_threads"]
     diffs = peer["peer_max_rel_diff"] or {}
