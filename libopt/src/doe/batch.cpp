@@ -146,6 +146,21 @@ class Writer {
 
   bool failed() const { return failed_; }
 
+  // Swaps a committed batch's rows, if one is spare, into `stock` (a
+  // worker's, empty): evaluated into again, their vectors need no memory.
+  // Before, each sample's row was two mallocs in the thread that evaluated
+  // it and two frees in the one that committed it, into the first one's
+  // arena: on two threads the allocator's locks and lists moved between
+  // the cores with every row (a conveyor design took 1.09 us on two threads
+  // against 1.04 on one; now 1.04 and 1.01). Measured, interleaved A/B
+  // medians: conveyor 1 thread +6.5%, 2 threads +11%; recuperative 2
+  // threads +12%; callgrind, the conveyor DOE's worker: -950 instructions
+  // a row (-5.5%).
+  void take_spare(std::vector<Row>& stock) {
+    std::lock_guard lock(m_);
+    stock.swap(spare_);
+  }
+
  private:
   // A commit rewrites its last, partly filled 64 KiB pages: at 20 columns
   // 4096-row transactions run as fast as 20 000-row ones, 1000-row ones at
@@ -193,11 +208,12 @@ class Writer {
       }
       std::vector<Row> spent;
       spent.swap(batch_);
+      if (spare_.empty()) spare_.swap(spent);  // for take_spare
       last_ = Clock::now();
       writing_ = false;
       room_.notify_all();
       lock.unlock();
-      spent = {};  // freed while another thread may commit (4% of a commit at 20 columns)
+      spent = {};  // (when a batch was still spare) freed while another thread may commit
       lock.lock();
     }
     if (!writing_) progress_.update(tally_, pending_, false);  // the tally is still while no thread commits
@@ -213,6 +229,7 @@ class Writer {
   std::condition_variable ready_;  // for the own thread: a batch may be due
   std::deque<std::vector<Row>> queue_;
   std::vector<Row> batch_;  // the rows being committed (by the thread with writing_)
+  std::vector<Row> spare_;  // a committed batch's rows, for take_spare
   size_t queued_ = 0;
   Clock::time_point last_ = Clock::now();
   bool writing_ = false, closing_ = false;
@@ -438,13 +455,23 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
       try {
         const SampleMaker m = maker();
         std::int64_t chunk = 1;
+        std::vector<Row> stock;  // rows to evaluate into (Writer::take_spare)
         while (!stop_requested() && !writer.failed()) {
           const std::int64_t begin = next.fetch_add(chunk), end = std::min(hi, begin + chunk);
           if (begin >= hi) return writer.flush();
           std::vector<Row> rows;
+          rows.reserve(static_cast<std::size_t>(end - begin));
+          if (stock.empty()) writer.take_spare(stock);
           const auto c0 = Clock::now();
-          for (std::int64_t i = begin; i < end && !stop_requested(); ++i)
-            if (!finished[static_cast<size_t>(i)]) rows.push_back(evaluator.evaluate(m, i));
+          for (std::int64_t i = begin; i < end && !stop_requested(); ++i) {
+            if (finished[static_cast<size_t>(i)]) continue;
+            rows.emplace_back();
+            if (!stock.empty()) {
+              rows.back() = std::move(stock.back());
+              stock.pop_back();
+            }
+            evaluator.evaluate(m, i, rows.back());
+          }
           // Guided toward the end: at most a quarter of each thread's share
           // of what is left, so the threads finish together.
           chunk = std::min(next_chunk(since(c0), end - begin, 1),

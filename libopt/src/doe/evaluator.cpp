@@ -69,8 +69,14 @@ void Evaluator::sample_into(const SampleMaker& maker, std::int64_t index, const 
 
 Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
   Row r;
+  evaluate(maker, i, r);
+  return r;
+}
+
+void Evaluator::evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const {
   r.index = i;
-  r.factors.resize(spec_.factors.size());
+  r.message.clear();
+  r.factors.assign(spec_.factors.size(), 0.0);
   sampler_.point(i, r.factors);
   r.metrics.assign(metrics_, kNan);
   const auto t0 = Clock::now();
@@ -100,7 +106,6 @@ Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
   mech::set_deadline(0);
   s.own.reset();  // no problem outlives its sample in the thread's storage
   r.wall_time = since(t0);
-  return r;
 }
 
 }  // namespace opt::doe

@@ -45,6 +45,8 @@ class Evaluator {
 
   // Sample i as a row: a status (never an exception) and every metric.
   Row evaluate(const SampleMaker& maker, std::int64_t i) const;
+  // The same into `r`, the storage of its vectors reused (a batch's spent rows).
+  void evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const;
 
   const Problem& base() const { return base_; }
   // Factor j's index in x, or -1 (a model value).
