@@ -2,7 +2,7 @@
 """Batch DOE throughput (docs/performance.md, "Batch design of experiments"),
 run by run_bench.py or alone:
 
-  /usr/bin/python3 bench/doe_bench.py [--build build] [--repetitions 5]
+  /usr/bin/python3 bench/doe_bench.py [--build build] [--repetitions 7]
 
 - designs per second of each configs/doe/ problem, every metric and the
   store, on 1 thread, on 2 threads and on 2 MPI ranks, with the scaling
@@ -38,7 +38,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-REPETITIONS = 5  # a 0.3 s run moves by several percent on a shared machine
+REPETITIONS = 7  # a 0.3 s run moves by several percent on a shared machine
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 
 # name, config, --shard (None: all of it)
