@@ -80,15 +80,29 @@ struct DrivePoint {
   S total_moment() const { return inertia_moment + static_moment; }  // eq. (21)
 };
 
+// Whether the rods carry their own rotation (RodModel::full), as the kernels
+// below ask it: of the drive (RodOf), or fixed at compile time (FixedRod:
+// cycle_metrics's loops, where the test at every crank angle cost a
+// recuperative DOE design 4%; the same operations either way).
+struct RodOf {
+  template <class S>
+  static bool full(const TwinDrive<S>& d) { return d.rod == RodModel::full; }
+};
+template <RodModel R>
+struct FixedRod {
+  template <class S>
+  static constexpr bool full(const TwinDrive<S>&) { return R == RodModel::full; }
+};
+
 // Sum of mass * (velocity / w)^2 over both carts (eq. 9) and rods (eq. 10,
 // plus the rods' rotation for RodModel::full): T = w^2/2 times this.
-template <class S>
+template <class Rod = RodOf, class S>
 MECH_INLINE S mass_velocity_squared(const TwinDrive<S>& d, const SliderCrankVelocity<S>& p1,
                         const SliderCrankVelocity<S>& p2) {
   const S rod_mass = d.rod_mass_per_length * d.rod_length;
   S mv2 = d.cart_mass * (p1.dx * p1.dx + p2.dx * p2.dx) +
           rod_mass * (p1.dxs * p1.dxs + p1.dys * p1.dys + p2.dxs * p2.dxs + p2.dys * p2.dys);
-  if (d.rod == RodModel::full)
+  if (Rod::full(d))
     mv2 += rod_mass * d.rod_length * d.rod_length / 12.0 * (p1.dbeta * p1.dbeta + p2.dbeta * p2.dbeta);
   return mv2;
 }
@@ -110,12 +124,13 @@ inline double flip_where_negative(double u, double v) { return v < 0 ? -u : u; }
 
 // Energy and moments at crank angle phi given c = cos(phi), s = sin(phi) and
 // the cos/sin of the phase shift (cd, sd), with the moment's slope when
-// P = DrivePointSlope<S> (drive_point_slope: third-order transfer functions,
-// S double or Lanes). check(d) must be ok.
-template <class S, class A, class P = DrivePoint<S>>
-MECH_INLINE P drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S& cd, const S& sd) {
+// kSlope (drive_point_slope: third-order transfer functions, S double or
+// Lanes). check(d) must be ok.
+template <class Rod = RodOf, bool kSlope = false, class S, class A>
+MECH_INLINE std::conditional_t<kSlope, DrivePointSlope<S>, DrivePoint<S>> drive_point(
+    const TwinDrive<S>& d, const A& c, const A& s, const S& cd, const S& sd) {
   using std::abs;
-  constexpr bool kSlope = std::is_same_v<P, DrivePointSlope<S>>;
+  using P = std::conditional_t<kSlope, DrivePointSlope<S>, DrivePoint<S>>;
   using K = std::conditional_t<kSlope, SliderCrankPoint3<S>, SliderCrankPoint<S>>;
   const auto p1 = slider_crank_point<S, K>(d.mechanism(0), S(c), S(s));
   const auto p2 = slider_crank_point<S, K>(d.mechanism(1), S(c * cd - s * sd), S(s * cd + c * sd));
@@ -124,11 +139,11 @@ MECH_INLINE P drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S
   // Half the angle derivative of mass_velocity_squared.
   S mva = d.cart_mass * (p1.dx * p1.ddx + p2.dx * p2.ddx) +
           rod_mass * (p1.dxs * p1.ddxs + p1.dys * p1.ddys + p2.dxs * p2.ddxs + p2.dys * p2.ddys);
-  if (d.rod == RodModel::full)
+  if (Rod::full(d))
     mva += rod_mass * d.rod_length * d.rod_length / 12.0 * (p1.dbeta * p1.ddbeta + p2.dbeta * p2.ddbeta);
   const S force = d.cart_resistance / d.efficiency;
   P out;
-  out.kinetic_energy = 0.5 * w2 * mass_velocity_squared<S>(d, p1, p2);
+  out.kinetic_energy = 0.5 * w2 * mass_velocity_squared<Rod>(d, p1, p2);
   out.inertia_moment = w2 * mva;
   out.static_moment = d.resistance == Resistance::signed_velocity
                           ? S(force * (p1.dx + p2.dx))
@@ -137,7 +152,7 @@ MECH_INLINE P drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S
     S dmva = d.cart_mass * (p1.ddx * p1.ddx + p1.dx * p1.dddx + p2.ddx * p2.ddx + p2.dx * p2.dddx) +
              rod_mass * (p1.ddxs * p1.ddxs + p1.dxs * p1.dddxs + p1.ddys * p1.ddys + p1.dys * p1.dddys +
                          p2.ddxs * p2.ddxs + p2.dxs * p2.dddxs + p2.ddys * p2.ddys + p2.dys * p2.dddys);
-    if (d.rod == RodModel::full)
+    if (Rod::full(d))
       dmva += rod_mass * d.rod_length * d.rod_length / 12.0 *
               (p1.ddbeta * p1.ddbeta + p1.dbeta * p1.dddbeta + p2.ddbeta * p2.ddbeta + p2.dbeta * p2.dddbeta);
     out.moment_slope = w2 * dmva + (d.resistance == Resistance::signed_velocity
@@ -147,10 +162,10 @@ MECH_INLINE P drive_point(const TwinDrive<S>& d, const A& c, const A& s, const S
   }
   return out;
 }
-template <class S>
+template <class Rod = RodOf, class S>
 MECH_INLINE DrivePointSlope<S> drive_point_slope(const TwinDrive<S>& d, const S& c, const S& s, const S& cd,
                                                  const S& sd) {
-  return drive_point<S, S, DrivePointSlope<S>>(d, c, s, cd, sd);
+  return drive_point<Rod, true>(d, c, s, cd, sd);
 }
 
 template <class S>
@@ -270,7 +285,7 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
 // Cycle means of M and M^2, eq. (21), by Gauss-Legendre on each arc between
 // dead centres (`centres`: dead_centres(d, n)), where M is smooth:
 // exponential convergence again.
-template <class S>
+template <class Rod = RodOf, class S>
 std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::vector<double>& centres) {
   using std::cos;
   using std::sin;
@@ -283,19 +298,20 @@ std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::
     const auto dl = d.lanes();
     const auto cdl = LaneForm<S>::broadcast(cd), sdl = LaneForm<S>::broadcast(sd);
     return means([&](const Lanes&, const Lanes& c, const Lanes& s) {
-      return drive_point(dl, c, s, cdl, sdl).total_moment();
+      return drive_point<Rod>(dl, c, s, cdl, sdl).total_moment();
     });
   } else {
-    return means([&](double, double c, double s) { return drive_point(d, c, s, cd, sd).total_moment(); });
+    return means([&](double, double c, double s) { return drive_point<Rod>(d, c, s, cd, sd).total_moment(); });
   }
 }
 
 // All cycle quantities with n grid points. A maximum over the cycle is
 // nonsmooth in the design; its derivative is taken at the maximising angle
 // (Danskin's theorem), which is exact wherever the maximiser is unique.
-// check(d) must be ok.
-template <class S>
-CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {}) {
+// check(d) must be ok. Rod: the rod model, fixed for the loops (cycle_metrics
+// below).
+template <class Rod, class S>
+CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds needs) {
   using std::abs;
   using std::cos;
   using std::sin;
@@ -313,7 +329,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     const L cdl = LaneForm<S>::broadcast(cd), sdl = LaneForm<S>::broadcast(sd);
     L sT(0.0), sM(0.0), sM2(0.0);
     for_each_grid_block(n, [&](int k, int lanes, const Lanes& c, const Lanes& s) {
-      const auto p = drive_point(dl, c, s, cdl, sdl);
+      const auto p = drive_point<Rod>(dl, c, s, cdl, sdl);
       const L T = first_lanes(p.kinetic_energy, lanes), M = first_lanes(p.total_moment(), lanes);
       sT += T;
       sM += M;
@@ -325,7 +341,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     sumT = LaneForm<S>::sum(sT), sumM = LaneForm<S>::sum(sM), sumM2 = LaneForm<S>::sum(sM2);
   } else {
     for_each_grid_angle(n, [&](int k, double c, double s) {
-      const auto p = drive_point(d, c, s, cd, sd);
+      const auto p = drive_point<Rod>(d, c, s, cd, sd);
       sumT += p.kinetic_energy;
       gridT[k] = value(p.kinetic_energy);
       gridDT[k] = value(p.inertia_moment);
@@ -347,7 +363,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
       // |dx/dphi| has kinks at the dead centres, where the trapezoidal rule
       // drops to O(h^2): integrate piecewise between them instead.
       dead_centres(d, n, kinks);
-      const auto [mean, mean2] = piecewise_moment_means(d, n, kinks);
+      const auto [mean, mean2] = piecewise_moment_means<Rod>(d, n, kinks);
       sumM = mean * double(n);
       sumM2 = mean2 * double(n);
     }
@@ -377,10 +393,10 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
       bool slope = false;
       for (int j = 0; j < lanes; ++j) slope |= q[j].fn == moment && q[j].slope;
       if (slope) {
-        const auto p = drive_point_slope(dl, c, s, cdl, sdl);
+        const auto p = drive_point_slope<Rod>(dl, c, s, cdl, sdl);
         answer(p, p.moment_slope);
       } else {
-        answer(drive_point(dl, c, s, cdl, sdl), Lanes(0.0));
+        answer(drive_point<Rod>(dl, c, s, cdl, sdl), Lanes(0.0));
       }
     });
   });
@@ -390,7 +406,7 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
   auto at = [&](double phi) {
     double c, s;
     sincos(phi, s, c);
-    return drive_point(d, S(c), S(s), cd, sd);
+    return drive_point<Rod>(d, S(c), S(s), cd, sd);
   };
   if (needs.peak_energy) {
     m.phi_peak_energy = searches[energy].phi;
@@ -405,6 +421,11 @@ CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {
     else m.peak_total_moment = abs(at(m.phi_peak_moment).total_moment());
   }
   return m;
+}
+template <class S>
+CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {}) {
+  return d.rod == RodModel::full ? cycle_metrics_with<FixedRod<RodModel::full>>(d, n, needs)
+                                 : cycle_metrics_with<FixedRod<RodModel::point_masses>>(d, n, needs);
 }
 
 }  // namespace mech
