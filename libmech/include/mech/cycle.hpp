@@ -351,13 +351,13 @@ class Grow {
   const T& operator[](std::size_t i) const { return data_[i]; }
   operator std::span<T>() { return {begin(), n_}; }               // NOLINT: a view of the list
   operator std::span<const T>() const { return {begin(), n_}; }   // NOLINT
-  [[gnu::always_inline]] void push_back(const T& x) {
+  MECH_FORCE_INLINE void push_back(const T& x) {
     if (n_ == room_) [[unlikely]] grow();
     data_[n_++] = x;
   }
   // Built in place (a root search: no copy of its ~200 bytes).
   template <class... A>
-  [[gnu::always_inline]] void emplace_back(A&&... a) {
+  MECH_FORCE_INLINE void emplace_back(A&&... a) {
     static_assert(std::is_trivially_destructible_v<T>);
     if (n_ == room_) [[unlikely]] grow();
     std::construct_at(&data_[n_++], std::forward<A>(a)...);
@@ -412,7 +412,7 @@ void run_side_by_side(std::span<LaneRootSearch> searches, std::span<const int> f
 // The largest of v (n >= 3 samples of a periodic function) and the largest
 // |second difference|, kLanes points at a time (running maxima in lanes;
 // the largest of a set does not depend on the order it is taken in).
-[[gnu::always_inline]] inline std::pair<double, double> max_and_curvature(std::span<const double> v) {
+MECH_FORCE_INLINE inline std::pair<double, double> max_and_curvature(std::span<const double> v) {
   const std::size_t n = v.size();
   auto second = [&](std::size_t k) { return std::abs(v[k + 1] - 2 * v[k] + v[k - 1]); };
   double top = std::max(v[0], v[n - 1]);
@@ -674,6 +674,23 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
   }
 }
 
+// An evaluator of angle queries by reference, its type erased: the searches
+// that evaluate one angle at a time go through find_cycle_maxima<BatchEval>,
+// made once, not once for every function searched (a problem with a dozen
+// cycle quantities on four scalar types made it ~50 times, most of its
+// compile time under the sanitizers); one indirect call a batch.
+class BatchEval {
+ public:
+  template <class F>
+  explicit BatchEval(F& f)
+      : f_(&f), call_([](void* g, std::span<AngleQuery> qs) { (*static_cast<F*>(g))(qs); }) {}
+  void operator()(std::span<AngleQuery> qs) const { call_(f_, qs); }
+
+ private:
+  void* f_;
+  void (*call_)(void*, std::span<AngleQuery>);
+};
+
 // find_cycle_maxima for one function f, evaluated one angle at a time: the
 // refined local maxima of f (given its derivative df) no lower than max(v) -
 // margin, sorted by angle...
@@ -681,9 +698,10 @@ template <class DF>
 std::vector<double> local_max_angles(const std::vector<double>& v, DF&& df, double margin = HUGE_VAL,
                                      const std::vector<double>& kinks = {}, const std::vector<double>& slopes = {}) {
   CycleMaxSearch s{.v = v, .kinks = kinks, .slopes = slopes, .global = false, .margin = margin, .maxima = {}};
-  find_cycle_maxima(std::span(&s, 1), [&](std::span<AngleQuery> qs) {
+  auto eval = [&](std::span<AngleQuery> qs) {
     for (AngleQuery& q : qs) q.out = df(q.phi);
-  });
+  };
+  find_cycle_maxima(std::span(&s, 1), BatchEval(eval));
   return std::move(s.maxima);
 }
 
@@ -692,9 +710,10 @@ template <class F, class DF>
 double global_max_angle(const std::vector<double>& v, F&& f, DF&& df, const std::vector<double>& kinks = {},
                         const std::vector<double>& slopes = {}) {
   CycleMaxSearch s{.v = v, .kinks = kinks, .slopes = slopes, .maxima = {}};
-  find_cycle_maxima(std::span(&s, 1), [&](std::span<AngleQuery> qs) {
+  auto eval = [&](std::span<AngleQuery> qs) {
     for (AngleQuery& q : qs) q.out = q.slope ? df(q.phi) : f(q.phi);
-  });
+  };
+  find_cycle_maxima(std::span(&s, 1), BatchEval(eval));
   return s.phi;
 }
 

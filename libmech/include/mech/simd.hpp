@@ -21,6 +21,7 @@
 #include <type_traits>
 
 #include "mech/autodiff.hpp"
+#include "mech/inline.hpp"
 
 namespace mech {
 
@@ -53,12 +54,12 @@ inline Lanes operator*(double a, const Lanes& b) { return Lanes(a * b.v); }
 inline Lanes operator/(const Lanes& a, double b) { return Lanes(a.v / b); }
 inline Lanes operator/(double a, const Lanes& b) { return Lanes(a / b.v); }
 
-[[gnu::always_inline]] inline Lanes sqrt(const Lanes& a) {
+MECH_FORCE_INLINE inline Lanes sqrt(const Lanes& a) {
   Lanes r;
   for (int i = 0; i < kLanes; ++i) r[i] = std::sqrt(a[i]);
   return r;
 }
-[[gnu::always_inline]] inline Lanes abs(const Lanes& a) {
+MECH_FORCE_INLINE inline Lanes abs(const Lanes& a) {
   Lanes r;
   for (int i = 0; i < kLanes; ++i) r[i] = std::abs(a[i]);
   return r;
@@ -80,7 +81,7 @@ namespace detail {
 // fdlibm's __kernel_sin (S1..S6) and __kernel_cos (C1..C6) at r + y, |r|
 // <= pi/4 (y: the reduction's tail, |y| < ulp(r)).
 template <class V>
-[[gnu::always_inline]] inline void sincos_kernels(const V& r, const V& y, V& sr, V& cr) {
+MECH_FORCE_INLINE inline void sincos_kernels(const V& r, const V& y, V& sr, V& cr) {
   const V z = r * r, v = z * r;
   const V ps = 8.33333333332248946124e-03 +
                z * (-1.98412698298579493134e-04 +
@@ -100,7 +101,7 @@ template <class V>
 // way (see the header comment), valid for |x| <= kReducedRange.
 inline constexpr double kReducedRange = 823549.6551353541;  // 2^19 pi / 2
 template <class V>
-[[gnu::always_inline]] inline void sincos_reduced(const V& x, V& sin_x, V& cos_x) {
+MECH_FORCE_INLINE inline void sincos_reduced(const V& x, V& sin_x, V& cos_x) {
   // pi/2 in three 33-bit parts (fdlibm's pio2_1, pio2_2, pio2_3): q * part
   // is exact for |q| < 2^20.
   constexpr double kTwoOverPi = 6.36619772367581382433e-01, kP1 = 1.57079632673412561417e+00,
@@ -138,7 +139,7 @@ inline void sincos(const Lanes& x, Lanes& s, Lanes& c) {
 inline void sincos_small(const Lanes& x, Lanes& s, Lanes& c) { detail::sincos_kernels(x.v, Lanes::Raw{}, s.v, c.v); }
 
 // The same for one angle: the same bits as in a lane.
-[[gnu::always_inline]] inline void sincos(double x, double& s, double& c) {
+MECH_FORCE_INLINE inline void sincos(double x, double& s, double& c) {
   if (std::abs(x) <= detail::kReducedRange) {
     detail::sincos_reduced(x, s, c);
   } else {
@@ -160,8 +161,8 @@ struct LaneDual {
   // translation unit, a DOE design cost 4.5 us instead of 3.0); not for
   // N > 1, where inlining them too made GCC spill in the two-variable
   // gradient loop (0.27 -> 0.75 us, bench_recuperative).
-  [[gnu::always_inline]] LaneDual(double x) requires(N == 1) : v(x) {}        // NOLINT
-  [[gnu::always_inline]] LaneDual(const Lanes& x) requires(N == 1) : v(x) {}  // NOLINT
+  MECH_FORCE_INLINE LaneDual(double x) requires(N == 1) : v(x) {}        // NOLINT
+  MECH_FORCE_INLINE LaneDual(const Lanes& x) requires(N == 1) : v(x) {}  // NOLINT
   LaneDual(double x) requires(N != 1) : v(x) {}                                 // NOLINT
   LaneDual(const Lanes& x) requires(N != 1) : v(x) {}                           // NOLINT
   LaneDual operator-() const {
@@ -173,16 +174,16 @@ struct LaneDual {
   // (left out of line in the recuperative problem's translation unit, they
   // cost a DOE design 3%, the model alone 6%); for N > 1 forcing them made
   // the two-variable gradient loop 2.8 times slower (GCC's spills).
-  [[gnu::always_inline]] LaneDual& operator+=(const LaneDual& o) requires(N == 1) { return add(o); }
+  MECH_FORCE_INLINE LaneDual& operator+=(const LaneDual& o) requires(N == 1) { return add(o); }
   LaneDual& operator+=(const LaneDual& o) requires(N != 1) { return add(o); }
   LaneDual& operator-=(const LaneDual& o) { return *this += -o; }
-  [[gnu::always_inline]] friend LaneDual operator+(LaneDual a, const LaneDual& b) requires(N == 1) { return a.add(b); }
+  MECH_FORCE_INLINE friend LaneDual operator+(LaneDual a, const LaneDual& b) requires(N == 1) { return a.add(b); }
   friend LaneDual operator+(LaneDual a, const LaneDual& b) requires(N != 1) { return a.add(b); }
   friend LaneDual operator-(LaneDual a, const LaneDual& b) { return a -= b; }
   // Always inlined: in a translation unit with many model instantiations
   // GCC's growth limits left it out of line, and the two-variable cycle mean
   // with its gradient ran 0.44 us instead of 0.31 (bench_recuperative).
-  [[gnu::always_inline]] friend LaneDual operator*(const LaneDual& a, const LaneDual& b) {
+  MECH_FORCE_INLINE friend LaneDual operator*(const LaneDual& a, const LaneDual& b) {
     LaneDual r(a.v * b.v);
     for (int i = 0; i < N; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
@@ -190,50 +191,50 @@ struct LaneDual {
   // With a constant (a model's 0.5, 1 / 12, 2 r, ...): the derivative scales,
   // no product with a zero derivative; the same bits as the constant made a
   // LaneDual, as Dual's own rules.
-  [[gnu::always_inline]] friend LaneDual operator*(const LaneDual& a, double k) {
+  MECH_FORCE_INLINE friend LaneDual operator*(const LaneDual& a, double k) {
     LaneDual r(a.v * k);
     for (int i = 0; i < N; ++i) r.d[i] = a.d[i] * k;
     return r;
   }
-  [[gnu::always_inline]] friend LaneDual operator*(double k, const LaneDual& a) {
+  MECH_FORCE_INLINE friend LaneDual operator*(double k, const LaneDual& a) {
     LaneDual r(k * a.v);
     for (int i = 0; i < N; ++i) r.d[i] = k * a.d[i];
     return r;
   }
-  [[gnu::always_inline]] friend LaneDual operator/(const LaneDual& a, double k) {
+  MECH_FORCE_INLINE friend LaneDual operator/(const LaneDual& a, double k) {
     LaneDual r(a.v / k);
     for (int i = 0; i < N; ++i) r.d[i] = a.d[i] / k;
     return r;
   }
-  [[gnu::always_inline]] friend LaneDual operator/(double k, const LaneDual& b) {
+  MECH_FORCE_INLINE friend LaneDual operator/(double k, const LaneDual& b) {
     LaneDual r(k / b.v);
     for (int i = 0; i < N; ++i) r.d[i] = (0.0 - r.v * b.d[i]) / b.v;
     return r;
   }
-  [[gnu::always_inline]] friend LaneDual operator/(const LaneDual& a, const LaneDual& b) requires(N == 1) { return quotient(a, b); }
+  MECH_FORCE_INLINE friend LaneDual operator/(const LaneDual& a, const LaneDual& b) requires(N == 1) { return quotient(a, b); }
   friend LaneDual operator/(const LaneDual& a, const LaneDual& b) requires(N != 1) { return quotient(a, b); }
-  [[gnu::always_inline]] friend LaneDual sqrt(const LaneDual& a) requires(N == 1) { return root(a); }
+  MECH_FORCE_INLINE friend LaneDual sqrt(const LaneDual& a) requires(N == 1) { return root(a); }
   friend LaneDual sqrt(const LaneDual& a) requires(N != 1) { return root(a); }
-  [[gnu::always_inline]] friend LaneDual abs(const LaneDual& a) requires(N == 1) { return magnitude(a); }
+  MECH_FORCE_INLINE friend LaneDual abs(const LaneDual& a) requires(N == 1) { return magnitude(a); }
   friend LaneDual abs(const LaneDual& a) requires(N != 1) { return magnitude(a); }
 
  private:
-  [[gnu::always_inline]] LaneDual& add(const LaneDual& o) {
+  MECH_FORCE_INLINE LaneDual& add(const LaneDual& o) {
     v += o.v;
     for (int i = 0; i < N; ++i) d[i] += o.d[i];
     return *this;
   }
-  [[gnu::always_inline]] static LaneDual quotient(const LaneDual& a, const LaneDual& b) {
+  MECH_FORCE_INLINE static LaneDual quotient(const LaneDual& a, const LaneDual& b) {
     LaneDual r(a.v / b.v);
     for (int i = 0; i < N; ++i) r.d[i] = (a.d[i] - r.v * b.d[i]) / b.v;
     return r;
   }
-  [[gnu::always_inline]] static LaneDual root(const LaneDual& a) {
+  MECH_FORCE_INLINE static LaneDual root(const LaneDual& a) {
     LaneDual r(mech::sqrt(a.v));
     for (int i = 0; i < N; ++i) r.d[i] = a.d[i] / (2.0 * r.v);
     return r;
   }
-  [[gnu::always_inline]] static LaneDual magnitude(const LaneDual& a) {
+  MECH_FORCE_INLINE static LaneDual magnitude(const LaneDual& a) {
     Lanes sign;
     for (int j = 0; j < kLanes; ++j) sign[j] = a.v[j] < 0 ? -1.0 : 1.0;
     LaneDual r(mech::abs(a.v));
@@ -314,17 +315,17 @@ template <int N>
 const Lanes& lane_values(const LaneDual<N>& a) { return a.v; }
 
 // kLanes doubles from `from` (any alignment).
-[[gnu::always_inline]] inline Lanes load_lanes(const double* from) {
+MECH_FORCE_INLINE inline Lanes load_lanes(const double* from) {
   Lanes a;
   std::memcpy(&a.v, from, sizeof a.v);
   return a;
 }
 
 // std::max lane by lane (b where a < b, else a).
-[[gnu::always_inline]] inline Lanes max(const Lanes& a, const Lanes& b) { return Lanes(a.v < b.v ? b.v : a.v); }
+MECH_FORCE_INLINE inline Lanes max(const Lanes& a, const Lanes& b) { return Lanes(a.v < b.v ? b.v : a.v); }
 
 // Whether a < b in every lane (false where a or b is NaN).
-[[gnu::always_inline]] inline bool all_below(const Lanes& a, double b) {
+MECH_FORCE_INLINE inline bool all_below(const Lanes& a, double b) {
   const auto m = a.v < b;
   bool all = true;
   for (int j = 0; j < kLanes; ++j) all &= m[j] != 0;
@@ -332,7 +333,7 @@ const Lanes& lane_values(const LaneDual<N>& a) { return a.v; }
 }
 
 // The first m lanes of a into out[0..m) (all kLanes: one vector store).
-[[gnu::always_inline]] inline void store_lanes(double* out, const Lanes& a, int m) {
+MECH_FORCE_INLINE inline void store_lanes(double* out, const Lanes& a, int m) {
   if (m == kLanes) std::memcpy(out, &a.v, sizeof a.v);
   else
     for (int j = 0; j < m; ++j) out[j] = a[j];
@@ -351,7 +352,7 @@ LaneDual<N> first_lanes_slow(LaneDual<N> a, int m) {
   return a;
 }
 template <int N>
-[[gnu::always_inline]] inline LaneDual<N> first_lanes(const LaneDual<N>& a, int m) {
+MECH_FORCE_INLINE inline LaneDual<N> first_lanes(const LaneDual<N>& a, int m) {
   return m >= kLanes ? a : first_lanes_slow(a, m);
 }
 

@@ -12,13 +12,8 @@
 #include <cmath>
 #include <type_traits>
 
+#include "mech/inline.hpp"
 #include "mech/status.hpp"
-
-// The kinematic kernels run ~100 times per cycle evaluation: always inlined
-// (GCC's size heuristic at -O2 keeps them out of line otherwise).
-#ifndef MECH_INLINE
-#define MECH_INLINE [[gnu::always_inline]] inline
-#endif
 
 namespace mech {
 
