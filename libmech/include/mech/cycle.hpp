@@ -676,9 +676,10 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
 
 // An evaluator of angle queries by reference, its type erased: the searches
 // that evaluate one angle at a time go through find_cycle_maxima<BatchEval>,
-// made once, not once for every function searched (a problem with a dozen
-// cycle quantities on four scalar types made it ~50 times, most of its
-// compile time under the sanitizers); one indirect call a batch.
+// made once, not once for every function searched (the balanced
+// slider-crank made it once for each of its cycle quantities and scalar
+// types: most of its compile time under the sanitizers); one indirect call
+// a batch.
 class BatchEval {
  public:
   template <class F>

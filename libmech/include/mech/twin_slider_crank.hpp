@@ -83,7 +83,7 @@ struct DrivePoint {
 // Whether the rods carry their own rotation (RodModel::full), as the kernels
 // below ask it: of the drive (RodOf), or fixed at compile time (FixedRod:
 // cycle_metrics's loops, where the test at every crank angle cost a
-// recuperative DOE design 4%; the same operations either way).
+// recuperative DOE design 3.5%; the same operations either way).
 struct RodOf {
   template <class S>
   static bool full(const TwinDrive<S>& d) { return d.rod == RodModel::full; }
