@@ -412,7 +412,7 @@ void run_side_by_side(std::span<LaneRootSearch> searches, std::span<const int> f
 // The largest of v (n >= 3 samples of a periodic function) and the largest
 // |second difference|, kLanes points at a time (running maxima in lanes;
 // the largest of a set does not depend on the order it is taken in).
-MECH_FORCE_INLINE inline std::pair<double, double> max_and_curvature(std::span<const double> v) {
+MECH_INLINE std::pair<double, double> max_and_curvature(std::span<const double> v) {
   const std::size_t n = v.size();
   auto second = [&](std::size_t k) { return std::abs(v[k + 1] - 2 * v[k] + v[k - 1]); };
   double top = std::max(v[0], v[n - 1]);

@@ -54,12 +54,12 @@ inline Lanes operator*(double a, const Lanes& b) { return Lanes(a * b.v); }
 inline Lanes operator/(const Lanes& a, double b) { return Lanes(a.v / b); }
 inline Lanes operator/(double a, const Lanes& b) { return Lanes(a / b.v); }
 
-MECH_FORCE_INLINE inline Lanes sqrt(const Lanes& a) {
+MECH_INLINE Lanes sqrt(const Lanes& a) {
   Lanes r;
   for (int i = 0; i < kLanes; ++i) r[i] = std::sqrt(a[i]);
   return r;
 }
-MECH_FORCE_INLINE inline Lanes abs(const Lanes& a) {
+MECH_INLINE Lanes abs(const Lanes& a) {
   Lanes r;
   for (int i = 0; i < kLanes; ++i) r[i] = std::abs(a[i]);
   return r;
@@ -81,7 +81,7 @@ namespace detail {
 // fdlibm's __kernel_sin (S1..S6) and __kernel_cos (C1..C6) at r + y, |r|
 // <= pi/4 (y: the reduction's tail, |y| < ulp(r)).
 template <class V>
-MECH_FORCE_INLINE inline void sincos_kernels(const V& r, const V& y, V& sr, V& cr) {
+MECH_INLINE void sincos_kernels(const V& r, const V& y, V& sr, V& cr) {
   const V z = r * r, v = z * r;
   const V ps = 8.33333333332248946124e-03 +
                z * (-1.98412698298579493134e-04 +
@@ -101,7 +101,7 @@ MECH_FORCE_INLINE inline void sincos_kernels(const V& r, const V& y, V& sr, V& c
 // way (see the header comment), valid for |x| <= kReducedRange.
 inline constexpr double kReducedRange = 823549.6551353541;  // 2^19 pi / 2
 template <class V>
-MECH_FORCE_INLINE inline void sincos_reduced(const V& x, V& sin_x, V& cos_x) {
+MECH_INLINE void sincos_reduced(const V& x, V& sin_x, V& cos_x) {
   // pi/2 in three 33-bit parts (fdlibm's pio2_1, pio2_2, pio2_3): q * part
   // is exact for |q| < 2^20.
   constexpr double kTwoOverPi = 6.36619772367581382433e-01, kP1 = 1.57079632673412561417e+00,
@@ -139,7 +139,7 @@ inline void sincos(const Lanes& x, Lanes& s, Lanes& c) {
 inline void sincos_small(const Lanes& x, Lanes& s, Lanes& c) { detail::sincos_kernels(x.v, Lanes::Raw{}, s.v, c.v); }
 
 // The same for one angle: the same bits as in a lane.
-MECH_FORCE_INLINE inline void sincos(double x, double& s, double& c) {
+MECH_INLINE void sincos(double x, double& s, double& c) {
   if (std::abs(x) <= detail::kReducedRange) {
     detail::sincos_reduced(x, s, c);
   } else {
@@ -315,17 +315,17 @@ template <int N>
 const Lanes& lane_values(const LaneDual<N>& a) { return a.v; }
 
 // kLanes doubles from `from` (any alignment).
-MECH_FORCE_INLINE inline Lanes load_lanes(const double* from) {
+MECH_INLINE Lanes load_lanes(const double* from) {
   Lanes a;
   std::memcpy(&a.v, from, sizeof a.v);
   return a;
 }
 
 // std::max lane by lane (b where a < b, else a).
-MECH_FORCE_INLINE inline Lanes max(const Lanes& a, const Lanes& b) { return Lanes(a.v < b.v ? b.v : a.v); }
+MECH_INLINE Lanes max(const Lanes& a, const Lanes& b) { return Lanes(a.v < b.v ? b.v : a.v); }
 
 // Whether a < b in every lane (false where a or b is NaN).
-MECH_FORCE_INLINE inline bool all_below(const Lanes& a, double b) {
+MECH_INLINE bool all_below(const Lanes& a, double b) {
   const auto m = a.v < b;
   bool all = true;
   for (int j = 0; j < kLanes; ++j) all &= m[j] != 0;
@@ -333,7 +333,7 @@ MECH_FORCE_INLINE inline bool all_below(const Lanes& a, double b) {
 }
 
 // The first m lanes of a into out[0..m) (all kLanes: one vector store).
-MECH_FORCE_INLINE inline void store_lanes(double* out, const Lanes& a, int m) {
+MECH_INLINE void store_lanes(double* out, const Lanes& a, int m) {
   if (m == kLanes) std::memcpy(out, &a.v, sizeof a.v);
   else
     for (int j = 0; j < m; ++j) out[j] = a[j];
@@ -352,7 +352,7 @@ LaneDual<N> first_lanes_slow(LaneDual<N> a, int m) {
   return a;
 }
 template <int N>
-MECH_FORCE_INLINE inline LaneDual<N> first_lanes(const LaneDual<N>& a, int m) {
+MECH_INLINE LaneDual<N> first_lanes(const LaneDual<N>& a, int m) {
   return m >= kLanes ? a : first_lanes_slow(a, m);
 }
 

@@ -116,7 +116,7 @@ struct DrivePointSlope : DrivePoint<S> {
 
 // u where v >= 0, -u where v < 0 (the slope of |v| given v's slope u).
 inline double flip_where_negative(double u, double v) { return v < 0 ? -u : u; }
-MECH_FORCE_INLINE inline Lanes flip_where_negative(const Lanes& u, const Lanes& v) {
+MECH_INLINE Lanes flip_where_negative(const Lanes& u, const Lanes& v) {
   Lanes r;
   for (int j = 0; j < kLanes; ++j) r[j] = v[j] < 0 ? -u[j] : u[j];
   return r;
