@@ -6,19 +6,29 @@ JOBS   ?= $(shell nproc)
 MAKEFLAGS += --no-print-directory
 # ccache (when present) shares objects between clones and worktrees.
 export CCACHE_BASEDIR := $(CURDIR)
-DEB_PACKAGES = cmake g++ make libeigen3-dev libnlopt-cxx-dev coinor-libipopt-dev \
-  libsundials-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev libcli11-dev \
-  nlohmann-json3-dev pkg-config python3-numpy python3-scipy python3-mpmath python3-yaml \
-  libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin librsvg2-bin
+# What `make run` needs (the mechopt binary and its libraries; GoogleTest and
+# Google Benchmark come with the machine, and the one configure finds them so
+# `make test` never reconfigures), and what only the tests, the benchmarks
+# and the peers add (`make test`, `make bench`).
+RUN_PACKAGES = cmake g++ make pkg-config ccache libeigen3-dev libnlopt-cxx-dev \
+  coinor-libipopt-dev libsundials-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev \
+  libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin libgtest-dev libbenchmark-dev
+TEST_PACKAGES = python3-numpy python3-scipy python3-mpmath python3-yaml librsvg2-bin
 
-.PHONY: deps configure build run test bench bench-smoke clean sanitize fuzz
+.PHONY: deps deps-test configure mechopt build run test bench bench-smoke clean sanitize fuzz
 
 deps:
-	@bash tools/install_deps.sh $(DEB_PACKAGES)
+	@bash tools/install_deps.sh $(RUN_PACKAGES)
+deps-test:
+	@bash tools/install_deps.sh $(RUN_PACKAGES) $(TEST_PACKAGES)
 
 SUNDIALS_PREFIX = $(abspath $(BUILD))/sundials
 IPOPT_HEADERS = $(abspath $(BUILD))/ipopt-internal/include
-configure: deps
+# Configured once: a build directory that has its CMakeCache.txt is left to
+# cmake's own checks (it re-runs itself when a CMakeLists.txt changes), so
+# `make test` after `make run` neither reconfigures nor rebuilds.
+configure: deps $(BUILD)/CMakeCache.txt
+$(BUILD)/CMakeCache.txt:
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
 	@bash tools/ipopt_headers.sh $(IPOPT_HEADERS)
 	@mkdir -p $(BUILD)
@@ -28,14 +38,21 @@ configure: deps
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
 	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials) \
 	  -DIPOPT_INTERNAL_INCLUDE=$(IPOPT_HEADERS) \
-	  > $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; exit 1)
+	  > $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; rm -f $@; exit 1)
 
-build: configure
-	@echo "build: $(JOBS) jobs (log: $(BUILD)/build.log)"
+# `mechopt` builds the command line and its libraries only; `build` the rest
+# (tests, benchmarks) on top, into the same build directory.
+mechopt: configure
+	@echo "build: the mechopt target, $(JOBS) jobs (log: $(BUILD)/build.log)"
+	@cmake --build $(BUILD) -j $(JOBS) --target mechopt > $(BUILD)/build.log 2>&1 || \
+	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
+
+build: configure deps-test
+	@echo "build: everything, $(JOBS) jobs (log: $(BUILD)/build.log)"
 	@cmake --build $(BUILD) -j $(JOBS) > $(BUILD)/build.log 2>&1 || \
 	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
 
-run: build
+run: mechopt
 	$(BUILD)/bin/mechopt run $(CONFIG) --output $(OUT)
 
 test: build
@@ -58,7 +75,7 @@ ASAN_BUILD ?= build-asan
 SAN_ENV = ASAN_OPTIONS=halt_on_error=1:abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
   UBSAN_OPTIONS=halt_on_error=1:abort_on_error=1:print_stacktrace=1 \
   LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan.supp:print_suppressions=0
-sanitize: deps
+sanitize: deps-test
 	@bash tools/build_sundials.sh $(SUNDIALS_PREFIX)
 	@bash tools/ipopt_headers.sh $(IPOPT_HEADERS)
 	@mkdir -p $(ASAN_BUILD) && echo '*' > $(ASAN_BUILD)/.gitignore  # git ignores the whole dir
