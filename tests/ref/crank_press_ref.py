@@ -17,7 +17,7 @@ each found on a grid and refined by a bracketed root finder, then checked
 against a dense float64 grid and against the work bound M_max >= W / (pi - phi_c).
 
 Design document: docs/design/crank_press.md (symbols, readings, checks).
-Run: /usr/bin/python3 tests/ref/crank_press_ref.py > out.json   (~10 s)
+Run: /usr/bin/python3 tests/ref/crank_press_ref.py > out.json   (~40 s)
 """
 import json
 import math
@@ -281,10 +281,14 @@ def dense_check(tables):
     return {"grid_above_refined_max_rel": worst_over, "grid_below_refined_max_rel": worst_gap}
 
 
+ROD_LIMIT = MPF("0.99")                  # lambda = r / l_sh < 1: the rod must reach the dead centres
+
+
 def lambda_optimum(g, h_mm, force):
     """Stroke held (S = 2 r l / l_p fixed), lever as slider, inner sense: the peak
     torque per unit force depends on lambda = r / l_sh only. Golden section over
-    lambda in [0.05, 0.7] for the least peak ds/dphi (constant) or e^{b depth} ds/dphi."""
+    lambda in [0.05, 0.99] (up to the rod's limit) for the least peak ds/dphi
+    (constant) or e^{b depth} ds/dphi / e^{b h} (pressure law)."""
     s_k = 2 * g["r"] * g["l"] / g["l_p"]
     h = MPF(h_mm) / 1000
     b = B_PER_M["cm"]
@@ -300,17 +304,94 @@ def lambda_optimum(g, h_mm, force):
             fn = lambda p: mp.exp(b * (h - (s_k - s(p)))) * d1(p) / mp.exp(b * h)
         return max_on_interval(fn, phc, mp.pi)
 
-    lo, hi = MPF("0.05"), MPF("0.7")
-    grid = [lo + (hi - lo) * i / 26 for i in range(27)]
+    lo, hi, n = MPF("0.05"), ROD_LIMIT, 47
+    grid = [lo + (hi - lo) * i / n for i in range(n + 1)]
     vals = [peak(x) for x in grid]
-    j = min(range(27), key=lambda i: vals[i])
-    if j in (0, 26):
+    j = min(range(n + 1), key=lambda i: vals[i])
+    if j in (0, n):
         return {"lambda_opt": f(grid[j]), "on_bound": True,
                 "peak_per_unit_force_m": f(vals[j]),
                 "at_printed_lambda": f(peak(g["r"] / g["l_sh"]))}
     lam = golden_min(peak, grid[j - 1], grid[j + 1], 30)
     return {"lambda_opt": f(lam), "on_bound": False, "peak_per_unit_force_m": f(peak(lam)),
             "at_printed_lambda": f(peak(g["r"] / g["l_sh"]))}
+
+
+def lambda_interior_minimum(g, stroke):
+    """Pressure law, stroke held at `stroke` through the lever (l = S l_p / (2 r)),
+    slider, inner sense. Per unit force the torque is
+        f(phi, lambda) = e^{b (s - S)} s'(phi),   s = s_slider(phi; l_sh = r / lambda),
+    for every variant whose peak is interior (phi* > phi_c): a, m, F and h drop
+    out. The peak P(lambda) = max_phi f is attained at the root phi* of
+    b s'^2 + s'' = 0 and is smooth in lambda (envelope theorem: P' = df/dlambda
+    at phi*), so the least peak solves the two stationarity equations
+        b s'^2 + s'' = 0,   d/dlambda [b (s - S) + ln s'] = 0   at (phi*, lambda*),
+    found by nested bracketed roots at 30 digits (mp.diff for every derivative).
+    Checked: golden section on P itself (a different method, lambda to ~1e-13);
+    P at lambda* +- 1e-4 above P(lambda*); a scan of P over lambda in
+    [0.05, 0.99] falling before lambda* and rising after it; the peak over
+    [phi_c, pi] by max_on_interval equal to the interior value for every depth of
+    Table 7.2 (phi_c < phi* at every h)."""
+    r, lp = g["r"], g["l_p"]
+    b = B_PER_M["cm"]
+
+    def geo(lam):
+        return dict(g, l_sh=r / lam, l=stroke * lp / (2 * r))
+
+    def travel_at(lam):
+        gg = geo(lam)
+        return lambda p: s_slider(p, gg, "inner")
+
+    def phi_star(lam):
+        s = travel_at(lam)
+        fn = lambda p: b * mp.diff(s, p) ** 2 + mp.diff(s, p, 2)
+        pk = mp.findroot(lambda p: mp.diff(s, p, 2), (MPF("0.3"), MPF(2)), solver="anderson")
+        roots = bracket_roots(fn, pk, mp.pi - MPF("1e-6"), 40)
+        assert len(roots) == 1, roots
+        return roots[0]
+
+    def peak(lam):
+        s = travel_at(lam)
+        p = phi_star(lam)
+        return mp.exp(b * (s(p) - stroke)) * mp.diff(s, p)
+
+    def slope(lam):                                  # dP/dlambda = df/dlambda at phi*
+        p = phi_star(lam)
+        return mp.diff(lambda L: b * (travel_at(L)(p) - stroke) + mp.log(mp.diff(travel_at(L), p)), lam)
+
+    lo, hi, n = MPF("0.05"), ROD_LIMIT, 47
+    grid = [lo + (hi - lo) * i / n for i in range(n + 1)]
+    vals = [peak(x) for x in grid]
+    j = min(range(n + 1), key=lambda i: vals[i])
+    assert 0 < j < n
+    falls = all(vals[i + 1] < vals[i] for i in range(j - 1))
+    rises = all(vals[i + 1] > vals[i] for i in range(j + 1, n))
+    lam = mp.findroot(slope, (grid[j - 1], grid[j + 1]), solver="anderson")
+    golden = golden_min(peak, grid[j - 1], grid[j + 1], 70)
+    p_opt = peak(lam)
+    ph = phi_star(lam)
+    s = travel_at(lam)
+    depths = sorted({v[0] for v in VARIANTS})
+    worst_phc, worst_gap = MPF(0), MPF(0)
+    for h_mm in depths:                              # the peak is interior for every depth
+        h = MPF(h_mm) / 1000
+        phc = compaction_start(s, stroke, h)
+        worst_phc = max(worst_phc, phc)
+        fn = lambda p: mp.exp(b * (s(p) - stroke)) * mp.diff(s, p)
+        worst_gap = max(worst_gap, abs(max_on_interval(fn, phc, mp.pi) / p_opt - 1))
+    q1 = 4 * MPF("0.035") * 1e6 * F_BRICK * mp.exp(b * MPF("0.020"))      # variant 1, Q_max
+    return {"stroke_m": f(stroke), "lambda_opt": f(lam), "lambda_opt_digits": mp.nstr(lam, 20),
+            "rod_length_at_r_m": f(r / lam), "rod_angle_deg": deg(mp.asin(lam)),
+            "phi_star_deg": deg(ph), "peak_per_unit_force_m": f(p_opt),
+            "golden_section_lambda": f(golden), "golden_minus_root": f(golden - lam),
+            "peak_rise_at_lambda_pm_1e-4_rel": [f(peak(lam - MPF("1e-4")) / p_opt - 1),
+                                                f(peak(lam + MPF("1e-4")) / p_opt - 1)],
+            "scan_falls_before_and_rises_after": bool(falls and rises),
+            "latest_compaction_start_deg": deg(worst_phc),
+            "grid_peak_over_every_depth_vs_interior_rel": f(worst_gap),
+            "variant1_peak_torque_Nm": f(q1 * p_opt),
+            "at_printed_lambda": f(peak(r / g["l_sh"])), "at_lambda_0.7": f(peak(MPF("0.7"))),
+            "scan": [[f(x), f(v)] for x, v in zip(grid, vals)]}
 
 
 def mu_scan(g, h_mm):
@@ -439,6 +520,10 @@ def main():
         for h_mm in (20, 50):
             for force in FORCES:
                 opt["%s/h=%dmm/%s" % (name, h_mm, force)] = lambda_optimum(PRESSES[name], h_mm, force)
+    interior = {}
+    for name, g in PRESSES.items():
+        for label, stroke in (("printed", g["S_printed"]), ("kinematic", 2 * g["r"] * g["l"] / g["l_p"])):
+            interior["%s/stroke_%s" % (name, label)] = lambda_interior_minimum(g, stroke)
     mus = {name: mu_scan(PRESSES[name], 20) for name in PRESSES}
     for name in tables:
         del tables[name]["_kin"]
@@ -449,6 +534,7 @@ def main():
                                "lever": "slider", "force": "pressure_law"},
            "presses": tables, "dense_grid_check": dense,
            "lambda_optimum_stroke_held_inner_slider": opt,
+           "lambda_interior_minimum_pressure_law": interior,
            "mu_scan_four_bar_inner_h20mm": mus,
            "exercise6": {"feed_exponent_negative": exercise6(-1),
                          "feed_exponent_as_printed": exercise6(+1),
