@@ -239,9 +239,20 @@ def press_tables():
                                     "at": "compaction start" if best == phc else "interior",
                                     "N_kW": f(mmax * w / (1000 * ETA * OVERLOAD)),
                                     "mean_M_over_stroke_Nm": f(work / (mp.pi - phc))}
+                # The guide's formula read literally: the constant force Q_max acts over
+                # the whole working half-turn [0, pi], contact or not; its maximum is at
+                # the peak of s' (one root of s'', asserted in kinematic_summary).
+                pv = ks["phi_peak_velocity"]
+                whole = q_max * d1(pv)
+                entry["constant_whole_stroke"] = {"M_max_Nm": f(whole), "phi_deg": deg(pv),
+                                                  "ratio_to_after_contact": f(whole / entry["constant"]["M_max_Nm"])}
                 row["readings"][sense + "/" + lever] = entry
             rows.append(row)
         info["variants"] = rows
+        info["constant_whole_stroke_over_after_contact"] = {
+            key: [min(rw["readings"][key]["constant_whole_stroke"]["ratio_to_after_contact"] for rw in rows),
+                  max(rw["readings"][key]["constant_whole_stroke"]["ratio_to_after_contact"] for rw in rows)]
+            for key in rows[0]["readings"]}
         out[name] = info
         out[name]["_kin"] = kin
     return out
