@@ -507,11 +507,13 @@ def exercise6(sign, over=None):
             "chosen": {k: f(v) for k, v in EX6.items()}, "variants": rows}
 
 
-def exercise6_ranges():
-    """L_X over every corner of the guide's ranges (delta read 0.01..0.02 m)."""
+def exercise6_ranges(delta=("0.01", "0.02")):
+    """L_X over every corner of the guide's ranges. The gap delta is printed
+    "0.01...0.2"; the default corners read it 0.01..0.02 m, ("0.01", "0.2")
+    takes the print literally."""
     import itertools
     corners = {"k1_stage": ("0.3", "0.45"), "t_pass": ("5", "8"), "t_feed": ("0.5", "1.0"),
-               "k1_safety": ("1", "1.6"), "delta": ("0.01", "0.02")}
+               "k1_safety": ("1", "1.6"), "delta": delta}
     lo = [None] * len(TABLE_6_1)
     hi = [None] * len(TABLE_6_1)
     for combo in itertools.product(*corners.values()):
@@ -521,6 +523,31 @@ def exercise6_ranges():
             lo[i] = x if lo[i] is None else min(lo[i], x)
             hi[i] = x if hi[i] is None else max(hi[i], x)
     return [{"variant": i + 1, "L_X_min": lo[i], "L_X_max": hi[i]} for i in range(len(lo))]
+
+
+def exercise6_gap_and_dwell():
+    """The printed gap range against the rollers it clears, and the stop t_ost of
+    (6.8) against a crank drive, which has no dwell (t_ost = 0)."""
+    base = exercise6(-1)["variants"]
+    printed = exercise6_ranges(("0.01", "0.2"))
+    at_02 = exercise6(-1, {"delta": MPF("0.2")})["variants"]
+    no_dwell = exercise6(-1, {"t_stop": MPF(0)})["variants"]
+    span = lambda xs: [min(xs), max(xs)]
+    return {"printed_delta_0.01_0.2": {
+                "L_X_over_corners": span([x for r in printed for x in (r["L_X_min"], r["L_X_max"])]),
+                "at_delta_0.2_m": {"L_X": span([r["L_X"] for r in at_02]),
+                                   "crank_radius": span([r["crank_radius"] for r in at_02]),
+                                   "gaps_over_stroke": span([0.4 / r["L_X"] for r in at_02]),
+                                   "gap_over_roller_diameter": span([0.2 / (2 * r["R_p"]) for r in at_02])}},
+            "read_delta_0.01_0.02": {
+                "L_X_over_corners": span([x for r in exercise6_ranges() for x in (r["L_X_min"], r["L_X_max"])]),
+                "crank_radius_at_0.015": span([r["crank_radius"] for r in base])},
+            "dwell": {"t3_with_t_ost_2s": span([r["t3"] for r in base]),
+                      "t_ost_share_of_t3": span([2 * TABLE_6_1[i][5] / r["t3"] for i, r in enumerate(base)]),
+                      "t3_crank_no_dwell": span([r["t3"] for r in no_dwell]),
+                      "productivity_gain_no_dwell": span([n["productivity_m3_per_s"] /
+                                                          r["productivity_m3_per_s"] - 1
+                                                          for n, r in zip(no_dwell, base)])}}
 
 
 def main():
@@ -549,7 +576,8 @@ def main():
            "mu_scan_four_bar_inner_h20mm": mus,
            "exercise6": {"feed_exponent_negative": exercise6(-1),
                          "feed_exponent_as_printed": exercise6(+1),
-                         "L_X_over_guide_ranges": exercise6_ranges()}}
+                         "L_X_over_guide_ranges": exercise6_ranges(),
+                         "gap_and_dwell": exercise6_gap_and_dwell()}}
     out["seconds"] = round(time.time() - T0, 1)
     json.dump(out, sys.stdout, indent=1)
     print()
