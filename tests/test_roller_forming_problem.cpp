@@ -115,7 +115,9 @@ const Printed kAsPrinted[] = {
 };
 
 // exercise6.L_X_over_guide_ranges[i]: variant, L_X_min, L_X_max over every
-// corner of k1 0.3-0.45, t_pr 5-8 s, t_zas 0.5-1 s, k1' 1-1.6, delta 0.01-0.02 m.
+// corner of k1 0.3-0.45, t_pr 5-8 s, t_zas 0.5-1 s, k1' 1-1.6, delta 0.01-0.02 m
+// (printed 0.01...0.2, corrected: a 0.2 m clearance is 0.76-1.14 roller
+// diameters and 52-59% of the cart's stroke; docs/reproduction.md, exercise 6).
 struct Range {
   int variant;
   double lo, hi;

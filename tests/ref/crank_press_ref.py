@@ -17,7 +17,7 @@ each found on a grid and refined by a bracketed root finder, then checked
 against a dense float64 grid and against the work bound M_max >= W / (pi - phi_c).
 
 Design document: docs/design/crank_press.md (symbols, readings, checks).
-Run: /usr/bin/python3 tests/ref/crank_press_ref.py > out.json   (~10 s)
+Run: /usr/bin/python3 tests/ref/crank_press_ref.py > out.json   (~40 s)
 """
 import json
 import math
@@ -239,9 +239,20 @@ def press_tables():
                                     "at": "compaction start" if best == phc else "interior",
                                     "N_kW": f(mmax * w / (1000 * ETA * OVERLOAD)),
                                     "mean_M_over_stroke_Nm": f(work / (mp.pi - phc))}
+                # The guide's formula read literally: the constant force Q_max acts over
+                # the whole working half-turn [0, pi], contact or not; its maximum is at
+                # the peak of s' (one root of s'', asserted in kinematic_summary).
+                pv = ks["phi_peak_velocity"]
+                whole = q_max * d1(pv)
+                entry["constant_whole_stroke"] = {"M_max_Nm": f(whole), "phi_deg": deg(pv),
+                                                  "ratio_to_after_contact": f(whole / entry["constant"]["M_max_Nm"])}
                 row["readings"][sense + "/" + lever] = entry
             rows.append(row)
         info["variants"] = rows
+        info["constant_whole_stroke_over_after_contact"] = {
+            key: [min(rw["readings"][key]["constant_whole_stroke"]["ratio_to_after_contact"] for rw in rows),
+                  max(rw["readings"][key]["constant_whole_stroke"]["ratio_to_after_contact"] for rw in rows)]
+            for key in rows[0]["readings"]}
         out[name] = info
         out[name]["_kin"] = kin
     return out
@@ -281,10 +292,14 @@ def dense_check(tables):
     return {"grid_above_refined_max_rel": worst_over, "grid_below_refined_max_rel": worst_gap}
 
 
+ROD_LIMIT = MPF("0.99")                  # lambda = r / l_sh < 1: the rod must reach the dead centres
+
+
 def lambda_optimum(g, h_mm, force):
     """Stroke held (S = 2 r l / l_p fixed), lever as slider, inner sense: the peak
     torque per unit force depends on lambda = r / l_sh only. Golden section over
-    lambda in [0.05, 0.7] for the least peak ds/dphi (constant) or e^{b depth} ds/dphi."""
+    lambda in [0.05, 0.99] (up to the rod's limit) for the least peak ds/dphi
+    (constant) or e^{b depth} ds/dphi / e^{b h} (pressure law)."""
     s_k = 2 * g["r"] * g["l"] / g["l_p"]
     h = MPF(h_mm) / 1000
     b = B_PER_M["cm"]
@@ -300,17 +315,94 @@ def lambda_optimum(g, h_mm, force):
             fn = lambda p: mp.exp(b * (h - (s_k - s(p)))) * d1(p) / mp.exp(b * h)
         return max_on_interval(fn, phc, mp.pi)
 
-    lo, hi = MPF("0.05"), MPF("0.7")
-    grid = [lo + (hi - lo) * i / 26 for i in range(27)]
+    lo, hi, n = MPF("0.05"), ROD_LIMIT, 47
+    grid = [lo + (hi - lo) * i / n for i in range(n + 1)]
     vals = [peak(x) for x in grid]
-    j = min(range(27), key=lambda i: vals[i])
-    if j in (0, 26):
+    j = min(range(n + 1), key=lambda i: vals[i])
+    if j in (0, n):
         return {"lambda_opt": f(grid[j]), "on_bound": True,
                 "peak_per_unit_force_m": f(vals[j]),
                 "at_printed_lambda": f(peak(g["r"] / g["l_sh"]))}
     lam = golden_min(peak, grid[j - 1], grid[j + 1], 30)
     return {"lambda_opt": f(lam), "on_bound": False, "peak_per_unit_force_m": f(peak(lam)),
             "at_printed_lambda": f(peak(g["r"] / g["l_sh"]))}
+
+
+def lambda_interior_minimum(g, stroke):
+    """Pressure law, stroke held at `stroke` through the lever (l = S l_p / (2 r)),
+    slider, inner sense. Per unit force the torque is
+        f(phi, lambda) = e^{b (s - S)} s'(phi),   s = s_slider(phi; l_sh = r / lambda),
+    for every variant whose peak is interior (phi* > phi_c): a, m, F and h drop
+    out. The peak P(lambda) = max_phi f is attained at the root phi* of
+    b s'^2 + s'' = 0 and is smooth in lambda (envelope theorem: P' = df/dlambda
+    at phi*), so the least peak solves the two stationarity equations
+        b s'^2 + s'' = 0,   d/dlambda [b (s - S) + ln s'] = 0   at (phi*, lambda*),
+    found by nested bracketed roots at 30 digits (mp.diff for every derivative).
+    Checked: golden section on P itself (a different method, lambda to ~1e-13);
+    P at lambda* +- 1e-4 above P(lambda*); a scan of P over lambda in
+    [0.05, 0.99] falling before lambda* and rising after it; the peak over
+    [phi_c, pi] by max_on_interval equal to the interior value for every depth of
+    Table 7.2 (phi_c < phi* at every h)."""
+    r, lp = g["r"], g["l_p"]
+    b = B_PER_M["cm"]
+
+    def geo(lam):
+        return dict(g, l_sh=r / lam, l=stroke * lp / (2 * r))
+
+    def travel_at(lam):
+        gg = geo(lam)
+        return lambda p: s_slider(p, gg, "inner")
+
+    def phi_star(lam):
+        s = travel_at(lam)
+        fn = lambda p: b * mp.diff(s, p) ** 2 + mp.diff(s, p, 2)
+        pk = mp.findroot(lambda p: mp.diff(s, p, 2), (MPF("0.3"), MPF(2)), solver="anderson")
+        roots = bracket_roots(fn, pk, mp.pi - MPF("1e-6"), 40)
+        assert len(roots) == 1, roots
+        return roots[0]
+
+    def peak(lam):
+        s = travel_at(lam)
+        p = phi_star(lam)
+        return mp.exp(b * (s(p) - stroke)) * mp.diff(s, p)
+
+    def slope(lam):                                  # dP/dlambda = df/dlambda at phi*
+        p = phi_star(lam)
+        return mp.diff(lambda L: b * (travel_at(L)(p) - stroke) + mp.log(mp.diff(travel_at(L), p)), lam)
+
+    lo, hi, n = MPF("0.05"), ROD_LIMIT, 47
+    grid = [lo + (hi - lo) * i / n for i in range(n + 1)]
+    vals = [peak(x) for x in grid]
+    j = min(range(n + 1), key=lambda i: vals[i])
+    assert 0 < j < n
+    falls = all(vals[i + 1] < vals[i] for i in range(j - 1))
+    rises = all(vals[i + 1] > vals[i] for i in range(j + 1, n))
+    lam = mp.findroot(slope, (grid[j - 1], grid[j + 1]), solver="anderson")
+    golden = golden_min(peak, grid[j - 1], grid[j + 1], 70)
+    p_opt = peak(lam)
+    ph = phi_star(lam)
+    s = travel_at(lam)
+    depths = sorted({v[0] for v in VARIANTS})
+    worst_phc, worst_gap = MPF(0), MPF(0)
+    for h_mm in depths:                              # the peak is interior for every depth
+        h = MPF(h_mm) / 1000
+        phc = compaction_start(s, stroke, h)
+        worst_phc = max(worst_phc, phc)
+        fn = lambda p: mp.exp(b * (s(p) - stroke)) * mp.diff(s, p)
+        worst_gap = max(worst_gap, abs(max_on_interval(fn, phc, mp.pi) / p_opt - 1))
+    q1 = 4 * MPF("0.035") * 1e6 * F_BRICK * mp.exp(b * MPF("0.020"))      # variant 1, Q_max
+    return {"stroke_m": f(stroke), "lambda_opt": f(lam), "lambda_opt_digits": mp.nstr(lam, 20),
+            "rod_length_at_r_m": f(r / lam), "rod_angle_deg": deg(mp.asin(lam)),
+            "phi_star_deg": deg(ph), "peak_per_unit_force_m": f(p_opt),
+            "golden_section_lambda": f(golden), "golden_minus_root": f(golden - lam),
+            "peak_rise_at_lambda_pm_1e-4_rel": [f(peak(lam - MPF("1e-4")) / p_opt - 1),
+                                                f(peak(lam + MPF("1e-4")) / p_opt - 1)],
+            "scan_falls_before_and_rises_after": bool(falls and rises),
+            "latest_compaction_start_deg": deg(worst_phc),
+            "grid_peak_over_every_depth_vs_interior_rel": f(worst_gap),
+            "variant1_peak_torque_Nm": f(q1 * p_opt),
+            "at_printed_lambda": f(peak(r / g["l_sh"])), "at_lambda_0.7": f(peak(MPF("0.7"))),
+            "scan": [[f(x), f(v)] for x, v in zip(grid, vals)]}
 
 
 def mu_scan(g, h_mm):
@@ -415,11 +507,13 @@ def exercise6(sign, over=None):
             "chosen": {k: f(v) for k, v in EX6.items()}, "variants": rows}
 
 
-def exercise6_ranges():
-    """L_X over every corner of the guide's ranges (delta read 0.01..0.02 m)."""
+def exercise6_ranges(delta=("0.01", "0.02")):
+    """L_X over every corner of the guide's ranges. The gap delta is printed
+    "0.01...0.2"; the default corners read it 0.01..0.02 m, ("0.01", "0.2")
+    takes the print literally."""
     import itertools
     corners = {"k1_stage": ("0.3", "0.45"), "t_pass": ("5", "8"), "t_feed": ("0.5", "1.0"),
-               "k1_safety": ("1", "1.6"), "delta": ("0.01", "0.02")}
+               "k1_safety": ("1", "1.6"), "delta": delta}
     lo = [None] * len(TABLE_6_1)
     hi = [None] * len(TABLE_6_1)
     for combo in itertools.product(*corners.values()):
@@ -431,6 +525,31 @@ def exercise6_ranges():
     return [{"variant": i + 1, "L_X_min": lo[i], "L_X_max": hi[i]} for i in range(len(lo))]
 
 
+def exercise6_gap_and_dwell():
+    """The printed gap range against the rollers it clears, and the stop t_ost of
+    (6.8) against a crank drive, which has no dwell (t_ost = 0)."""
+    base = exercise6(-1)["variants"]
+    printed = exercise6_ranges(("0.01", "0.2"))
+    at_02 = exercise6(-1, {"delta": MPF("0.2")})["variants"]
+    no_dwell = exercise6(-1, {"t_stop": MPF(0)})["variants"]
+    span = lambda xs: [min(xs), max(xs)]
+    return {"printed_delta_0.01_0.2": {
+                "L_X_over_corners": span([x for r in printed for x in (r["L_X_min"], r["L_X_max"])]),
+                "at_delta_0.2_m": {"L_X": span([r["L_X"] for r in at_02]),
+                                   "crank_radius": span([r["crank_radius"] for r in at_02]),
+                                   "gaps_over_stroke": span([0.4 / r["L_X"] for r in at_02]),
+                                   "gap_over_roller_diameter": span([0.2 / (2 * r["R_p"]) for r in at_02])}},
+            "read_delta_0.01_0.02": {
+                "L_X_over_corners": span([x for r in exercise6_ranges() for x in (r["L_X_min"], r["L_X_max"])]),
+                "crank_radius_at_0.015": span([r["crank_radius"] for r in base])},
+            "dwell": {"t3_with_t_ost_2s": span([r["t3"] for r in base]),
+                      "t_ost_share_of_t3": span([2 * TABLE_6_1[i][5] / r["t3"] for i, r in enumerate(base)]),
+                      "t3_crank_no_dwell": span([r["t3"] for r in no_dwell]),
+                      "productivity_gain_no_dwell": span([n["productivity_m3_per_s"] /
+                                                          r["productivity_m3_per_s"] - 1
+                                                          for n, r in zip(no_dwell, base)])}}
+
+
 def main():
     tables = press_tables()
     dense = dense_check(tables)
@@ -439,6 +558,10 @@ def main():
         for h_mm in (20, 50):
             for force in FORCES:
                 opt["%s/h=%dmm/%s" % (name, h_mm, force)] = lambda_optimum(PRESSES[name], h_mm, force)
+    interior = {}
+    for name, g in PRESSES.items():
+        for label, stroke in (("printed", g["S_printed"]), ("kinematic", 2 * g["r"] * g["l"] / g["l_p"])):
+            interior["%s/stroke_%s" % (name, label)] = lambda_interior_minimum(g, stroke)
     mus = {name: mu_scan(PRESSES[name], 20) for name in PRESSES}
     for name in tables:
         del tables[name]["_kin"]
@@ -449,10 +572,12 @@ def main():
                                "lever": "slider", "force": "pressure_law"},
            "presses": tables, "dense_grid_check": dense,
            "lambda_optimum_stroke_held_inner_slider": opt,
+           "lambda_interior_minimum_pressure_law": interior,
            "mu_scan_four_bar_inner_h20mm": mus,
            "exercise6": {"feed_exponent_negative": exercise6(-1),
                          "feed_exponent_as_printed": exercise6(+1),
-                         "L_X_over_guide_ranges": exercise6_ranges()}}
+                         "L_X_over_guide_ranges": exercise6_ranges(),
+                         "gap_and_dwell": exercise6_gap_and_dwell()}}
     out["seconds"] = round(time.time() - T0, 1)
     json.dump(out, sys.stdout, indent=1)
     print()
