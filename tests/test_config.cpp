@@ -12,6 +12,7 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include "cli.hpp"
 #include "opt/units.hpp"
 
 namespace {
@@ -348,6 +349,51 @@ TEST(ConfigValues, WholeNumbersInAnyNumberForm) {
     const auto p = problems::make_problem(opt::ConfigNode::parse(
         std::string("problem: recuperative_drive\nmodel: {cycle_points: ") + text + "}\n", "<whole>"));
     EXPECT_EQ(p->record()["numerics"]["cycle_points"], 24) << text;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// Nested aliases ("billion laughs"): &a1 holds nine *a0, &a2 nine *a1, ...,
+// twelve deep, about 1 KB of YAML that a walk expands to 9^12 nodes. The
+// reader counts the nodes it visits (config.cpp, kMaxNodes) and refuses the
+// file with its location, at the problem, the model or one model value, in
+// `run` and in `eval`, well inside the 20 s limit given here (unbounded, each
+// of these ran past it).
+std::string laughs() {
+  std::string y = "[&a0 [lol, lol, lol, lol, lol, lol, lol, lol, lol]";
+  for (int depth = 1; depth <= 12; ++depth) {
+    y += ", &a" + std::to_string(depth) + " [";
+    for (int k = 0; k < 9; ++k) y += (k ? ", *a" : "*a") + std::to_string(depth - 1);
+    y += "]";
+  }
+  return y + "]";
+}
+
+TEST(ConfigValues, NestedAliasesAreRefusedWithTheirPlace) {
+  const std::string dir = testing::TempDir() + "/laughs";
+  fs::create_directories(dir);
+  struct Case {
+    std::string key, line, text;
+  };
+  const Case cases[] = {
+      {"problem", "1", "problem: " + laughs() + "\n"},
+      {"model", "2", "problem: slider_crank\nmodel: " + laughs() + "\n"},
+      {"model.crank_radius", "3", "problem: slider_crank\nmodel:\n  crank_radius: " + laughs() + "\n"},
+  };
+  for (const auto& [key, line, text] : cases) {
+    ASSERT_LT(text.size(), 1500u);
+    const std::string file = dir + "/" + key + ".yaml";
+    std::ofstream(file) << text;
+    for (const std::string& command : {"run " + file + " --output " + dir + "/out", "eval " + file}) {
+      const cli::Outcome o = cli::run(command, 20);
+      EXPECT_TRUE(o.exited(2)) << command << "\n" << o.output;
+      EXPECT_NE(o.output.find(file + ":" + line + ":"), std::string::npos) << o.output;
+      EXPECT_NE(o.output.find("key '" + key), std::string::npos) << o.output;
+      EXPECT_NE(o.output.find("through its aliases"), std::string::npos) << o.output;
+    }
   }
 }
 

@@ -306,12 +306,34 @@ def t_bytes(text, rng):
     return text, "bytes " + ", ".join(edits)
 
 
+LAUGHS = "__nested_aliases__"
+
+
+def laughs(width=9, depth=12):
+    """'Billion laughs': &a1 holds `width` *a0, &a2 `width` *a1, ..., `depth` deep (about 1 KB)."""
+    y = "[&a0 [" + ", ".join(["lol"] * width) + "]"
+    for d in range(1, depth + 1):
+        y += f", &a{d} [" + ", ".join([f"*a{d - 1}"] * width) + "]"
+    return y + "]"
+
+
+def m_aliases(data, rng, ctx):
+    """Nested aliases as the problem, as the model, or as one model value: the
+    reader must refuse them at once (exit 2, located), not expand them."""
+    where = [("problem",), ("model",)]
+    if isinstance(data.get("model"), dict):
+        where += [("model", k) for k, v in data["model"].items() if is_leaf(v)]
+    path = rng.choice(where)
+    put(data, path, LAUGHS)
+    return f"nested aliases at {'.'.join(map(str, path))}"
+
+
 # Hostile mutations mostly make a config invalid (the right answer is then
 # exit 2 with a located message); mild ones keep it valid but different (it
 # should run). A mutant has at most one hostile mutation, and 60% of the
 # mutants none, so that most of them get past parsing to an evaluation.
 HOSTILE = [(m_extreme, 18), (m_unit, 10), (m_type, 6), (m_delete, 6), (m_foreign, 5), (m_list, 5),
-           (m_grid, 8), (m_bounds, 6), (m_any_choice, 5), (t_duplicate, 4), (t_bytes, 4)]
+           (m_grid, 8), (m_bounds, 6), (m_any_choice, 5), (t_duplicate, 4), (t_bytes, 4), (m_aliases, 2)]
 MILD = [(m_scale, 10), (m_convert, 6), (m_choice, 6)]
 TEXTUAL = (t_duplicate, t_bytes)
 
@@ -370,7 +392,7 @@ def make_mutant(seed, i, bases, ctx):
             if what:
                 done.append(what)
                 break
-    text = yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=1000)
+    text = yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=1000).replace(LAUGHS, laughs())
     for op in text_ops:
         r = op(text, rng)
         if r:
