@@ -10,6 +10,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <sys/wait.h>
@@ -111,6 +112,47 @@ TEST(DoeBatch, FactorialRowsMatchClosedForms) {
     EXPECT_NEAR(std::stod(t[6]), r * w * w * (1 + r / l), 1e-9 * r * w * w);
     EXPECT_NEAR(std::stod(t[7]), std::asin(r / l), 1e-12);
   }
+}
+
+// `columns` names what a row stores: those metrics with the objective's and
+// the constraints' (the summary reads them back), in the problem's order, and
+// the model computes nothing else. A metric computed alone has the same bits
+// as computed beside every other (the run without `columns`, same samples).
+TEST(DoeBatch, ColumnsAreWhatARowStores) {
+  const std::string doe = R"(problem: recuperative_drive
+objective: {minimize: mean_kinetic_energy}
+constraints: {peak_crank_torque: {max: 3000 N m}}
+study:
+  type: doe
+  sampler: sobol
+  samples: 256
+  factors: {rod_length: {min: 0.3 m, max: 1.6 m}, phase_shift: {min: 0 deg, max: 180 deg}}
+)";
+  const std::string all = cli::fresh_dir("doe_columns_all"), some = cli::fresh_dir("doe_columns_some");
+  run(doe, all, 2);
+  run(doe + "  columns: [k1]\n", some, 2);
+  // The canonical dumps (%.17g: every double exactly) as header -> column.
+  auto columns = [](const std::string& dir) {
+    std::istringstream in(cli::canonical_dump(dir));
+    std::vector<std::string> head, line;
+    std::map<std::string, std::vector<std::string>> by_name;
+    for (std::string row; std::getline(in, row);) {
+      std::vector<std::string> cells;
+      std::istringstream cs(row);
+      for (std::string c; std::getline(cs, c, ',');) cells.push_back(c);
+      if (head.empty()) head = cells;
+      else
+        for (size_t k = 0; k < cells.size() && k < head.size(); ++k) by_name[head[k]].push_back(cells[k]);
+    }
+    return std::make_pair(head, by_name);
+  };
+  const auto [head_some, some_rows] = columns(some);
+  const auto [head_all, all_rows] = columns(all);
+  EXPECT_EQ(head_some, (std::vector<std::string>{"idx", "status", "message", "rod_length", "phase_shift",
+                                                  "mean_kinetic_energy", "k1", "peak_crank_torque"}));
+  EXPECT_GT(head_all.size(), head_some.size() + 5) << "every metric without columns";
+  for (const auto& name : head_some) EXPECT_EQ(some_rows.at(name), all_rows.at(name)) << name;
+  ASSERT_EQ(some_rows.at("k1").size(), 256u);
 }
 
 // An infeasible design is a row with its status, never a crash.

@@ -273,6 +273,7 @@ nlohmann::json canonical_run(const Problem& problem, const DoeSpec& spec, const 
                             {"upper", x.upper}, {"count", x.count}, {"levels", x.levels}, {"labels", x.labels}});
   }
   if (!spec.rows.empty()) j["points"] = spec.rows;
+  if (!spec.columns.empty()) j["metrics"] = stored_metrics(spec, problem);  // what a row holds
   return j;
 }
 
@@ -372,7 +373,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   const int threads = o.threads > 0 ? o.threads
                       : o.peers     ? 1
                                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const std::vector<std::string>& metrics = base.metric_names();
+  const std::vector<std::string> metrics = stored_metrics(spec, base);
   const Evaluator evaluator(base, spec, *sampler);
   auto maker = [&] { return evaluator.model_factors() ? makers() : SampleMaker(); };
 

@@ -30,8 +30,11 @@ ConfigNode run_root(const ConfigNode& root, const DoeSpec& spec) {
 }
 
 Evaluator::Evaluator(const Problem& base, const DoeSpec& spec, const Sampler& sampler)
-    : base_(base), spec_(spec), sampler_(sampler), metrics_(base.metric_names().size()),
-      initial_(base.initial_point(false)) {
+    : base_(base), spec_(spec), sampler_(sampler), initial_(base.initial_point(false)) {
+  for (const auto& m : stored_metrics(spec, base)) {
+    stored_.push_back(base.metric_id(m));
+    wanted_.add(stored_.back());
+  }
   for (const auto& f : spec.factors) {
     int index = -1;
     for (size_t v = 0; v < base.variables().size(); ++v)
@@ -78,18 +81,18 @@ void Evaluator::evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const
   r.message.clear();
   r.factors.assign(spec_.factors.size(), 0.0);
   sampler_.point(i, r.factors);
-  r.metrics.assign(metrics_, kNan);
+  r.metrics.assign(stored_.size(), kNan);
   const auto t0 = Clock::now();
   mech::set_deadline(spec_.sample_seconds);  // checked inside long computations
   thread_local Sample s;      // storage reused from the thread's previous sample
   thread_local Evaluation out;  // likewise
   try {
     sample_into(maker, i, r.factors, s);
-    s.problem->evaluate(s.x, MetricSet::all(), false, out);
+    s.problem->evaluate(s.x, wanted_, false, out);
     r.status = mech::to_string(out.status);
     r.message = out.message;
-    for (size_t m = 0; m < metrics_; ++m)
-      if (out.has(static_cast<MetricId>(m))) r.metrics[m] = out[static_cast<MetricId>(m)].value;
+    for (size_t k = 0; k < stored_.size(); ++k)
+      if (out.has(stored_[k])) r.metrics[k] = out[stored_[k]].value;
   } catch (const mech::TimedOut& e) {
     r.status = mech::to_string(Status::timed_out);
     r.message = e.what();

@@ -43,7 +43,8 @@ class Evaluator {
   // The same into `s`, its x's storage reused.
   void sample_into(const SampleMaker& maker, std::int64_t index, const std::vector<double>& factors, Sample& s) const;
 
-  // Sample i as a row: a status (never an exception) and every metric.
+  // Sample i as a row: a status (never an exception) and the stored metrics
+  // (stored_metrics), the only ones computed.
   Row evaluate(const SampleMaker& maker, std::int64_t i) const;
   // The same into `r`, the storage of its vectors reused (a batch's spent rows).
   void evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const;
@@ -56,7 +57,8 @@ class Evaluator {
   const Problem& base_;
   const DoeSpec& spec_;
   const Sampler& sampler_;
-  std::size_t metrics_;
+  std::vector<MetricId> stored_;  // a row's metrics, in order
+  MetricSet wanted_;               // the same, as the model's wanted set
   Eigen::VectorXd initial_;  // the base problem's start: every x before its factors are written
   std::vector<int> variable_;
   bool model_factors_ = false;

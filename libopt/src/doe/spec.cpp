@@ -276,6 +276,17 @@ DoeSpec parse_doe(const ConfigNode& root, const std::vector<Parameter>& table, c
   return s;
 }
 
+std::vector<std::string> stored_metrics(const DoeSpec& spec, const Problem& problem) {
+  if (spec.columns.empty()) return problem.metric_names();
+  std::vector<std::string> wanted = spec.columns;
+  if (!spec.objective.metric.empty()) wanted.push_back(spec.objective.metric);
+  for (const auto& c : spec.constraints) wanted.push_back(c.metric);
+  std::vector<std::string> out;
+  for (const auto& m : problem.metric_names())
+    if (std::find(wanted.begin(), wanted.end(), m) != wanted.end()) out.push_back(m);
+  return out;
+}
+
 std::string metric_column(const DoeSpec& spec, const std::string& metric) {
   const bool taken = std::any_of(spec.factors.begin(), spec.factors.end(),
                                  [&](const FactorSpec& f) { return f.factor.name == metric; });

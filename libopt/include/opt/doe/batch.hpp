@@ -38,7 +38,9 @@ struct DoeSpec {
   std::optional<std::uint64_t> seed;
   bool maximin = false;                      // latin_hypercube
   std::vector<std::vector<double>> rows;     // list: in factor order, SI
-  std::vector<std::string> columns;          // metrics summarised (default: objective and constraints, else all)
+  // The metrics a row stores and the summary reports (default: every metric
+  // stored; the objective and constraints summarised, else all).
+  std::vector<std::string> columns;
   Objective objective;                       // optional: the best feasible sample is reported
   std::vector<Constraint> constraints;       // feasible: status ok and these met
   double sample_seconds = 0;                 // per-sample time limit (0: none)
@@ -49,6 +51,12 @@ struct DoeSpec {
   DriverOptions refine_driver;
   nlohmann::json refine_settings;  // what the refined rows depend on besides the samples (resume key)
 };
+
+// The metrics each row computes and stores, in the problem's order: every
+// metric when `columns` is empty, else `columns` with the objective's and the
+// constraints' metrics (the summary reads feasibility and the best sample from
+// the store). A DOE computes nothing else.
+std::vector<std::string> stored_metrics(const DoeSpec& spec, const Problem& problem);
 
 // Makes a problem from a config: problems::make_problem.
 using ProblemFactory = std::function<std::unique_ptr<Problem>(const ConfigNode& root)>;
