@@ -262,6 +262,9 @@ void list(bool markdown) {
       for (const auto& u : opt::units_of(dim)) std::cout << " `" << u << "`";
       std::cout << " |\n";
     }
+    std::cout << "\nA value in a config may take any unit of its dimension. What mechopt prints (tables, "
+                 "summaries, the defaults and domains below) and draws shows angles in deg, other quantities in "
+                 "SI; result.json, the CSV files and the store hold SI (angles in rad), for scripts.\n";
     std::cout << "\n## Model keys\n\nEvery key under `model:`, from each problem's parameter table; a key "
                  "marked *variable* may be freed under `variables:` (its bounds, initial value and grid "
                  "points must lie in its domain). A dotted key sits in a section: `fidelity.rod` is "

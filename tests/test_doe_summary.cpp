@@ -153,4 +153,26 @@ study:
   EXPECT_NE(svg.find("rod_length [m]"), std::string::npos);
 }
 
+// The printed summary shows values as a designer reads them: the best
+// sample's angle in degrees with its unit, every metric's name whole with
+// its unit; result.json keeps SI (radians).
+TEST(DoeSummary, PrintsUnitsAndWholeNames) {
+  std::string printed;
+  const auto j = run(R"(problem: recuperative_drive
+objective: {minimize: k1}
+study:
+  type: doe
+  factors:
+    phase_shift: [90 deg]
+    rod_length: [0.8 m, 1.2 m]
+  columns: [k1, least_mean_kinetic_energy, peak_crank_torque]
+)", cli::fresh_dir("doe_units"), printed);
+  const auto& best = j["summary"]["best"][0];
+  EXPECT_NEAR(best["factors"]["phase_shift"].get<double>(), std::numbers::pi / 2, 1e-12);  // SI in result.json
+  EXPECT_NE(printed.find("phase_shift = 90 deg"), std::string::npos) << printed;
+  EXPECT_NE(printed.find(", rod_length = "), std::string::npos) << printed;
+  for (const char* head : {"k1 [-]", "least_mean_kinetic_energy [J]", "peak_crank_torque [N m]", "phase_shift "})
+    EXPECT_NE(printed.find(head), std::string::npos) << head << " in\n" << printed;
+}
+
 }  // namespace

@@ -12,8 +12,10 @@
 #include "doe/evaluator.hpp"
 #include "doe/sqlite.hpp"
 #include "opt/chart.hpp"
+#include "opt/display_units.hpp"
 #include "opt/doe/batch.hpp"
 #include "opt/doe/random.hpp"
+#include "report/report.hpp"
 
 namespace opt::doe {
 namespace {
@@ -25,13 +27,6 @@ constexpr int kBins = 10;          // a continuous factor's main effect: means o
 constexpr int kMaxLevels = 50;     // more levels than this are binned too
 constexpr int kBootstrap = 200;    // resamples for the Sobol' indices' 95% intervals
 constexpr std::int64_t kMapPoints = 20000;  // samples drawn on the status map, at most
-
-// Eight significant digits, for the printed summary (the store keeps 17).
-std::string short_number(double v) {
-  char s[40];
-  std::snprintf(s, sizeof s, "%.8g", v);
-  return s;
-}
 
 std::string sql_number(double v) {
   char s[40];
@@ -208,10 +203,19 @@ std::vector<std::vector<double>> saltelli_rows(const sql::Db& db, const std::str
   return rows;
 }
 
+// `text` right-aligned in `width` columns (left-aligned when `left`).
+std::string pad(const std::string& text, size_t width, bool left = false) {
+  const std::string fill(width > text.size() ? width - text.size() : 0, ' ');
+  return left ? text + fill : fill + text;
+}
+
+// The SI unit of a factor's values; none for an option's name.
+std::string unit_of(const FactorSpec& f) { return f.factor.labels.empty() ? si_unit(f.parameter.dimension) : ""; }
+
 }  // namespace
 
 nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, const std::vector<std::string>& metrics,
-                         const std::vector<std::string>& units, const std::string& dir, std::ostream& out,
+                         const Problem& problem, const std::string& dir, std::ostream& out,
                          std::vector<std::string>& charts) {
   sql::Db db(store_file, SQLITE_OPEN_READWRITE);
   nlohmann::json j;
@@ -282,7 +286,7 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     }
   }
 
-  // Printed.
+  // Printed, in the units the charts show.
   out << "summary: " << j["feasible"].get<std::int64_t>() << " feasible samples\n";
   for (const auto& [s, v] : j["failures"].items())
   {
@@ -292,22 +296,32 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
   }
   if (j.contains("best"))
     for (const auto& b : j["best"]) {
-      out << "  best " << b["metric"].get<std::string>() << " = " << b["value"].get<double>() << " at sample "
-          << b["index"].get<std::int64_t>() << ":";
-      for (const auto& [f, v] : b["factors"].items()) out << " " << f << " = " << (v.is_string() ? v.get<std::string>() : short_number(v.get<double>()));
+      const std::string m = b["metric"].get<std::string>();
+      out << "  best " << m << " = " << shown_value(b["value"].get<double>(), problem.metric_unit(m), 8)
+          << " at sample " << b["index"].get<std::int64_t>() << ":";
+      for (size_t f = 0; f < spec.factors.size(); ++f) {
+        const auto& v = b["factors"][spec.factors[f].factor.name];
+        out << (f ? ", " : " ") << spec.factors[f].factor.name << " = "
+            << (v.is_string() ? v.get<std::string>() : shown_value(v.get<double>(), unit_of(spec.factors[f]), 8));
+      }
       out << "\n";
     }
+  std::vector<std::string> factor_names;
+  for (const auto& fs : spec.factors) factor_names.push_back(fs.factor.name);
+  const size_t factor_width = report::longest(factor_names, 6);
   if (!metrics.empty()) {
-    out << "main effects (max - min of the metric's mean over a factor's levels or 10 bins):\n  " << std::string(24, ' ');
-    for (const auto& m : metrics) out << " " << m.substr(0, 18) << std::string(18 - std::min<size_t>(18, m.size()), ' ');
+    out << "main effects (max - min of the metric's mean over a factor's levels or 10 bins):\n  "
+        << pad("factor", factor_width, true);
+    std::vector<std::string> head;
+    for (const auto& m : metrics) head.push_back(shown_label(m, problem.metric_unit(m)));
+    for (const auto& h : head) out << "  " << pad(h, std::max<size_t>(12, h.size()));
     out << "\n";
-    for (const auto& fs : spec.factors) {
-      const std::string& f = fs.factor.name;
-      out << "  " << f << std::string(24 - std::min<size_t>(24, f.size()), ' ');
-      for (const auto& m : metrics) {
-        char cell[32];
-        std::snprintf(cell, sizeof cell, " %-18.6g", j["main_effects"][f][m]["range"].get<double>());
-        out << cell;
+    for (const auto& f : factor_names) {
+      out << "  " << pad(f, factor_width, true);
+      for (size_t m = 0; m < metrics.size(); ++m) {
+        const double range = j["main_effects"][f][metrics[m]]["range"].get<double>();
+        out << "  " << pad(report::fmt(range * shown_unit(problem.metric_unit(metrics[m])).scale),
+                           std::max<size_t>(12, head[m].size()));
       }
       out << "\n";
     }
@@ -316,12 +330,11 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     out << "Sobol' indices (first order, total; 95% bootstrap intervals):\n";
     for (const auto& [m, fs] : j["sobol"].items())
       for (const auto& [f, v] : fs.items()) {
-        char line[200];
-        std::snprintf(line, sizeof line, "  %-24s %-20s S1 %7.4f [%7.4f, %7.4f]  ST %7.4f [%7.4f, %7.4f]\n",
-                      m.c_str(), f.c_str(), v["first"].get<double>(), v["first_95"][0].get<double>(),
-                      v["first_95"][1].get<double>(), v["total"].get<double>(), v["total_95"][0].get<double>(),
-                      v["total_95"][1].get<double>());
-        out << line;
+        char numbers[120];
+        std::snprintf(numbers, sizeof numbers, "S1 %7.4f [%7.4f, %7.4f]  ST %7.4f [%7.4f, %7.4f]\n",
+                      v["first"].get<double>(), v["first_95"][0].get<double>(), v["first_95"][1].get<double>(),
+                      v["total"].get<double>(), v["total_95"][0].get<double>(), v["total_95"][1].get<double>());
+        out << "  " << pad(m, report::longest(metrics), true) << "  " << pad(f, factor_width, true) << "  " << numbers;
       }
   }
 
@@ -331,7 +344,7 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     Chart c;
     c.title = "main effects on " + m;
     c.x_label = "factor position, lowest level or value (0) to highest (1) [-]";
-    c.set_y(m, units[k]);
+    c.set_y(m, problem.metric_unit(m));
     for (const auto& fs : spec.factors) {
       const auto& me = j["main_effects"][fs.factor.name][m];
       Series s{fs.factor.name, me["positions"].get<std::vector<double>>(), me["means"].get<std::vector<double>>(),
@@ -365,8 +378,8 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     c.title = "outcome of every " + (every > 1 ? std::to_string(every) + "th " : std::string()) + "sample over " +
               fx.factor.name + " and " + fy.factor.name;
     c.title += " (at most " + std::to_string(kMaxDrawnPoints) + " drawn each)";
-    c.set_x(fx.factor.name, fx.factor.labels.empty() ? si_unit(fx.parameter.dimension) : "");
-    c.set_y(fy.factor.name, fy.factor.labels.empty() ? si_unit(fy.parameter.dimension) : "");
+    c.set_x(fx.factor.name, unit_of(fx));
+    c.set_y(fy.factor.name, unit_of(fy));
     for (auto& [key, s] : outcomes) {  // labelled with its count, at most kMaxDrawnPoints drawn
       const size_t n = s.x.size(), stride = (n + kMaxDrawnPoints - 1) / kMaxDrawnPoints;
       Series drawn{key + " (" + std::to_string(n) + ")", {}, {}, Series::Style::markers};

@@ -145,8 +145,10 @@ nlohmann::json run_batch(const ConfigNode& root, const ProblemFactory& make, con
 // objective (or per metric), main effects of each factor on each metric,
 // Sobol' indices for a saltelli design; printed, written to the store's
 // `summary` table and charted (main_effects_METRIC.svg, appended to `charts`).
+// Printed values are in the units the charts show (display_units.hpp), the
+// store and the returned JSON in SI; `problem` gives the metrics' units.
 nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, const std::vector<std::string>& metrics,
-                         const std::vector<std::string>& units, const std::string& dir, std::ostream& out,
+                         const Problem& problem, const std::string& dir, std::ostream& out,
                          std::vector<std::string>& charts);
 
 // What a store's rows depend on, and its hash (FNV-1a 64, hex): the problem,
