@@ -151,6 +151,23 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
                          const Problem& problem, const std::string& dir, std::ostream& out,
                          std::vector<std::string>& charts);
 
+// The points of status_map.svg over the first two factors (at least two):
+// per outcome ("feasible", "constraint not met", or a failure status) its
+// count over the whole store and, up to kMaxDrawnPoints samples, every
+// sample; beyond, in each cell of a kMapCells x kMapCells grid over the two
+// factors' extents, the one sample of that outcome whose index hashes
+// lowest. Every region where an outcome occurs shows it, whatever order the
+// sampler visits the space in, and one scan of the store needs memory for
+// the grid only. A categorical factor's value is its option's index.
+// Outcomes in the order of their names.
+constexpr int kMapCells = 30;
+struct MapSeries {
+  std::string outcome;
+  std::int64_t count = 0;
+  std::vector<double> x, y;  // SI, at most kMapCells^2 each
+};
+std::vector<MapSeries> status_map(const std::string& store_file, const DoeSpec& spec);
+
 // What a store's rows depend on, and its hash (FNV-1a 64, hex): the problem,
 // its settings (every model value and numerical setting), the sampler and
 // the factors; not the output directory, the driver or progress settings.
