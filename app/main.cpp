@@ -40,11 +40,101 @@ usage:
                                           differences at the model values, per variable
   mechopt list [--markdown]               problems (every model key with its default, domain
                                           and source; variables; metrics) and algorithms
+  mechopt COMMAND --help                  a command's arguments and options
   mechopt --help | --version
 
 exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input,
   130/143 stopped by SIGINT/SIGTERM (what was done is written, marked interrupted)
 )";
+
+// `mechopt COMMAND --help`: each command's arguments and options.
+struct Command {
+  const char* name;
+  const char* help;
+};
+const Command kCommands[] = {
+    {"run", R"(usage: mechopt run CONFIG [options]
+
+Runs the config's study and writes DIR/result.json with the study's files
+(sweep.csv, history.csv, charts). A doe study (docs/doe.md) writes
+DIR/store.sqlite and resumes it when run again; a sweep does too.
+
+arguments:
+  CONFIG                  the YAML config (keys: docs/config.md)
+
+options:
+  --output DIR            the output directory (default: the config's output.directory)
+  --threads N             threads of a doe or sweep study, 1 to 4096 (default: every core)
+  --force                 a doe or sweep of more than 10^7 samples
+  --progress bar|jsonl|none
+                          doe: progress on stderr (default: a bar on a terminal, else jsonl)
+  --new                   doe: move the existing store aside and start afresh
+  --dry-run               doe: estimate the time and the store's size; writes nothing
+  --shard I/N|auto        doe: run piece I of N into its own store (auto: from a Slurm
+                          job array's SLURM_ARRAY_TASK_ID, _MIN and _COUNT)
+  -h, --help              this help
+)"},
+    {"eval", R"(usage: mechopt eval CONFIG [--set KEY=VALUE]...
+
+Prints every metric at the config's model values as JSON (SI), a variable at
+its initial value.
+
+arguments:
+  CONFIG                  the YAML config
+
+options:
+  --set KEY=VALUE         sets model.KEY, and the initial value of a variable KEY
+                          (VALUE may carry a unit: --set rod_length=800mm); repeatable
+  -h, --help              this help
+)"},
+    {"check-derivatives", R"(usage: mechopt check-derivatives CONFIG [--set KEY=VALUE]...
+
+Compares every metric's gradient (autodiff) with central differences at the
+model values, per variable; exit 1 on a mismatch.
+
+arguments:
+  CONFIG                  the YAML config, with at least one variable
+
+options:
+  --set KEY=VALUE         sets model.KEY, and the initial value of a variable KEY; repeatable
+  -h, --help              this help
+)"},
+    {"export", R"(usage: mechopt export STORE --csv|--json|--canonical
+
+Writes a doe store's rows on stdout, in SI.
+
+arguments:
+  STORE                   a store.sqlite file
+
+options:
+  --csv                   CSV, one row per sample, with wall times
+  --json                  JSON
+  --canonical             the CSV without wall times, rows by index, every number exact:
+                          equal bytes for equal results whatever threads, ranks or shards
+  -h, --help              this help
+)"},
+    {"merge", R"(usage: mechopt merge OUT STORE...
+
+Merges shard stores into OUT/store.sqlite, checking that their configs agree
+and that no sample is missing or doubled.
+
+arguments:
+  OUT                     the output directory
+  STORE...                the shards' store.sqlite files
+
+options:
+  -h, --help              this help
+)"},
+    {"list", R"(usage: mechopt list [--markdown]
+
+Lists the problems (every model key with its default, domain and source;
+variables; metrics) and the drivers' algorithms.
+
+options:
+  --markdown              the config reference of docs/config.md, as Markdown
+  -h, --help              this help
+)"},
+};
 
 struct Args {
   std::string command, config, output;
@@ -87,6 +177,16 @@ Args parse_args(int argc, char** argv) {
   std::vector<std::string> v(argv + 1, argv + argc);
   if (v.empty()) usage_error("missing command");
   a.command = v[0];
+  for (size_t i = 1; i < v.size(); ++i)
+    if (v[i] == "--help" || v[i] == "-h" || (a.command == "help" && i == 1)) {
+      const std::string& name = a.command == "help" ? v[i] : a.command;
+      for (const auto& c : kCommands)
+        if (name == c.name) {
+          std::cout << c.help;
+          std::exit(0);
+        }
+      usage_error("unknown command '" + name + "'");
+    }
   for (size_t i = 1; i < v.size(); ++i) {
     // --flag=value is --flag value
     if (const auto eq = v[i].find('='); v[i].rfind("--", 0) == 0 && eq != std::string::npos) {
@@ -162,6 +262,9 @@ void list(bool markdown) {
       for (const auto& u : opt::units_of(dim)) std::cout << " `" << u << "`";
       std::cout << " |\n";
     }
+    std::cout << "\nA value in a config may take any unit of its dimension. What mechopt prints (tables, "
+                 "summaries, the defaults and domains below) and draws shows angles in deg, other quantities in "
+                 "SI; result.json, the CSV files and the store hold SI (angles in rad), for scripts.\n";
     std::cout << "\n## Model keys\n\nEvery key under `model:`, from each problem's parameter table; a key "
                  "marked *variable* may be freed under `variables:` (its bounds, initial value and grid "
                  "points must lie in its domain). A dotted key sits in a section: `fidelity.rod` is "

@@ -134,6 +134,32 @@ TEST(CommandLine, VersionHelpList) {
   EXPECT_NE(o.output.find("LD_SLSQP"), std::string::npos);
 }
 
+// Every command's --help and -h exit 0 with its usage and every option its
+// parser takes, wherever the flag stands; the top-level help names every command.
+TEST(CommandLine, EveryCommandHasHelp) {
+  const std::pair<std::string, std::vector<std::string>> commands[] = {
+      {"run", {"CONFIG", "--output", "--threads", "--progress", "--new", "--force", "--dry-run", "--shard"}},
+      {"eval", {"CONFIG", "--set"}},
+      {"check-derivatives", {"CONFIG", "--set"}},
+      {"export", {"STORE", "--csv", "--json", "--canonical"}},
+      {"merge", {"OUT", "STORE..."}},
+      {"list", {"--markdown"}},
+  };
+  const std::string top = run("--help").output;
+  for (const auto& [command, options] : commands) {
+    EXPECT_NE(top.find("  mechopt " + command + " "), std::string::npos) << command;
+    for (const std::string& args : {command + " --help", command + " -h", "help " + command}) {
+      const Outcome o = run(args);
+      EXPECT_EQ(o.exit_code, 0) << args << ": " << o.output;
+      EXPECT_EQ(o.output.rfind("usage: mechopt " + command + " ", 0), 0) << args << ": " << o.output;
+      for (const auto& option : options)
+        EXPECT_NE(o.output.find("  " + option + " "), std::string::npos) << args << " lacks " << option;
+    }
+  }
+  EXPECT_EQ(run("run config.yaml --threads 2 --help").exit_code, 0);
+  EXPECT_EQ(run("frobnicate --help").exit_code, 2);
+}
+
 TEST(Units, ConvertToSi) {
   using opt::Dimension;
   EXPECT_DOUBLE_EQ(opt::parse_quantity("100 rpm", Dimension::angular_speed).value, 100 * std::numbers::pi / 30);

@@ -6,10 +6,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "cli.hpp"
+#include "opt/doe/store.hpp"
 #include "opt/doe/batch.hpp"
 #include "problems/model_problem.hpp"
 #include "problems/registry.hpp"
@@ -41,7 +44,8 @@ const problems::Registration kIshigami{
        return std::make_unique<Ishigami>(opt::parse_variables(root, ishigami_parameters()));
      }}};
 
-nlohmann::json run(const std::string& yaml, const std::string& dir, std::string& printed) {
+nlohmann::json run(const std::string& yaml, const std::string& dir, std::string& printed,
+                   opt::doe::DoeSpec* spec_out = nullptr) {
   const auto root = opt::ConfigNode::parse(yaml, "<summary>");
   const auto p = problems::make_problem(root);
   std::vector<opt::Parameter> table;
@@ -57,6 +61,7 @@ nlohmann::json run(const std::string& yaml, const std::string& dir, std::string&
   std::ostringstream out, err;
   const auto j = opt::doe::run_batch(root, problems::make_problem, spec, o, out, err);
   printed = out.str();
+  if (spec_out) *spec_out = spec;
   return j;
 }
 
@@ -98,9 +103,9 @@ study:
   EXPECT_NE(printed.find("Sobol' indices"), std::string::npos) << printed;
 }
 
-// Stroke = 2r: main effects are over feasible samples (stroke >= 0.25 m
-// leaves r = 0.15 and 0.2 m), so crank_radius moves the stroke by 0.1 m and
-// rod_length not at all (nor the binomial series, exact at the dead centres); the least peak acceleration r w^2 (1 + r/l) is at the
+// Stroke = 2r: main effects are over every design that assembles, the
+// constraint met or not, so crank_radius (0.1 to 0.2 m) moves the stroke by
+// 0.2 m and rod_length not at all (nor the binomial series, exact at the dead centres); the least peak acceleration r w^2 (1 + r/l) is at the
 // smallest r and largest l, among designs with stroke >= 0.25 m.
 TEST(DoeSummary, MainEffectsAndBestFeasibleSample) {
   std::string printed;
@@ -116,7 +121,7 @@ study:
 )", cli::fresh_dir("doe_effects"), printed);
   const auto& s = j["summary"];
   EXPECT_EQ(s["feasible"], 12) << "stroke >= 0.25 m: r = 0.15 and 0.2 m";
-  EXPECT_NEAR(s["main_effects"]["crank_radius"]["stroke"]["range"].get<double>(), 0.1, 1e-12);
+  EXPECT_NEAR(s["main_effects"]["crank_radius"]["stroke"]["range"].get<double>(), 0.2, 1e-12);
   EXPECT_NEAR(s["main_effects"]["kinematics"]["stroke"]["range"].get<double>(), 0, 1e-12);
   EXPECT_NEAR(s["main_effects"]["rod_length"]["stroke"]["range"].get<double>(), 0, 1e-12);
   EXPECT_EQ(s["main_effects"]["kinematics"]["stroke"]["groups"], (std::vector<std::string>{"binomial", "exact"}));
@@ -135,6 +140,7 @@ study:
 // designs, and of the 6 that assemble only r = 0.6 m meets stroke >= 0.9 m.
 TEST(DoeSummary, StatusMapCountsEveryOutcome) {
   std::string printed;
+  opt::doe::DoeSpec spec;
   const std::string dir = cli::fresh_dir("doe_status_map");
   const auto j = run(R"(problem: slider_crank
 constraints: {stroke: {min: 0.9 m}}
@@ -143,7 +149,7 @@ study:
   factors:
     crank_radius: [0.2 m, 0.4 m, 0.6 m]
     rod_length: [0.3 m, 0.5 m, 0.7 m]
-)", dir, printed);
+)", dir, printed, &spec);
   EXPECT_EQ(j["summary"]["failures"]["cannot_assemble"]["count"], 3);
   std::ifstream in(dir + "/status_map.svg");
   const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -151,6 +157,92 @@ study:
     EXPECT_NE(svg.find(std::string(">") + label + "<"), std::string::npos) << label;
   EXPECT_NE(svg.find("crank_radius [m]"), std::string::npos);
   EXPECT_NE(svg.find("rod_length [m]"), std::string::npos);
+  for (const auto& m : opt::doe::status_map(dir + "/store.sqlite", spec))  // so few: every one drawn
+    EXPECT_EQ(static_cast<std::int64_t>(m.x.size()), m.count) << m.outcome;
+}
+
+// The printed summary shows values as a designer reads them: the best
+// sample's angle in degrees with its unit, every metric's name whole with
+// its unit; result.json keeps SI (radians).
+TEST(DoeSummary, PrintsUnitsAndWholeNames) {
+  std::string printed;
+  const auto j = run(R"(problem: recuperative_drive
+objective: {minimize: k1}
+study:
+  type: doe
+  factors:
+    phase_shift: [90 deg]
+    rod_length: [0.8 m, 1.2 m]
+  columns: [k1, least_mean_kinetic_energy, peak_crank_torque]
+)", cli::fresh_dir("doe_units"), printed);
+  const auto& best = j["summary"]["best"][0];
+  EXPECT_NEAR(best["factors"]["phase_shift"].get<double>(), std::numbers::pi / 2, 1e-12);  // SI in result.json
+  EXPECT_NE(printed.find("phase_shift = 90 deg"), std::string::npos) << printed;
+  EXPECT_NE(printed.find(", rod_length = "), std::string::npos) << printed;
+  for (const char* head : {"k1 [-]", "least_mean_kinetic_energy [J]", "peak_crank_torque [N m]", "phase_shift "})
+    EXPECT_NE(printed.find(head), std::string::npos) << head << " in\n" << printed;
+}
+
+// The status map and the main effects draw from the whole design space. A
+// slider-crank over crank radius and rod length fails to assemble where
+// r >= l (a corner of the square) and meets stroke >= 0.5 m only where
+// r >= 0.25 m, so three outcomes share the plane. For a Sobol' sequence (2^16
+// points: drawing every 4th index, as the map once did, keeps its first two
+// coordinates below half their ranges), a Latin hypercube and a factorial:
+// every cell of a 10 x 10 grid over the two factors that holds samples of an
+// outcome holds a drawn point of that outcome, and every factor's main-effect
+// curve runs from its first tenth to its last.
+TEST(DoeSummary, StatusMapAndMainEffectsCoverTheDesignSpace) {
+  const char* designs[] = {"sampler: sobol\n  samples: 65536",
+                           "sampler: latin_hypercube\n  samples: 65536\n  seed: 7",
+                           "sampler: factorial"};
+  for (const std::string design : designs) {
+    const bool factorial = design == "sampler: factorial";
+    const std::string dir = cli::fresh_dir("doe_map_cover");
+    std::string printed;
+    opt::doe::DoeSpec spec;
+    const auto j = run(R"(problem: slider_crank
+constraints: {stroke: {min: 0.5 m}}
+study:
+  type: doe
+  )" + design + R"(
+  factors:
+    crank_radius: {min: 0.1 m, max: 0.4 m)" + (factorial ? ", count: 250" : "") + R"(}
+    rod_length: {min: 0.2 m, max: 1.2 m)" + (factorial ? ", count: 262" : "") + R"(}
+)", dir, printed, &spec);
+    ASSERT_EQ(j["run_status"], "complete") << design;
+    // Which outcomes each cell holds, from every row of the store.
+    auto cell = [](double r, double l) {
+      return std::min(9, static_cast<int>((r - 0.1) / 0.3 * 10)) * 10 + std::min(9, static_cast<int>((l - 0.2) / 1.0 * 10));
+    };
+    std::map<std::string, std::set<int>> stored, drawn;
+    std::int64_t rows = 0;
+    opt::doe::read_rows(dir + "/store.sqlite", [&](const opt::doe::Row& r) {
+      ++rows;
+      const bool stroke_met = r.status == "ok" && 2 * r.factors[0] >= 0.5 - 1e-12;
+      stored[r.status != "ok" ? std::string(r.status) : stroke_met ? "feasible" : "constraint not met"].insert(
+          cell(r.factors[0], r.factors[1]));
+    });
+    ASSERT_EQ(rows, 65536 - (factorial ? 36 : 0)) << design;
+    ASSERT_EQ(stored.size(), 3u) << design;
+    std::int64_t counted = 0;
+    for (const auto& m : opt::doe::status_map(dir + "/store.sqlite", spec)) {
+      counted += m.count;
+      EXPECT_LE(m.x.size(), static_cast<size_t>(opt::doe::kMapCells * opt::doe::kMapCells));  // over 1000 each
+      for (size_t i = 0; i < m.x.size(); ++i) drawn[m.outcome].insert(cell(m.x[i], m.y[i]));
+    }
+    EXPECT_EQ(counted, rows) << design;
+    for (const auto& [outcome, cells] : stored)
+      for (int c : cells)
+        EXPECT_TRUE(drawn[outcome].count(c)) << design << ": " << outcome << " in cell (" << c / 10 << ", " << c % 10
+                                             << ") of 10 x 10 is not drawn";
+    for (const char* f : {"crank_radius", "rod_length"}) {
+      const auto positions = j["summary"]["main_effects"][f]["stroke"]["positions"].get<std::vector<double>>();
+      ASSERT_FALSE(positions.empty()) << design << " " << f;
+      EXPECT_NEAR(positions.front(), 0.05, 1e-12) << design << " " << f;  // 250 and 262 levels: binned
+      EXPECT_NEAR(positions.back(), 0.95, 1e-12) << design << " " << f;
+    }
+  }
 }
 
 }  // namespace

@@ -1,11 +1,12 @@
 #include "opt/chart.hpp"
 
+#include "opt/display_units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <numbers>
 #include <sstream>
 
 namespace opt {
@@ -99,25 +100,15 @@ Axis make_axis(const std::vector<double>& values, double pad) {
   return a;
 }
 
-namespace {
-// The unit a chart shows a quantity of SI unit `si` in, and the factor from SI.
-std::pair<std::string, double> shown(const std::string& si) {
-  if (si == "rad") return {"deg", 180 / std::numbers::pi};
-  return {si.empty() ? "-" : si, 1.0};
-}
-}  // namespace
-
 void Chart::set_x(const std::string& name, const std::string& si) {
-  const auto [unit, scale] = shown(si);
-  x_label = name + " [" + unit + "]";
-  x_scale = scale;
+  x_label = shown_label(name, si);
+  x_scale = shown_unit(si).scale;
   if (si == "rad") x_tick_step = 45;  // write_svg's own ticks when 45 deg gives fewer than 3
 }
 
 void Chart::set_y(const std::string& name, const std::string& si) {
-  const auto [unit, scale] = shown(si);
-  y_label = name + " [" + unit + "]";
-  y_scale = scale;
+  y_label = shown_label(name, si);
+  y_scale = shown_unit(si).scale;
 }
 
 bool write_svg(const Chart& drawn_chart, const std::string& file) {

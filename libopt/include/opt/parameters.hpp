@@ -88,14 +88,16 @@ using ParameterTable = std::vector<ParameterRow<Model>>;
 // quantity with its unit), checked against p's domain.
 double read_parameter(const ConfigNode& n, const Parameter& p);
 
-// The value as a config would write it: "0.2 m", "opposed", "auto", "64".
+// The value as a config would write it, in the unit a designer reads
+// (display_units.hpp): "0.2 m", "90 deg", "opposed", "auto", "64".
 std::string value_text(const Parameter& p);
 
 // Value v of row p as a config writes it, exactly: an option name, a whole
 // number, or the SI value to 17 digits with its SI unit.
 std::string exact_value_text(const Parameter& p, double v);
 
-// The domain as text, e.g. "(0, inf) m", "one of: opposed, same_side".
+// The domain as text in the same unit, e.g. "> 0 m", "[0, 180] deg",
+// "one of: opposed, same_side".
 std::string domain_text(const Parameter& p);
 
 // The table row of each variable (by name, once, when the problem is built).

@@ -1,26 +1,16 @@
 #include "opt/parameters.hpp"
 
+#include "opt/display_units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 namespace opt {
-namespace {
-
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-}  // namespace
-
 std::string value_text(const Parameter& p) {
   if (!p.choices.empty()) return p.choices.at(static_cast<size_t>(p.value));
   if (p.automatic && p.value == 0) return "auto";
-  const std::string u = si_unit(p.dimension);
-  return number(p.value) + (u.empty() ? "" : " " + u);
+  return shown_value(p.value, si_unit(p.dimension));
 }
 
 std::string exact_value_text(const Parameter& p, double v) {
@@ -38,7 +28,11 @@ std::string domain_text(const Parameter& p) {
     if (!p.coarse_to_fine.empty()) out += ", or auto";
     return out;
   }
-  out = to_string(p.domain, p.dimension);
+  const std::string si = si_unit(p.dimension);
+  const ShownUnit u = shown_unit(si);
+  out = to_string(Domain{p.domain.lo * u.scale, p.domain.hi * u.scale, p.domain.lo_open, p.domain.hi_open},
+                  Dimension::dimensionless);
+  if (out != "any" && !si.empty()) out += " " + u.unit;
   if (p.integer) out += ", whole";
   if (p.automatic) out += ", or auto";
   return out;

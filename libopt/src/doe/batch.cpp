@@ -515,9 +515,8 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     for (const auto& c : spec.constraints)
       if (std::find(summarised.begin(), summarised.end(), c.metric) == summarised.end()) summarised.push_back(c.metric);
   if (summarised.empty()) summarised = metrics;
-  std::vector<std::string> units, charts;
-  for (const auto& m : summarised) units.push_back(base.metric_unit(m));
-  j["summary"] = summarize(store.path(), spec, summarised, units, dir, out, charts);
+  std::vector<std::string> charts;
+  j["summary"] = summarize(store.path(), spec, summarised, base, dir, out, charts);
   j["charts"] = charts;
   if (spec.refine_best > 0 && complete && o.shard.count == 1)
     j["refine"] = refine(evaluator, maker(), spec, store.path(), out);

@@ -5,12 +5,14 @@
 // row of the store's `refined` table, committed when it ends, so a rerun
 // redoes only the runs it lacks; changed refine settings start the table
 // afresh (the samples stay).
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
 
 #include "doe/evaluator.hpp"
 #include "doe/sqlite.hpp"
+#include "opt/display_units.hpp"
 #include "opt/interrupt.hpp"
 
 namespace opt::doe {
@@ -128,7 +130,10 @@ nlohmann::json refine(const Evaluator& ev, const SampleMaker& maker, const DoeSp
   for (const auto& f : spec.factors) columns += ", " + identifier(f.factor.name);
   Statement all(db, "SELECT rank, start, driver_status, evaluations, start_value, value, status" + columns +
                         " FROM refined ORDER BY rank");
-  out << "  rank  sample        " << std::setw(14) << "start" << std::setw(14) << "refined"
+  const std::string unit = ev.base().metric_unit(goal);  // the objective's values, shown as the charts show them
+  const std::string start_head = shown_label("start", unit), refined_head = shown_label("refined", unit);
+  const int width = static_cast<int>(std::max<size_t>(14, refined_head.size() + 1));
+  out << "  rank  sample        " << std::setw(width) << start_head << std::setw(width) << refined_head
       << "  driver           evaluations\n";
   while (all.step()) {
     nlohmann::json run = {{"rank", all.int64(0)},         {"start", all.int64(1)},
@@ -140,8 +145,9 @@ nlohmann::json refine(const Evaluator& ev, const SampleMaker& maker, const DoeSp
       run["factors"][spec.factors[j].factor.name] =
           spec.factors[j].factor.labels.empty() ? nlohmann::json(all.real(col)) : nlohmann::json(*all.text(col));
     }
-    out << "  " << std::setw(4) << all.int64(0) << "  " << std::setw(12) << all.int64(1) << "  " << std::setw(14)
-        << std::setprecision(8) << all.real(4) << std::setw(14) << all.real(5) << "  " << std::setw(17) << std::left
+    out << "  " << std::setw(4) << all.int64(0) << "  " << std::setw(12) << all.int64(1) << "  " << std::setw(width)
+        << std::setprecision(8) << all.real(4) * shown_unit(unit).scale << std::setw(width)
+        << all.real(5) * shown_unit(unit).scale << "  " << std::setw(17) << std::left
         << *all.text(2) << std::right << all.int64(3) << "\n";
     runs.push_back(std::move(run));
   }

@@ -12,8 +12,10 @@
 #include "doe/evaluator.hpp"
 #include "doe/sqlite.hpp"
 #include "opt/chart.hpp"
+#include "opt/display_units.hpp"
 #include "opt/doe/batch.hpp"
 #include "opt/doe/random.hpp"
+#include "report/report.hpp"
 
 namespace opt::doe {
 namespace {
@@ -24,14 +26,6 @@ using sql::Statement;
 constexpr int kBins = 10;          // a continuous factor's main effect: means over 10 equal bins
 constexpr int kMaxLevels = 50;     // more levels than this are binned too
 constexpr int kBootstrap = 200;    // resamples for the Sobol' indices' 95% intervals
-constexpr std::int64_t kMapPoints = 20000;  // samples drawn on the status map, at most
-
-// Eight significant digits, for the printed summary (the store keeps 17).
-std::string short_number(double v) {
-  char s[40];
-  std::snprintf(s, sizeof s, "%.8g", v);
-  return s;
-}
 
 std::string sql_number(double v) {
   char s[40];
@@ -85,7 +79,7 @@ void add(Group& g, const std::vector<double>& v) {
 }
 
 // The main effects of every factor: the mean of each metric per level (or
-// option, or tenth of a range) over the feasible rows, in one scan of the
+// option, or tenth of a range) over the rows `where` selects, in one scan of the
 // store (a GROUP BY per factor was a scan and a sort each: ~35 s on 10^7
 // rows). Groups in ascending order of value, or of name for options.
 std::vector<Effect> main_effects(const sql::Db& db, const std::vector<FactorSpec>& factors,
@@ -210,8 +204,93 @@ std::vector<std::vector<double>> saltelli_rows(const sql::Db& db, const std::str
 
 }  // namespace
 
+namespace {
+
+// The span of a factor's values: its range, or its levels' (a categorical
+// factor's levels are its options' indices).
+std::pair<double, double> extent(const Factor& f) {
+  if (f.kind == Factor::Kind::range || f.levels.empty()) return {f.lower, f.upper};
+  const auto [lo, hi] = std::minmax_element(f.levels.begin(), f.levels.end());
+  return {*lo, *hi};
+}
+
+// Column `col` of a row as a number: a categorical factor's option index (NaN when unknown).
+double factor_value(const Statement& st, int col, const Factor& f) {
+  if (f.labels.empty()) return st.real(col);
+  const auto at = std::find(f.labels.begin(), f.labels.end(), st.text(col).value_or(""));
+  return at == f.labels.end() ? NAN : static_cast<double>(at - f.labels.begin());
+}
+
+// The cell of v among kMapCells equal parts of [lo, hi] (v finite).
+int map_cell(double v, std::pair<double, double> span) {
+  const auto [lo, hi] = span;
+  if (!(hi > lo)) return 0;
+  return static_cast<int>(std::clamp(std::floor((v - lo) / (hi - lo) * kMapCells), 0.0, kMapCells - 1.0));
+}
+
+}  // namespace
+
+std::vector<MapSeries> status_map(const std::string& store_file, const DoeSpec& spec) {
+  const Factor &fx = spec.factors.at(0).factor, &fy = spec.factors.at(1).factor;
+  const auto span_x = extent(fx), span_y = extent(fy);
+  struct Pick {
+    std::uint64_t hash = ~std::uint64_t{0};
+    double x = NAN, y = NAN;
+  };
+  struct Outcome {
+    std::int64_t count = 0;
+    std::vector<double> x, y;  // every sample's, while there are at most kMaxDrawnPoints
+    std::vector<Pick> picks;   // by cell
+  };
+  constexpr auto kAll = static_cast<std::int64_t>(kMaxDrawnPoints);
+  std::map<std::string, Outcome, std::less<>> outcomes;
+  sql::Db db(store_file, SQLITE_OPEN_READONLY);
+  Statement st(db, "select idx, status, (" + feasible_where(spec) + "), " + identifier(fx.name) + ", " +
+                       identifier(fy.name) + " from samples");
+  while (st.step()) {
+    const std::string status = st.text(1).value_or("");
+    const std::string_view outcome = status != "ok" ? std::string_view(status)
+                                     : st.int64(2)  ? "feasible"
+                                                    : "constraint not met";
+    auto at = outcomes.find(outcome);
+    if (at == outcomes.end()) at = outcomes.try_emplace(std::string(outcome)).first;
+    Outcome& o = at->second;
+    const double x = factor_value(st, 3, fx), y = factor_value(st, 4, fy);
+    if (++o.count <= kAll) o.x.push_back(x), o.y.push_back(y);
+    if (!std::isfinite(x) || !std::isfinite(y)) continue;
+    if (o.picks.empty()) o.picks.resize(kMapCells * kMapCells);
+    Pick& p = o.picks[static_cast<size_t>(map_cell(x, span_x) * kMapCells + map_cell(y, span_y))];
+    const std::uint64_t hash = philox_bits(0, static_cast<std::uint64_t>(st.int64(0)), 0, domain::status_map);
+    if (hash < p.hash) p = {hash, x, y};
+  }
+  std::vector<MapSeries> out;
+  for (auto& [name, o] : outcomes) {
+    MapSeries m{name, o.count, std::move(o.x), std::move(o.y)};
+    if (o.count > kAll) {
+      m.x.clear(), m.y.clear();
+      for (const Pick& p : o.picks)
+        if (!std::isnan(p.x)) m.x.push_back(p.x), m.y.push_back(p.y);
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+namespace {
+
+// `text` right-aligned in `width` columns (left-aligned when `left`).
+std::string pad(const std::string& text, size_t width, bool left = false) {
+  const std::string fill(width > text.size() ? width - text.size() : 0, ' ');
+  return left ? text + fill : fill + text;
+}
+
+// The SI unit of a factor's values; none for an option's name.
+std::string unit_of(const FactorSpec& f) { return f.factor.labels.empty() ? si_unit(f.parameter.dimension) : ""; }
+
+}  // namespace
+
 nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, const std::vector<std::string>& metrics,
-                         const std::vector<std::string>& units, const std::string& dir, std::ostream& out,
+                         const Problem& problem, const std::string& dir, std::ostream& out,
                          std::vector<std::string>& charts) {
   sql::Db db(store_file, SQLITE_OPEN_READWRITE);
   nlohmann::json j;
@@ -254,8 +333,10 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     j["best"].push_back(b);
   }
 
-  // Main effects: the mean of each metric per level (or bin) of each factor.
-  const std::vector<Effect> effects = main_effects(db, spec.factors, columns, where);
+  // Main effects: the mean of each metric per level (or bin) of each factor,
+  // over every evaluated design, constraints met or not: a constraint met in
+  // part of a factor's range only would cut that factor's curve there.
+  const std::vector<Effect> effects = main_effects(db, spec.factors, columns, "status = 'ok'");
   for (std::size_t f = 0; f < spec.factors.size(); ++f) {
     const auto& fs = spec.factors[f];
     const Effect& e = effects[f];
@@ -282,7 +363,7 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     }
   }
 
-  // Printed.
+  // Printed, in the units the charts show.
   out << "summary: " << j["feasible"].get<std::int64_t>() << " feasible samples\n";
   for (const auto& [s, v] : j["failures"].items())
   {
@@ -292,22 +373,32 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
   }
   if (j.contains("best"))
     for (const auto& b : j["best"]) {
-      out << "  best " << b["metric"].get<std::string>() << " = " << b["value"].get<double>() << " at sample "
-          << b["index"].get<std::int64_t>() << ":";
-      for (const auto& [f, v] : b["factors"].items()) out << " " << f << " = " << (v.is_string() ? v.get<std::string>() : short_number(v.get<double>()));
+      const std::string m = b["metric"].get<std::string>();
+      out << "  best " << m << " = " << shown_value(b["value"].get<double>(), problem.metric_unit(m), 8)
+          << " at sample " << b["index"].get<std::int64_t>() << ":";
+      for (size_t f = 0; f < spec.factors.size(); ++f) {
+        const auto& v = b["factors"][spec.factors[f].factor.name];
+        out << (f ? ", " : " ") << spec.factors[f].factor.name << " = "
+            << (v.is_string() ? v.get<std::string>() : shown_value(v.get<double>(), unit_of(spec.factors[f]), 8));
+      }
       out << "\n";
     }
+  std::vector<std::string> factor_names;
+  for (const auto& fs : spec.factors) factor_names.push_back(fs.factor.name);
+  const size_t factor_width = report::longest(factor_names, 6);
   if (!metrics.empty()) {
-    out << "main effects (max - min of the metric's mean over a factor's levels or 10 bins):\n  " << std::string(24, ' ');
-    for (const auto& m : metrics) out << " " << m.substr(0, 18) << std::string(18 - std::min<size_t>(18, m.size()), ' ');
+    out << "main effects (max - min of the metric's mean over a factor's levels or 10 bins):\n  "
+        << pad("factor", factor_width, true);
+    std::vector<std::string> head;
+    for (const auto& m : metrics) head.push_back(shown_label(m, problem.metric_unit(m)));
+    for (const auto& h : head) out << "  " << pad(h, std::max<size_t>(12, h.size()));
     out << "\n";
-    for (const auto& fs : spec.factors) {
-      const std::string& f = fs.factor.name;
-      out << "  " << f << std::string(24 - std::min<size_t>(24, f.size()), ' ');
-      for (const auto& m : metrics) {
-        char cell[32];
-        std::snprintf(cell, sizeof cell, " %-18.6g", j["main_effects"][f][m]["range"].get<double>());
-        out << cell;
+    for (const auto& f : factor_names) {
+      out << "  " << pad(f, factor_width, true);
+      for (size_t m = 0; m < metrics.size(); ++m) {
+        const double range = j["main_effects"][f][metrics[m]]["range"].get<double>();
+        out << "  " << pad(report::fmt(range * shown_unit(problem.metric_unit(metrics[m])).scale),
+                           std::max<size_t>(12, head[m].size()));
       }
       out << "\n";
     }
@@ -316,12 +407,11 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     out << "Sobol' indices (first order, total; 95% bootstrap intervals):\n";
     for (const auto& [m, fs] : j["sobol"].items())
       for (const auto& [f, v] : fs.items()) {
-        char line[200];
-        std::snprintf(line, sizeof line, "  %-24s %-20s S1 %7.4f [%7.4f, %7.4f]  ST %7.4f [%7.4f, %7.4f]\n",
-                      m.c_str(), f.c_str(), v["first"].get<double>(), v["first_95"][0].get<double>(),
-                      v["first_95"][1].get<double>(), v["total"].get<double>(), v["total_95"][0].get<double>(),
-                      v["total_95"][1].get<double>());
-        out << line;
+        char numbers[120];
+        std::snprintf(numbers, sizeof numbers, "S1 %7.4f [%7.4f, %7.4f]  ST %7.4f [%7.4f, %7.4f]\n",
+                      v["first"].get<double>(), v["first_95"][0].get<double>(), v["first_95"][1].get<double>(),
+                      v["total"].get<double>(), v["total_95"][0].get<double>(), v["total_95"][1].get<double>());
+        out << "  " << pad(m, report::longest(metrics), true) << "  " << pad(f, factor_width, true) << "  " << numbers;
       }
   }
 
@@ -331,7 +421,7 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     Chart c;
     c.title = "main effects on " + m;
     c.x_label = "factor position, lowest level or value (0) to highest (1) [-]";
-    c.set_y(m, units[k]);
+    c.set_y(m, problem.metric_unit(m));
     for (const auto& fs : spec.factors) {
       const auto& me = j["main_effects"][fs.factor.name][m];
       Series s{fs.factor.name, me["positions"].get<std::vector<double>>(), me["means"].get<std::vector<double>>(),
@@ -342,37 +432,18 @@ nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, con
     if (write_svg(c, file)) charts.push_back(file);
   }
 
-  // The status map: where designs fail, and how, over the first two
-  // factors; one marker series per outcome, at most kMapPoints samples
-  // (every k-th index), so memory stays bounded whatever the store.
+  // The status map: where designs fail, and how, over the first two factors.
   if (spec.factors.size() >= 2) {
     const FactorSpec &fx = spec.factors[0], &fy = spec.factors[1];
-    Statement total(db, "select count(*) from samples");
-    total.step();
-    const std::int64_t every = std::max<std::int64_t>(1, (total.int64(0) + kMapPoints - 1) / kMapPoints);
-    Statement st(db, "select status, (" + where + "), " + identifier(fx.factor.name) + ", " +
-                         identifier(fy.factor.name) + " from samples where idx % " + std::to_string(every) +
-                         " = 0 order by idx");
-    std::map<std::string, Series> outcomes;
-    while (st.step()) {
-      const std::string status = st.text(0).value_or("");
-      const std::string key = status != "ok" ? status : st.int64(1) ? "feasible" : "constraint not met";
-      Series& s = outcomes.try_emplace(key, Series{key, {}, {}, Series::Style::markers}).first->second;
-      s.x.push_back(st.real(2));
-      s.y.push_back(st.real(3));
-    }
     Chart c;
-    c.title = "outcome of every " + (every > 1 ? std::to_string(every) + "th " : std::string()) + "sample over " +
-              fx.factor.name + " and " + fy.factor.name;
-    c.title += " (at most " + std::to_string(kMaxDrawnPoints) + " drawn each)";
-    c.set_x(fx.factor.name, fx.factor.labels.empty() ? si_unit(fx.parameter.dimension) : "");
-    c.set_y(fy.factor.name, fy.factor.labels.empty() ? si_unit(fy.parameter.dimension) : "");
-    for (auto& [key, s] : outcomes) {  // labelled with its count, at most kMaxDrawnPoints drawn
-      const size_t n = s.x.size(), stride = (n + kMaxDrawnPoints - 1) / kMaxDrawnPoints;
-      Series drawn{key + " (" + std::to_string(n) + ")", {}, {}, Series::Style::markers};
-      for (size_t i = 0; i < n; i += stride) drawn.x.push_back(s.x[i]), drawn.y.push_back(s.y[i]);
-      c.series.push_back(std::move(drawn));
-    }
+    c.title = "outcomes over " + fx.factor.name + " and " + fy.factor.name + " (an outcome over " +
+              std::to_string(kMaxDrawnPoints) + ": one per " + std::to_string(kMapCells) + " x " +
+              std::to_string(kMapCells) + " cell)";
+    c.set_x(fx.factor.name, unit_of(fx));
+    c.set_y(fy.factor.name, unit_of(fy));
+    for (auto& m : status_map(store_file, spec))  // labelled with its count in the whole store
+      c.series.push_back({m.outcome + " (" + std::to_string(m.count) + ")", std::move(m.x), std::move(m.y),
+                          Series::Style::markers});
     if (write_svg(c, dir + "status_map.svg")) charts.push_back(dir + "status_map.svg");
   }
 

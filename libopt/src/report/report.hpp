@@ -15,6 +15,8 @@ namespace opt::report {
 // v with `precision` significant digits; "-" when not finite.
 std::string fmt(double v, int precision = 6);
 std::string join(const std::vector<std::string>& v);
+// The length of the longest name, at least `at_least`: a column of names as wide as it needs.
+size_t longest(const std::vector<std::string>& names, size_t at_least = 0);
 // Right-aligned cells, each as wide as its column's header (at least 12).
 void print_row(std::ostream& out, const std::vector<std::string>& cells,
                const std::vector<std::string>& head);

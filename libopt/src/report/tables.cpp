@@ -1,8 +1,10 @@
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 
+#include "opt/display_units.hpp"
 #include "report/report.hpp"
 
 namespace opt::report {
@@ -36,18 +38,33 @@ nlohmann::json variables_json(const Problem& p, const Eigen::VectorXd& x) {
   return j;
 }
 
+size_t longest(const std::vector<std::string>& names, size_t at_least) {
+  for (const auto& n : names) at_least = std::max(at_least, n.size());
+  return at_least;
+}
+
 void print_variables(std::ostream& out, const Problem& p, const Eigen::VectorXd& x) {
   const auto& vars = p.variables();
-  for (size_t i = 0; i < vars.size(); ++i)
-    out << "  " << std::left << std::setw(26) << vars[i].name << std::right << std::setw(14)
-        << fmt(x[i], 10) << " " << std::left << std::setw(6) << si_unit(vars[i].dimension)
-        << std::right << " in [" << fmt(vars[i].lower) << ", " << fmt(vars[i].upper) << "]\n";
+  std::vector<std::string> names;
+  for (const auto& v : vars) names.push_back(v.name);
+  for (size_t i = 0; i < vars.size(); ++i) {
+    const std::string si = si_unit(vars[i].dimension);
+    const ShownUnit u = shown_unit(si);
+    out << "  " << std::left << std::setw(static_cast<int>(longest(names))) << vars[i].name << std::right
+        << std::setw(16) << fmt(x[i] * u.scale, 10) << " " << std::left << std::setw(6) << (si.empty() ? "" : u.unit)
+        << std::right << " in [" << fmt(vars[i].lower * u.scale) << ", " << fmt(vars[i].upper * u.scale) << "]\n";
+  }
 }
 
 void print_metrics(std::ostream& out, const Problem& p, const nlohmann::json& m) {
-  for (const auto& [name, v] : m.items())
-    out << "  " << std::left << std::setw(26) << name << std::right << std::setw(14)
-        << fmt(v.get<double>(), 10) << " " << p.metric_unit(name) << "\n";
+  std::vector<std::string> names;
+  for (const auto& [name, v] : m.items()) names.push_back(name);
+  for (const auto& [name, v] : m.items()) {
+    const std::string si = p.metric_unit(name);
+    const ShownUnit u = shown_unit(si);
+    out << "  " << std::left << std::setw(static_cast<int>(longest(names))) << name << std::right << std::setw(16)
+        << fmt(v.get<double>() * u.scale, 10) << (si.empty() ? "" : " " + u.unit) << "\n";
+  }
 }
 
 }  // namespace opt::report

@@ -2,6 +2,7 @@
 #include <iostream>
 #include <limits>
 
+#include "opt/display_units.hpp"
 #include "opt/record.hpp"
 #include "report/report.hpp"
 #include "studies/studies.hpp"
@@ -66,10 +67,12 @@ OptimizeOutcome optimize(const Problem& p, const RunSpec& s, std::ostream& out, 
       << " us wall time\n";
   report::print_variables(out, p, r.x);
   out << "  " << (s.objective.maximize ? "maximize " : "minimize ") << s.objective.metric
-      << " = " << fmt(r.objective, 12) << " " << p.metric_unit(s.objective.metric) << "\n";
-  for (size_t i = 0; i < s.constraints.size() && i < r.constraint_values.size(); ++i)
-    out << "  constraint " << s.constraints[i].metric << " = " << fmt(r.constraint_values[i])
-        << s.constraints[i].relation() << fmt(s.constraints[i].bound) << "\n";
+      << " = " << shown_value(r.objective, p.metric_unit(s.objective.metric), 12) << "\n";
+  for (size_t i = 0; i < s.constraints.size() && i < r.constraint_values.size(); ++i) {
+    const std::string unit = p.metric_unit(s.constraints[i].metric);
+    out << "  constraint " << s.constraints[i].metric << " = " << shown_value(r.constraint_values[i], unit)
+        << s.constraints[i].relation() << shown_value(s.constraints[i].bound, unit) << "\n";
+  }
   out << "metrics at the optimum:\n";
   report::print_metrics(out, p, o.json["metrics"]);
   return o;

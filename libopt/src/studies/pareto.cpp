@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "opt/chart.hpp"
+#include "opt/display_units.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/record.hpp"
 #include "report/report.hpp"
@@ -38,9 +39,15 @@ nlohmann::json pareto(const Problem& p, const RunSpec& s, std::ostream& out, con
   for (const auto& v : p.variables()) layout.variables.push_back(v.name);
   CsvRecorder csv(dir + "pareto.csv", layout);
   out << "pareto front: minimise " << f1 << " subject to " << f2 << " <= epsilon, " << s.points
-      << " points from " << fmt(b2) << " to " << fmt(a2) << "\n";
-  std::vector<std::string> head{"epsilon", f1, f2};
-  for (const auto& v : p.variables()) head.push_back(v.name);
+      << " points from " << shown_value(b2, p.metric_unit(f2)) << " to " << shown_value(a2, p.metric_unit(f2)) << "\n";
+  std::vector<std::string> head{shown_label("epsilon", p.metric_unit(f2)), shown_label(f1, p.metric_unit(f1)),
+                                shown_label(f2, p.metric_unit(f2))};
+  std::vector<double> scale{shown_unit(p.metric_unit(f2)).scale, shown_unit(p.metric_unit(f1)).scale,
+                            shown_unit(p.metric_unit(f2)).scale};  // of each column, to its shown unit
+  for (const auto& v : p.variables()) {
+    head.push_back(shown_label(v.name, si_unit(v.dimension)));
+    scale.push_back(shown_unit(si_unit(v.dimension)).scale);
+  }
   head.push_back("          status");
   print_row(out, head, head);
   Series front{"Pareto front", {}, {}, Series::Style::line};
@@ -59,8 +66,8 @@ nlohmann::json pareto(const Problem& p, const RunSpec& s, std::ostream& out, con
     if (r.success()) x = r.x, front.x.push_back(v2), front.y.push_back(v1);
     const double cells[] = {eps, v1, v2, static_cast<double>(r.evaluations)};
     csv.record({k, r.x, to_string(r.status), cells});
-    std::vector<std::string> row{fmt(eps), fmt(v1, 8), fmt(v2, 8)};
-    for (int d = 0; d < r.x.size(); ++d) row.push_back(fmt(r.x[d], 8));
+    std::vector<std::string> row{fmt(eps * scale[0]), fmt(v1 * scale[1], 8), fmt(v2 * scale[2], 8)};
+    for (int d = 0; d < r.x.size(); ++d) row.push_back(fmt(r.x[d] * scale[row.size()], 8));
     row.push_back(to_string(r.status));
     print_row(out, row, head);
     rows.push_back({{"epsilon", eps}, {"status", to_string(r.status)}, {f1, v1}, {f2, v2},

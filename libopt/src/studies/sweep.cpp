@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "opt/doe/batch.hpp"
+#include "opt/display_units.hpp"
 #include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/record.hpp"
@@ -17,21 +18,25 @@ namespace {
 using report::fmt;
 using report::print_row;
 
+// The SI unit of a grid variable.
+std::string unit_of(const Problem& p, const GridAxis& a) { return si_unit(p.variables()[a.index].dimension); }
+
 // Relative differences from the paper where it printed the same column.
-void print_reference_differences(std::ostream& out, const RunSpec& s, const std::vector<std::string>& head,
+void print_reference_differences(std::ostream& out, const Problem& p, const RunSpec& s,
                                  const std::vector<std::vector<double>>& printed) {
   const auto& ref = s.reference.columns;
   if (s.grid.size() != 1 || !ref.count(s.grid[0].variable)) return;
   const auto& values = s.grid[0].values;
   out << "relative difference from " << s.reference.source << " [%] (ours - paper) / paper:\n";
-  const std::vector<std::string> ref_head(head.begin(), head.end() - 1);
+  std::vector<std::string> ref_head{shown_label(s.grid[0].variable, unit_of(p, s.grid[0]))};
+  ref_head.insert(ref_head.end(), s.columns.begin(), s.columns.end());
   print_row(out, ref_head, ref_head);
   const auto& rx = ref.at(s.grid[0].variable);
   for (size_t r = 0; r < rx.size(); ++r) {
     size_t i = 0;
     while (i < printed[0].size() && std::abs(values[i] - rx[r]) > 1e-9) ++i;
     if (i == printed[0].size()) continue;
-    std::vector<std::string> row{fmt(rx[r])};
+    std::vector<std::string> row{fmt(rx[r] * shown_unit(unit_of(p, s.grid[0])).scale)};
     for (size_t c = 0; c < s.columns.size(); ++c) {
       const auto it = ref.find(s.columns[c]);
       row.push_back(it == ref.end() || r >= it->second.size()
@@ -82,12 +87,15 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
   for (const auto& v : p.variables()) layout.variables.push_back(v.name);
   CsvRecorder csv(dir + "sweep.csv", layout);
   std::vector<std::string> head;
-  for (const auto& a : s.grid) head.push_back(a.variable);
-  for (const auto& c : s.columns) head.push_back(c);
+  std::vector<double> scale;  // of each printed column, to its shown unit
+  for (const auto& a : s.grid) head.push_back(shown_label(a.variable, unit_of(p, a)));
+  for (const auto& c : s.columns) head.push_back(shown_label(c, p.metric_unit(c)));
+  for (const auto& a : s.grid) scale.push_back(shown_unit(unit_of(p, a)).scale);
+  for (const auto& c : s.columns) scale.push_back(shown_unit(p.metric_unit(c)).scale);
   head.push_back("          status");  // wide enough for "synthesis_failed"
   o.total = 1;
   for (const auto& a : s.grid) o.total *= static_cast<long>(a.values.size());
-  out << "sweep over " << o.total << " points (values in SI):\n";
+  out << "sweep over " << o.total << " points:\n";
   print_row(out, head, head);
   std::vector<std::vector<double>> printed(s.columns.size());
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -105,11 +113,11 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
     infeasible += !e.ok();
     csv.record({r.index, x, r.status, r.metrics});
     std::vector<std::string> row;
-    for (const auto& a : s.grid) row.push_back(fmt(x[a.index]));
+    for (const auto& a : s.grid) row.push_back(fmt(x[a.index] * scale[row.size()]));
     for (size_t c = 0; c < s.columns.size(); ++c) {
       const double v = e.has(printed_ids[c]) ? e[printed_ids[c]].value : nan;
       printed[c].push_back(v);
-      row.push_back(fmt(v));
+      row.push_back(fmt(v * scale[row.size()]));
     }
     row.push_back(std::string(mech::to_string(e.status)));
     print_row(out, row, head);
@@ -118,7 +126,7 @@ SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const 
   });
   const bool complete = static_cast<long>(o.x.size()) == o.total;
   csv.close(complete);
-  if (complete) print_reference_differences(out, s, head, printed);
+  if (complete) print_reference_differences(out, p, s, printed);
   o.json = {{"points", o.total}, {"evaluated", o.x.size()}, {"infeasible", infeasible},
             {"csv", dir + "sweep.csv"}};
   return o;

@@ -153,9 +153,28 @@ nlohmann::json run_batch(const ConfigNode& root, const ProblemFactory& make, con
 // objective (or per metric), main effects of each factor on each metric,
 // Sobol' indices for a saltelli design; printed, written to the store's
 // `summary` table and charted (main_effects_METRIC.svg, appended to `charts`).
+// Printed values are in the units the charts show (display_units.hpp), the
+// store and the returned JSON in SI; `problem` gives the metrics' units.
 nlohmann::json summarize(const std::string& store_file, const DoeSpec& spec, const std::vector<std::string>& metrics,
-                         const std::vector<std::string>& units, const std::string& dir, std::ostream& out,
+                         const Problem& problem, const std::string& dir, std::ostream& out,
                          std::vector<std::string>& charts);
+
+// The points of status_map.svg over the first two factors (at least two):
+// per outcome ("feasible", "constraint not met", or a failure status) its
+// count over the whole store and, up to kMaxDrawnPoints samples, every
+// sample; beyond, in each cell of a kMapCells x kMapCells grid over the two
+// factors' extents, the one sample of that outcome whose index hashes
+// lowest. Every region where an outcome occurs shows it, whatever order the
+// sampler visits the space in, and one scan of the store needs memory for
+// the grid only. A categorical factor's value is its option's index.
+// Outcomes in the order of their names.
+constexpr int kMapCells = 30;
+struct MapSeries {
+  std::string outcome;
+  std::int64_t count = 0;
+  std::vector<double> x, y;  // SI, at most kMapCells^2 each
+};
+std::vector<MapSeries> status_map(const std::string& store_file, const DoeSpec& spec);
 
 // What a store's rows depend on, and its hash (FNV-1a 64, hex): the problem,
 // its settings (every model value and numerical setting), the sampler and

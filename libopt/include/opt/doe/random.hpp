@@ -22,6 +22,7 @@ constexpr std::uint32_t sample = 0;           // uniform(), random_bits()
 constexpr std::uint32_t feistel = 1;          // LHS permutations: feistel + round (4 rounds)
 constexpr std::uint32_t sobol_scramble = 16;  // Sobol' scramble matrices and shifts
 constexpr std::uint32_t derived_seed = 17;    // keys of maximin LHS candidates
+constexpr std::uint32_t status_map = 18;      // which samples the status map draws
 }  // namespace domain
 
 // The raw generator: Philox4x32-10 of counter {sample, stream, domain word}
