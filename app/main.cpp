@@ -1,5 +1,6 @@
 // mechopt command line: parse, dispatch, print. Exit codes: 0 done, 1 runtime
-// failure, 2 bad input (config or arguments).
+// failure, 2 bad input (config or arguments) or a run that cannot start (its
+// store is another run's to write).
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -42,7 +43,8 @@ usage:
                                           and source; variables; metrics) and algorithms
   mechopt --help | --version
 
-exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input,
+exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input (or an
+  output directory whose store another run is writing),
   130/143 stopped by SIGINT/SIGTERM (what was done is written, marked interrupted)
 )";
 
@@ -340,6 +342,8 @@ int main(int argc, char** argv) {
   } catch (const opt::ConfigError& e) {
     return bad_input(e);
   } catch (const opt::doe::StoreMismatch& e) {  // a store of another config: the input is wrong, not the run
+    return bad_input(e);
+  } catch (const opt::doe::StoreBusy& e) {  // another run writes that store: this one cannot start
     return bad_input(e);
   } catch (const std::exception& e) {
     std::cerr << "mechopt: failed: " << e.what() << "\n";

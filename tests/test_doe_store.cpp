@@ -185,6 +185,35 @@ TEST(DoeStore, ReopenResumesOrRefusesAnotherConfig) {
   EXPECT_EQ(std::get<std::int64_t>(query(old[0], "SELECT count(*) FROM samples")[0][0]), 4);
 }
 
+// One writer at a time: while a Store lives, a second one on its directory
+// is refused, naming the first by pid, host and start time, and a --new
+// moves nothing aside; a reader reads on; the lock goes with the first.
+TEST(DoeStore, SecondWriterIsRefusedWhileTheFirstLives) {
+  TempDir dir("lock");
+  {
+    Store first(dir.path, layout(), meta("h1"), false);
+    first.append(rows(0, 3));
+    for (const bool fresh : {false, true}) {
+      try {
+        Store second(dir.path, layout(), meta("h1"), fresh);
+        ADD_FAILURE() << "fresh=" << fresh << ": a second writer was accepted";
+      } catch (const opt::doe::StoreBusy& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(dir.file()), std::string::npos) << what;
+        EXPECT_NE(what.find("pid " + std::to_string(getpid()) + ", host "), std::string::npos) << what;
+        EXPECT_NE(what.find(", started 20"), std::string::npos) << what;
+      }
+    }
+    for (const auto& e : fs::directory_iterator(dir.path))
+      EXPECT_FALSE(e.path().filename().string().starts_with("store.sqlite.old-")) << e.path() << ": moved aside";
+    const auto done = Store::peek(dir.path, layout(), meta("h1"), 10);
+    ASSERT_TRUE(done);
+    EXPECT_EQ(std::count(done->begin(), done->end(), true), 3);
+  }
+  Store again(dir.path, layout(), meta("h1"), false);
+  EXPECT_EQ(again.count(), 3);
+}
+
 // --dry-run's view: nothing when there is no store (and none is made), the
 // finished bitmap of this run's store, a refusal for another config's.
 TEST(DoeStore, PeekReadsWithoutWriting) {

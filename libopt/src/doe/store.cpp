@@ -4,16 +4,23 @@
 // run loudly instead of losing rows.
 #include "opt/doe/store.hpp"
 
+#include <fcntl.h>
 #include <sqlite3.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <sstream>
+#include <utility>
 
 #include "doe/sqlite.hpp"
 #include "mech/status.hpp"
@@ -222,6 +229,88 @@ std::vector<bool> index_bitmap(Statement& s, const std::string& file, std::int64
   return done;
 }
 
+// ---- the writer's lock ----------------------------------------------------
+//
+// DIR/store.lock, a file of its own: SQLite's fcntl locks on store.sqlite are
+// dropped when any descriptor of that file in the process closes, and cover
+// one file where a store may be several. flock belongs to the open file
+// description, so the kernel releases it with the process however it ends;
+// the file itself stays (removing it would race with a run that has just
+// opened it) and its text, the last writer's name, means nothing unlocked.
+
+std::string text_of(const std::string& file) {
+  std::ifstream in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// "pid 12, host h, started 2026-...Z, command mechopt run ..." from the lines
+// WriterLock writes.
+std::string holder_text(const std::string& lines) {
+  std::string s;
+  std::istringstream in(lines);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) s += (s.empty() ? "" : ", ") + line;
+  return s.empty() ? "a process that has not written its name yet" : s;
+}
+
+// This process, for the lock file: pid, host, start time (UTC), command line.
+std::string holder_lines() {
+  char host[256] = "?";
+  gethostname(host, sizeof host - 1);
+  std::string command = text_of("/proc/self/cmdline");  // NUL-separated arguments
+  while (!command.empty() && command.back() == '\0') command.pop_back();
+  std::replace(command.begin(), command.end(), '\0', ' ');
+  std::replace(command.begin(), command.end(), '\n', ' ');
+  const std::time_t t = std::time(nullptr);
+  char started[32];
+  std::strftime(started, sizeof started, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return "pid " + std::to_string(getpid()) + "\nhost " + host + "\nstarted " + started +
+         (command.empty() ? "" : "\ncommand " + command) + "\n";
+}
+
+// DIR/store.lock, held (flock, exclusive) from construction to destruction:
+// StoreBusy naming the holder when another process holds it (store.hpp, Store).
+class WriterLock {
+ public:
+  explicit WriterLock(const std::string& dir);
+  ~WriterLock();
+  WriterLock(WriterLock&& o) noexcept;
+  WriterLock& operator=(WriterLock&&) = delete;
+
+ private:
+  std::string file_;
+  int fd_ = -1;
+};
+
+WriterLock::WriterLock(const std::string& dir) : file_((fs::path(dir) / "store.lock").string()) {
+  // CLOEXEC: a program the run starts does not inherit (and keep) the lock.
+  fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(file_ + ": cannot open the store's lock file: " + std::strerror(errno));
+  if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int e = errno;
+    ::close(fd_);
+    const std::string store = (fs::path(dir) / "store.sqlite").string();
+    if (e != EWOULDBLOCK) throw std::runtime_error(file_ + ": cannot lock the store's lock file: " + std::strerror(e));
+    throw StoreBusy(store + " is being written by another run (" + holder_text(text_of(file_)) + "), which holds " +
+                    file_ + " until it ends; wait for it or stop it (readers such as `mechopt export` "
+                    "and pandas may read the store meanwhile)");
+  }
+  const std::string lines = holder_lines();
+  if (ftruncate(fd_, 0) != 0 || pwrite(fd_, lines.data(), lines.size(), 0) != ssize_t(lines.size())) {
+    const int e = errno;
+    ::close(fd_);
+    throw std::runtime_error(file_ + ": cannot write to the store's lock file: " + std::strerror(e));
+  }
+}
+
+WriterLock::~WriterLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the flock
+}
+
+WriterLock::WriterLock(WriterLock&& o) noexcept : file_(std::move(o.file_)), fd_(std::exchange(o.fd_, -1)) {}
+
 // ---- a batch of rows as a table ------------------------------------------
 //
 // append() writes a batch with one statement, INSERT INTO samples SELECT *
@@ -352,8 +441,10 @@ Statement batch_insert(const Db& db, Batch& batch) {
 // ---- Store --------------------------------------------------------------
 
 struct Store::Impl {
-  Impl(Db d, StoreLayout l) : db(std::move(d)), layout(std::move(l)), insert(batch_insert(db, batch)) {}
-  Db db;  // declared first: destroyed after the statement
+  Impl(WriterLock w, Db d, StoreLayout l)
+      : lock(std::move(w)), db(std::move(d)), layout(std::move(l)), insert(batch_insert(db, batch)) {}
+  WriterLock lock;  // declared first: released after the store is closed
+  Db db;  // before the statement: destroyed after it
   StoreLayout layout;
   Batch batch{&layout, {}, 0};  // before insert: preparing it reads the layout
   Statement insert;                // every batch goes through it
@@ -368,6 +459,7 @@ Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<s
   all["layout"] = layout_json(l).dump();
 
   fs::create_directories(dir);
+  WriterLock lock(dir);  // before the store is moved aside, created or opened
   const std::string file = (fs::path(dir) / "store.sqlite").string();
   if (fresh && fs::exists(file)) move_aside(file);
   Db db(file, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
@@ -394,7 +486,7 @@ Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<s
     add_meta(db, all);
   }
   t.commit();
-  impl_ = std::make_unique<Impl>(std::move(db), std::move(l));
+  impl_ = std::make_unique<Impl>(std::move(lock), std::move(db), std::move(l));
 }
 
 Store::~Store() = default;
@@ -697,7 +789,7 @@ MergeReport merge_stores(const std::string& out_dir, const std::vector<std::stri
   auto meta = metas[0];
   meta.erase("shard");
   meta["merged_from"] = json(report.inputs).dump();
-  { Store created(out_dir, layout, meta, false); }  // the schema and meta
+  const Store created(out_dir, layout, meta, false);  // the schema and meta, and the writer's lock
   const Db out(out_file, SQLITE_OPEN_READWRITE);
   Statement insert(out, insert_sql(4 + layout.factors.size() + layout.metrics.size()));
   Transaction t(out);  // the merged store is whole or empty

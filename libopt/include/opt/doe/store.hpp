@@ -42,9 +42,23 @@ class StoreMismatch : public std::runtime_error {
   using runtime_error::runtime_error;
 };
 
+// Another process writes the store in that directory (it holds DIR/store.lock):
+// the message names it by pid, host, start time and command.
+class StoreBusy : public std::runtime_error {
+ public:
+  using runtime_error::runtime_error;
+};
+
+// One writer at a time: a Store holds an exclusive flock on DIR/store.lock
+// (a file of its own, beside the store) for its lifetime, taken before the
+// store is opened, created or moved aside. The operating system releases it
+// with the process, so a run killed by SIGKILL or a power cut leaves nothing
+// that blocks the next one. Readers (export, peek, check, pandas) never take
+// it. Under MPI only the rank that writes opens the Store.
 class Store {
  public:
-  // Opens DIR/store.sqlite (creating DIR), or creates it with `layout` and
+  // Takes DIR/store.lock (StoreBusy when another process holds it), then
+  // opens DIR/store.sqlite (creating DIR), or creates it with `layout` and
   // `meta` (key -> text; must hold "config_hash"). An existing store must have
   // the same config_hash and layout, else StoreMismatch names the file and the
   // top-level keys of meta "config_canonical" (a JSON object) that differ. On
