@@ -14,6 +14,7 @@
 
 #include "opt/derivatives.hpp"
 #include "opt/doe/batch.hpp"
+#include "opt/doe/recover.hpp"
 #include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/study.hpp"
@@ -33,6 +34,9 @@ usage:
                                           CSV without wall times, equal for equal results)
   mechopt merge OUT STORE...              shard stores into OUT/store.sqlite, checking that
                                           their configs agree and no sample is missing or doubled
+  mechopt check STORE                     SQLite's integrity check, every row's checksum, every
+                                          sample index once, counts by status, the config hash;
+                                          exit 0 when sound, 1 with what is wrong
   mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON
                                           (a variable at its initial); --set overrides
                                           model.KEY and a variable's initial (VALUE may carry a unit)
@@ -56,7 +60,7 @@ struct Args {
   bool batch_flags = false;  // any of the doe flags given
   bool doe_only_flags = false;  // --progress, --shard, --new, --dry-run (a sweep takes --threads, --force)
   std::string export_format;               // export: csv | json | canonical
-  std::vector<std::string> stores;         // export, merge
+  std::vector<std::string> stores;         // export, merge, check
 };
 
 
@@ -120,7 +124,7 @@ Args parse_args(int argc, char** argv) {
       a.doe_only_flags = a.doe_only_flags || v[i] != "--force";
     } else if ((v[i] == "--csv" || v[i] == "--json" || v[i] == "--canonical") && a.command == "export") {
       a.export_format = v[i].substr(2);
-    } else if ((a.command == "export" || a.command == "merge") && v[i][0] != '-') {
+    } else if ((a.command == "export" || a.command == "merge" || a.command == "check") && v[i][0] != '-') {
       a.stores.push_back(v[i]);
     } else if (v[i] == "--output" || v[i] == "--set") {
       if (i + 1 == v.size()) usage_error(v[i] + " needs a value");
@@ -150,6 +154,7 @@ Args parse_args(int argc, char** argv) {
   if (a.command == "export" && (a.stores.size() != 1 || a.export_format.empty()))
     usage_error("export expects one STORE and --csv, --json or --canonical");
   if (a.command == "merge" && a.stores.size() < 2) usage_error("merge expects OUT and at least one STORE");
+  if (a.command == "check" && a.stores.size() != 1) usage_error("check expects one STORE");
   return a;
 }
 
@@ -241,6 +246,22 @@ int stopped(const std::string& where) {
   return 128 + sig;
 }
 
+// What `check` found, on stdout.
+void print_check(const opt::doe::StoreCheck& c) {
+  std::cout << "store: " << c.file << "\nconfig hash: "
+            << c.config_hash.value_or("none (the config given to the next run supplies it)") << "\n";
+  if (c.hi >= 0)
+    std::cout << "samples: " << c.intact << " intact of [" << c.lo << ", " << c.hi << "), " << c.missing << " missing"
+              << (c.finished ? " (the store says finished)" : "") << "\n";
+  else
+    std::cout << "samples: " << c.intact << " intact rows (the run's range is unknown)\n";
+  std::cout << "by status:";
+  for (const auto& [status, n] : c.statuses) std::cout << " " << status << " " << n;
+  std::cout << (c.checksums ? "" : "\nrows without checksums (a store from before them): their values are unverified")
+            << "\n" << (c.sound() ? "sound\n" : "damaged:\n");
+  for (const auto& p : c.problems) std::cout << "  " << p << "\n";
+}
+
 int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& problem) {
   opt::doe::DoeSpec spec = opt::doe::parse_doe(root, problems::parameters(root), problem,
                                                       a.batch.force || a.batch.dry_run);
@@ -328,9 +349,20 @@ int main(int argc, char** argv) {
     }
     if (a.command == "run" || a.command == "eval" || a.command == "check-derivatives") return run(a);
     if (a.command == "export") {
-      if (a.export_format == "json") opt::doe::export_json(a.stores[0], std::cout);
-      else opt::doe::export_csv(a.stores[0], std::cout, a.export_format == "csv");
+      try {
+        if (a.export_format == "json") opt::doe::export_json(a.stores[0], std::cout);
+        else opt::doe::export_csv(a.stores[0], std::cout, a.export_format == "csv");
+      } catch (const std::exception& e) {  // never a partial file in silence
+        std::cout.flush();
+        std::cerr << "mechopt: failed: " << e.what() << "\nmechopt: export: the output is incomplete\n";
+        return 1;
+      }
       return 0;
+    }
+    if (a.command == "check") {
+      const auto c = opt::doe::check_store(a.stores[0]);
+      print_check(c);
+      return c.sound() ? 0 : 1;
     }
     if (a.command == "merge") {
       const auto r = opt::doe::merge_stores(a.stores[0], {a.stores.begin() + 1, a.stores.end()});

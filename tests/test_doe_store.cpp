@@ -104,7 +104,7 @@ TEST(DoeStore, RowsRoundTrip) {
 
   const auto r = query(dir.file(), "SELECT * FROM samples ORDER BY idx");
   ASSERT_EQ(r.size(), 3u);
-  ASSERT_EQ(r[2].size(), 8u);
+  ASSERT_EQ(r[2].size(), 9u);  // idx, status, wall_time, message, 2 factors, 2 metrics, checksum
   EXPECT_EQ(std::get<std::int64_t>(r[2][0]), 3);
   EXPECT_EQ(std::get<std::string>(r[2][1]), "cannot_assemble");
   EXPECT_EQ(real(r[2][2]), 0.5);
@@ -116,6 +116,7 @@ TEST(DoeStore, RowsRoundTrip) {
   EXPECT_TRUE(std::holds_alternative<std::monostate>(r[2][6]));  // NaN -> NULL
   EXPECT_TRUE(std::isnan(real(r[2][6])));                        // -> NaN
   EXPECT_EQ(real(r[1][6]), 1.5);
+  EXPECT_TRUE(std::holds_alternative<std::int64_t>(r[0][8]));
 
   // Movable: the runner keeps it in a member.
   Store moved = std::move(s);
