@@ -37,6 +37,9 @@ usage:
   mechopt check STORE                     SQLite's integrity check, every row's checksum, every
                                           sample index once, counts by status, the config hash;
                                           exit 0 when sound, 1 with what is wrong
+  mechopt recover STORE OUT               every readable, intact row of a damaged store (and its
+                                          meta) into OUT/store.sqlite; running the config on OUT
+                                          evaluates only the samples that were lost
   mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON
                                           (a variable at its initial); --set overrides
                                           model.KEY and a variable's initial (VALUE may carry a unit)
@@ -60,7 +63,7 @@ struct Args {
   bool batch_flags = false;  // any of the doe flags given
   bool doe_only_flags = false;  // --progress, --shard, --new, --dry-run (a sweep takes --threads, --force)
   std::string export_format;               // export: csv | json | canonical
-  std::vector<std::string> stores;         // export, merge, check
+  std::vector<std::string> stores;         // export, merge, check, recover
 };
 
 
@@ -124,7 +127,8 @@ Args parse_args(int argc, char** argv) {
       a.doe_only_flags = a.doe_only_flags || v[i] != "--force";
     } else if ((v[i] == "--csv" || v[i] == "--json" || v[i] == "--canonical") && a.command == "export") {
       a.export_format = v[i].substr(2);
-    } else if ((a.command == "export" || a.command == "merge" || a.command == "check") && v[i][0] != '-') {
+    } else if ((a.command == "export" || a.command == "merge" || a.command == "check" || a.command == "recover") &&
+               v[i][0] != '-') {
       a.stores.push_back(v[i]);
     } else if (v[i] == "--output" || v[i] == "--set") {
       if (i + 1 == v.size()) usage_error(v[i] + " needs a value");
@@ -155,6 +159,7 @@ Args parse_args(int argc, char** argv) {
     usage_error("export expects one STORE and --csv, --json or --canonical");
   if (a.command == "merge" && a.stores.size() < 2) usage_error("merge expects OUT and at least one STORE");
   if (a.command == "check" && a.stores.size() != 1) usage_error("check expects one STORE");
+  if (a.command == "recover" && a.stores.size() != 2) usage_error("recover expects STORE and OUT");
   return a;
 }
 
@@ -246,7 +251,7 @@ int stopped(const std::string& where) {
   return 128 + sig;
 }
 
-// What `check` found, on stdout.
+// What `check` and `recover` found, on stdout.
 void print_check(const opt::doe::StoreCheck& c) {
   std::cout << "store: " << c.file << "\nconfig hash: "
             << c.config_hash.value_or("none (the config given to the next run supplies it)") << "\n";
@@ -363,6 +368,17 @@ int main(int argc, char** argv) {
       const auto c = opt::doe::check_store(a.stores[0]);
       print_check(c);
       return c.sound() ? 0 : 1;
+    }
+    if (a.command == "recover") {
+      const auto c = opt::doe::recover_store(a.stores[0], a.stores[1]);
+      print_check(c);
+      if (c.saved < 0) {
+        std::cerr << "mechopt: recover: nothing could be saved from " << c.file << "\n";
+        return 1;
+      }
+      std::cout << "saved " << c.saved << " rows into " << a.stores[1] << "/store.sqlite"
+                << (c.config_hash ? "" : " without meta: the config given to its next run supplies it") << "\n";
+      return 0;
     }
     if (a.command == "merge") {
       const auto r = opt::doe::merge_stores(a.stores[0], {a.stores.begin() + 1, a.stores.end()});

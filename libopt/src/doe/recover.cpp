@@ -1,4 +1,5 @@
-// `mechopt check` (docs/doe.md, "Damage"): a store file read tolerantly. SQLite stops a query at the first page it cannot
+// `mechopt check` and `mechopt recover` (docs/doe.md, "Damage"): a store
+// file read tolerantly. SQLite stops a query at the first page it cannot
 // read (SQLITE_CORRUPT); the rows are therefore read by ranges of indices,
 // and a range that fails is read up to the failure, then split in two, down
 // to single indices: what lies in an unreadable page is lost, every other
@@ -7,6 +8,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -40,8 +42,9 @@ void note(std::vector<std::int64_t>& indices, std::int64_t i) {
 // The rows of a store file, read around what cannot be read.
 class Scan {
  public:
-  Scan(const Db& db, StoreCheck& c)
-      : c_(c), q_(db, "SELECT * FROM samples WHERE idx >= ? AND idx < ? ORDER BY idx") {}
+  using Intact = std::function<void(sqlite3_stmt* row)>;
+  Scan(const Db& db, StoreCheck& c, Intact intact)
+      : c_(c), intact_(std::move(intact)), q_(db, "SELECT * FROM samples WHERE idx >= ? AND idx < ? ORDER BY idx") {}
 
   // Every row of the file: indices far outside any run are damage too.
   void all() {
@@ -118,9 +121,11 @@ class Scan {
     ++c_.intact;
     const auto* status = reinterpret_cast<const char*>(sqlite3_column_text(q, 1));
     ++c_.statuses[status ? status : "(none)"];
+    if (intact_) intact_(q);
   }
 
   StoreCheck& c_;
+  Intact intact_;
   Statement q_;
   std::int64_t last_ = std::numeric_limits<std::int64_t>::min(), next_ = 0;
   std::int64_t failed_ = 0, lost_ = 0, doubled_ = 0, outside_ = 0;
@@ -185,17 +190,69 @@ std::string examine(const Db& db, StoreCheck& c, std::map<std::string, std::stri
   return schema;
 }
 
-StoreCheck scan(const std::string& store) {
+// The check of `store`; `begin`, when given, is told the schema and meta
+// before the rows are read and gives what takes each intact row; `end` is
+// called after the last.
+using Begin = std::function<Scan::Intact(const Db&, const std::string& schema,
+                                         const std::map<std::string, std::string>& meta, StoreCheck&)>;
+StoreCheck scan(const std::string& store, const Begin& begin = nullptr, const std::function<void()>& end = nullptr) {
   StoreCheck c;
   c.file = store_file(store);
   const Db db = open_to_read(c.file);
   std::map<std::string, std::string> meta;
-  if (!examine(db, c, meta).empty()) Scan(db, c).all();
+  const std::string schema = examine(db, c, meta);
+  if (schema.empty()) return c;
+  Scan(db, c, begin ? begin(db, schema, meta, c) : Scan::Intact()).all();
+  if (end) end();
   return c;
 }
 
 }  // namespace
 
 StoreCheck check_store(const std::string& store) { return scan(store); }
+
+StoreCheck recover_store(const std::string& store, const std::string& out_dir) {
+  const std::string out_file = (fs::path(out_dir) / "store.sqlite").string();
+  if (fs::exists(out_file)) throw std::runtime_error("recover: " + out_file + " exists already");
+  std::optional<WriterLock> lock;
+  std::optional<Db> out;
+  std::optional<sql::Transaction> t;
+  std::optional<Statement> insert;
+  return scan(store, [&](const Db&, const std::string& schema, const std::map<std::string, std::string>& meta,
+                          StoreCheck& c) -> Scan::Intact {
+    fs::create_directories(out_dir);
+    lock.emplace(out_dir);
+    out.emplace(open_to_write(out_file));
+    t.emplace(*out);  // every row or none (a failure leaves an empty file)
+    out->exec(schema);
+    if (!c.checksums) out->exec("ALTER TABLE samples ADD COLUMN checksum INTEGER");
+    out->exec("CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT)");
+    auto kept = meta;
+    kept.erase("finished");  // the run that fills in the lost samples sets it
+    kept.erase("refine");    // its table is not copied
+    kept["recovered_from"] = c.file;
+    add_meta(*out, kept);
+    int n = 0;
+    {
+      Statement s(*out, "SELECT * FROM samples LIMIT 0");
+      n = sqlite3_column_count(s.get());
+    }
+    std::string sql = "INSERT INTO samples VALUES(?";
+    for (int i = 1; i < n; ++i) sql += ", ?";
+    insert.emplace(*out, sql + ")");
+    c.saved = 0;
+    return [&, n](sqlite3_stmt* row) {
+      insert->reset();
+      RowHash h;
+      for (int i = 0; i + 1 < n; ++i) {
+        insert->bind(i + 1, sqlite3_column_value(row, i));
+        h.column(row, i);
+      }
+      insert->bind(n, h.value());  // the stored one, which held (or the first, for a store from before them)
+      insert->step();
+      ++c.saved;
+    };
+  }, [&] { if (t) t->commit(); });
+}
 
 }  // namespace opt::doe

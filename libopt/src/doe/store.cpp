@@ -183,21 +183,38 @@ std::vector<std::string> stored_columns(const Db& db) {
   return names;
 }
 
+std::vector<std::string> column_names(const StoreLayout& l) {
+  std::vector<std::string> names = {"idx", "status", "wall_time", "message"};
+  names.insert(names.end(), l.factors.begin(), l.factors.end());
+  names.insert(names.end(), l.metrics.begin(), l.metrics.end());
+  names.push_back("checksum");
+  return names;
+}
+
 // An existing store must hold this run's samples: the same config_hash and
-// columns; else StoreMismatch names what differs.
+// columns; else StoreMismatch names what differs. A store that `mechopt
+// recover` saved without its meta has neither hash nor layout: its columns
+// must be this run's, whose meta it then takes.
 void check_same_run(const Db& db, const std::map<std::string, std::string>& meta, const StoreLayout& l) {
   const std::string& file = db.file();
   const auto stored = read_meta(db);
   const auto stored_hash = find(stored, "config_hash"), hash = find(meta, "config_hash");
-  if (stored_hash != hash)
+  if (stored_hash && stored_hash != hash)
     throw StoreMismatch(
-        file + ": written by another configuration (config_hash " + stored_hash.value_or("none") + ", this run " +
+        file + ": written by another configuration (config_hash " + *stored_hash + ", this run " +
         hash.value_or("none") + "); " +
         config_difference(find(stored, "config_canonical"), find(meta, "config_canonical"), "the store", "this run") +
         ". Start afresh (--new) to move it aside.");
   const std::vector<std::string> columns = stored_columns(db);
   if (columns.empty() || columns.back() != "checksum")
-    throw StoreMismatch(file + ": written by a mechopt before row checksums; start afresh (--new) to move it aside.");
+    throw StoreMismatch(file + ": written by a mechopt before row checksums; `mechopt recover " + file +
+                        " OUT` copies it into a store of this version, or start afresh (--new) to move it aside.");
+  if (!stored.contains("layout")) {
+    if (columns != column_names(l))
+      throw StoreMismatch(file + ": has no meta and other columns than this run (" + joined(columns) + "; this run " +
+                          joined(column_names(l)) + "). Start afresh (--new) to move it aside.");
+    return;
+  }
   const StoreLayout old = layout_from_json(file, find(stored, "layout"));
   if (layout_json(old) != layout_json(l))
     throw StoreMismatch(file + ": written with other columns; " + columns_difference(old, l, "the store", "this run") +
@@ -233,7 +250,8 @@ class Rows {
 // The indices of the store's rows as `total` bits. Only the indices are
 // read: a value damaged inside an intact page is found by the readers of
 // whole rows (export, check, merge), since verifying every row's checksum
-// here would make the resume's scan 7x slower (bench_doe_store, BM_Finished).
+// here would make the resume's scan about 10x slower (bench_doe_store,
+// BM_Finished).
 std::vector<bool> index_bitmap(const Db& db, std::int64_t total) {
   std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
   Statement s(db, "SELECT idx FROM samples");

@@ -47,11 +47,12 @@ class StoreMismatch : public std::runtime_error {
 
 // A store file that SQLite (SQLITE_CORRUPT, SQLITE_NOTADB), a row's checksum
 // or an index outside the run finds damaged: the message names the file and
-// what was found, and points to `mechopt check`.
+// what was found, and points to `mechopt check` and `mechopt recover`.
 class StoreDamaged : public std::runtime_error {
  public:
   StoreDamaged(const std::string& file, const std::string& what)
-      : runtime_error(file + " is damaged (" + what + "): `mechopt check " + file + "` says what is wrong") {}
+      : runtime_error(file + " is damaged (" + what + "): `mechopt check " + file + "` says what is wrong, " +
+                      "`mechopt recover " + file + " OUT` copies its intact rows into OUT/store.sqlite") {}
 };
 
 // Another process writes the store in that directory (it holds DIR/store.lock):
@@ -73,8 +74,10 @@ class Store {
   // opens DIR/store.sqlite (creating DIR), or creates it with `layout` and
   // `meta` (key -> text; must hold "config_hash"). An existing store must have
   // the same config_hash and layout, else StoreMismatch names the file and the
-  // top-level keys of meta "config_canonical" (a JSON object) that differ. A
-  // store from before row checksums is refused (StoreMismatch). On
+  // top-level keys of meta "config_canonical" (a JSON object) that differ; one
+  // that `mechopt recover` saved without meta must have this run's columns,
+  // and takes this run's meta. A store from before row checksums is refused
+  // (StoreMismatch: recover copies it into one with them). On
   // reopening, meta keys the store lacks are added; stored ones are kept (use
   // set_meta to change them). fresh=true first renames an existing store (and
   // its -wal/-shm) to store.sqlite.old-YYYYmmdd-HHMMSS.
