@@ -1,5 +1,6 @@
 // mechopt command line: parse, dispatch, print. Exit codes: 0 done, 1 runtime
-// failure, 2 bad input (config or arguments).
+// failure, 2 bad input (config or arguments) or a run that cannot start (its
+// store is another run's to write).
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +14,7 @@
 
 #include "opt/derivatives.hpp"
 #include "opt/doe/batch.hpp"
+#include "opt/doe/recover.hpp"
 #include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/study.hpp"
@@ -32,6 +34,12 @@ usage:
                                           CSV without wall times, equal for equal results)
   mechopt merge OUT STORE...              shard stores into OUT/store.sqlite, checking that
                                           their configs agree and no sample is missing or doubled
+  mechopt check STORE                     SQLite's integrity check, every row's checksum, every
+                                          sample index once, counts by status, the config hash;
+                                          exit 0 when sound, 1 with what is wrong
+  mechopt recover STORE OUT               every readable, intact row of a damaged store (and its
+                                          meta) into OUT/store.sqlite; running the config on OUT
+                                          evaluates only the samples that were lost
   mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON
                                           (a variable at its initial); --set overrides
                                           model.KEY and a variable's initial (VALUE may carry a unit)
@@ -43,7 +51,8 @@ usage:
   mechopt COMMAND --help                  a command's arguments and options
   mechopt --help | --version
 
-exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input,
+exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input (or an
+  output directory whose store another run is writing),
   130/143 stopped by SIGINT/SIGTERM (what was done is written, marked interrupted)
 )";
 
@@ -125,6 +134,36 @@ arguments:
 options:
   -h, --help              this help
 )"},
+    {"check", R"(usage: mechopt check STORE
+
+Checks a doe store: SQLite's integrity check, every row's checksum, every
+sample index once and within the run, counts by status, the config hash.
+Reads only; a store that a run is writing can be checked.
+
+arguments:
+  STORE                   a store.sqlite file (or the directory holding it)
+
+options:
+  -h, --help              this help
+
+exit codes: 0 sound, 1 damaged (what is wrong is printed), 2 bad arguments
+)"},
+    {"recover", R"(usage: mechopt recover STORE OUT
+
+Copies every readable row whose checksum holds, and the readable meta, of a
+damaged store into OUT/store.sqlite. Running the config with OUT as its
+output directory then evaluates only the samples that were lost.
+
+arguments:
+  STORE                   the damaged store.sqlite file (or its directory)
+  OUT                     a directory with no store yet
+
+options:
+  -h, --help              this help
+
+exit codes: 0 recovered, 1 nothing could be saved (e.g. the first page is
+damaged), 2 bad arguments
+)"},
     {"list", R"(usage: mechopt list [--markdown]
 
 Lists the problems (every model key with its default, domain and source;
@@ -144,7 +183,7 @@ struct Args {
   bool batch_flags = false;  // any of the doe flags given
   bool doe_only_flags = false;  // --progress, --shard, --new, --dry-run (a sweep takes --threads, --force)
   std::string export_format;               // export: csv | json | canonical
-  std::vector<std::string> stores;         // export, merge
+  std::vector<std::string> stores;         // export, merge, check, recover
 };
 
 
@@ -218,7 +257,8 @@ Args parse_args(int argc, char** argv) {
       a.doe_only_flags = a.doe_only_flags || v[i] != "--force";
     } else if ((v[i] == "--csv" || v[i] == "--json" || v[i] == "--canonical") && a.command == "export") {
       a.export_format = v[i].substr(2);
-    } else if ((a.command == "export" || a.command == "merge") && v[i][0] != '-') {
+    } else if ((a.command == "export" || a.command == "merge" || a.command == "check" || a.command == "recover") &&
+               v[i][0] != '-') {
       a.stores.push_back(v[i]);
     } else if (v[i] == "--output" || v[i] == "--set") {
       if (i + 1 == v.size()) usage_error(v[i] + " needs a value");
@@ -248,6 +288,8 @@ Args parse_args(int argc, char** argv) {
   if (a.command == "export" && (a.stores.size() != 1 || a.export_format.empty()))
     usage_error("export expects one STORE and --csv, --json or --canonical");
   if (a.command == "merge" && a.stores.size() < 2) usage_error("merge expects OUT and at least one STORE");
+  if (a.command == "check" && a.stores.size() != 1) usage_error("check expects one STORE");
+  if (a.command == "recover" && a.stores.size() != 2) usage_error("recover expects STORE and OUT");
   return a;
 }
 
@@ -342,6 +384,22 @@ int stopped(const std::string& where) {
   return 128 + sig;
 }
 
+// What `check` and `recover` found, on stdout.
+void print_check(const opt::doe::StoreCheck& c) {
+  std::cout << "store: " << c.file << "\nconfig hash: "
+            << c.config_hash.value_or("none (the config given to the next run supplies it)") << "\n";
+  if (c.hi >= 0)
+    std::cout << "samples: " << c.intact << " intact of [" << c.lo << ", " << c.hi << "), " << c.missing << " missing"
+              << (c.finished ? " (the store says finished)" : "") << "\n";
+  else
+    std::cout << "samples: " << c.intact << " intact rows (the run's range is unknown)\n";
+  std::cout << "by status:";
+  for (const auto& [status, n] : c.statuses) std::cout << " " << status << " " << n;
+  std::cout << (c.checksums ? "" : "\nrows without checksums (a store from before them): their values are unverified")
+            << "\n" << (c.sound() ? "sound\n" : "damaged:\n");
+  for (const auto& p : c.problems) std::cout << "  " << p << "\n";
+}
+
 int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& problem) {
   opt::doe::DoeSpec spec = opt::doe::parse_doe(root, problems::parameters(root), problem,
                                                       a.batch.force || a.batch.dry_run);
@@ -429,8 +487,30 @@ int main(int argc, char** argv) {
     }
     if (a.command == "run" || a.command == "eval" || a.command == "check-derivatives") return run(a);
     if (a.command == "export") {
-      if (a.export_format == "json") opt::doe::export_json(a.stores[0], std::cout);
-      else opt::doe::export_csv(a.stores[0], std::cout, a.export_format == "csv");
+      try {
+        if (a.export_format == "json") opt::doe::export_json(a.stores[0], std::cout);
+        else opt::doe::export_csv(a.stores[0], std::cout, a.export_format == "csv");
+      } catch (const std::exception& e) {  // never a partial file in silence
+        std::cout.flush();
+        std::cerr << "mechopt: failed: " << e.what() << "\nmechopt: export: the output is incomplete\n";
+        return 1;
+      }
+      return 0;
+    }
+    if (a.command == "check") {
+      const auto c = opt::doe::check_store(a.stores[0]);
+      print_check(c);
+      return c.sound() ? 0 : 1;
+    }
+    if (a.command == "recover") {
+      const auto c = opt::doe::recover_store(a.stores[0], a.stores[1]);
+      print_check(c);
+      if (c.saved < 0) {
+        std::cerr << "mechopt: recover: nothing could be saved from " << c.file << "\n";
+        return 1;
+      }
+      std::cout << "saved " << c.saved << " rows into " << a.stores[1] << "/store.sqlite"
+                << (c.config_hash ? "" : " without meta: the config given to its next run supplies it") << "\n";
       return 0;
     }
     if (a.command == "merge") {
@@ -443,6 +523,8 @@ int main(int argc, char** argv) {
   } catch (const opt::ConfigError& e) {
     return bad_input(e);
   } catch (const opt::doe::StoreMismatch& e) {  // a store of another config: the input is wrong, not the run
+    return bad_input(e);
+  } catch (const opt::doe::StoreBusy& e) {  // another run writes that store: this one cannot start
     return bad_input(e);
   } catch (const std::exception& e) {
     std::cerr << "mechopt: failed: " << e.what() << "\n";

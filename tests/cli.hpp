@@ -29,8 +29,10 @@ inline Outcome run(const std::string& args, int timeout = 120) {
   Outcome o;
   if (!pipe) return o;
   char buf[4096];
+  // Whole canonical dumps (a 200 000-row store's is ~25 MB) and what an
+  // export says after its rows; a runaway output is cut at 64 MiB.
   while (size_t n = fread(buf, 1, sizeof buf, pipe))
-    if (o.output.size() < (1u << 20)) o.output.append(buf, n);
+    if (o.output.size() < (64u << 20)) o.output.append(buf, n);
   const int status = pclose(pipe);
   if (WIFEXITED(status)) {
     o.exit_code = WEXITSTATUS(status);

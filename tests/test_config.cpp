@@ -143,6 +143,8 @@ TEST(CommandLine, EveryCommandHasHelp) {
       {"check-derivatives", {"CONFIG", "--set"}},
       {"export", {"STORE", "--csv", "--json", "--canonical"}},
       {"merge", {"OUT", "STORE..."}},
+      {"check", {"STORE"}},
+      {"recover", {"STORE", "OUT"}},
       {"list", {"--markdown"}},
   };
   const std::string top = run("--help").output;

@@ -13,6 +13,8 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <thread>
 #include <tuple>
@@ -470,51 +472,118 @@ study:
   EXPECT_NE(error(only_levels).find("this study has none"), std::string::npos) << error(only_levels);
 }
 
+// `mechopt run CONFIG --output OUT --progress=none --threads 1` in a child
+// process, its output discarded, for the tests that kill a run or start
+// another beside it.
+pid_t start_run(const std::string& config, const std::string& out) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execl(MECHOPT_BINARY, "mechopt", "run", config.c_str(), "--output", out.c_str(), "--progress=none", "--threads",
+          "1", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+// kSobol with `samples` samples, written to DIR/config.yaml.
+std::string sobol_config(const std::string& dir, long samples) {
+  fs::create_directories(dir);
+  std::string yaml = kSobol;
+  yaml.replace(yaml.find("samples: 512"), 12, "samples: " + std::to_string(samples));
+  std::ofstream(dir + "/config.yaml") << yaml;
+  return dir + "/config.yaml";
+}
+
+// Polls until OUT/store.sqlite holds more than `rows` rows (120 s at most).
+void wait_for_rows(const std::string& out, long rows) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < deadline && cli::stored_rows(out) <= rows)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+}
+
+// Whether OUT/store.lock exists and no process holds it: a run could write.
+bool lock_is_free(const std::string& out) {
+  const int fd = open((out + "/store.lock").c_str(), O_RDWR | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool free = flock(fd, LOCK_EX | LOCK_NB) == 0;
+  close(fd);  // and the lock with it
+  return free;
+}
+
 // Killed with SIGKILL at 20 moments drawn from a fixed seed, each after
 // this round committed something and before the whole design was (the test
-// checks both), resumed each time: the final store equals a run that was
-// never killed, every index once.
+// checks both), resumed each time: the lock is free after each kill, and the
+// final store's canonical dump equals a run's that was never killed, every
+// index once.
 TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
   const std::string dir = cli::fresh_dir("doe_kill"), clean = cli::fresh_dir("doe_kill_clean");
-  fs::create_directories(dir);
   constexpr long kSamples = 200000;  // a round commits <= ~0.3 s of one thread's work
-  std::string yaml = kSobol;
-  yaml.replace(yaml.find("samples: 512"), 12, "samples: " + std::to_string(kSamples));
-  std::ofstream(dir + "/config.yaml") << yaml;
+  const std::string config = sobol_config(dir, kSamples);
   std::mt19937 moments(20261123);
   long kept = 0;
   for (int k = 0; k < 20; ++k) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-      freopen("/dev/null", "w", stdout);
-      freopen("/dev/null", "w", stderr);
-      execl(MECHOPT_BINARY, "mechopt", "run", (dir + "/config.yaml").c_str(), "--output",
-            (dir + "/out").c_str(), "--progress=none", "--threads", "1", static_cast<char*>(nullptr));
-      _exit(127);
-    }
+    const pid_t pid = start_run(config, dir + "/out");
     // After a commit of this round, then 0-50 ms more: mid-batch or mid-commit.
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (std::chrono::steady_clock::now() < deadline && cli::stored_rows(dir + "/out") <= kept)
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    wait_for_rows(dir + "/out", kept);
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 50)(moments)));
     kill(pid, SIGKILL);
     int status = 0;
     waitpid(pid, &status, 0);
     ASSERT_TRUE(WIFSIGNALED(status)) << "round " << k << ": the run ended before it was killed";
+    EXPECT_TRUE(lock_is_free(dir + "/out")) << "round " << k << ": the killed run left its lock held";
     const long now = cli::stored_rows(dir + "/out");
     EXPECT_GT(now, kept) << "round " << k << ": killed before anything was committed";
     ASSERT_LT(now, kSamples) << "round " << k << ": killed after everything was committed";
     kept = now;
   }
-  const auto again = cli::run("run " + dir + "/config.yaml --output " + dir + "/out --progress=none");
+  const auto again = cli::run("run " + config + " --output " + dir + "/out --progress=none");
   ASSERT_TRUE(again.exited(0)) << again.output;
   EXPECT_NE(again.output.find("resuming: " + std::to_string(kept) + " done"), std::string::npos) << again.output;
-  const auto resumed = rows(dir + "/out", kColumns);
+  const auto resumed = rows(dir + "/out", "idx");
   ASSERT_EQ(resumed.size(), static_cast<size_t>(kSamples));
   for (long i = 0; i < kSamples; ++i) ASSERT_EQ(resumed[static_cast<size_t>(i)][0], std::to_string(i));
-  const auto ok = cli::run("run " + dir + "/config.yaml --output " + clean + " --progress=none");
+  const auto ok = cli::run("run " + config + " --output " + clean + " --progress=none");
   ASSERT_TRUE(ok.exited(0)) << ok.output;
-  EXPECT_EQ(resumed, rows(clean, kColumns));
+  EXPECT_TRUE(cli::canonical_dump(dir + "/out") == cli::canonical_dump(clean));
+}
+
+// Two runs on one output directory at once: the second is refused before it
+// evaluates anything (exit 2), naming the first by pid, host and start time;
+// a reader exports the store meanwhile (rows the store ends with); the first
+// ends complete, with the canonical dump of a run alone.
+TEST(DoeBatch, SecondRunOnAStoreInUseIsRefused) {
+  const std::string dir = cli::fresh_dir("doe_busy"), clean = cli::fresh_dir("doe_busy_clean");
+  constexpr long kSamples = 100000;  // one thread: seconds, so the first is still running
+  const std::string config = sobol_config(dir, kSamples);
+  const pid_t first = start_run(config, dir + "/out");
+  wait_for_rows(dir + "/out", 0);
+  const auto second = cli::run("run " + config + " --output " + dir + "/out --progress=none --threads 1");
+  const auto reader = cli::run("export " + dir + "/out/store.sqlite --canonical");
+  int status = 0;
+  ASSERT_EQ(waitpid(first, &status, WNOHANG), 0) << "the first run ended before the second was tried";
+  EXPECT_TRUE(second.exited(2)) << second.output;
+  EXPECT_NE(second.output.find("pid " + std::to_string(first) + ", host "), std::string::npos) << second.output;
+  EXPECT_NE(second.output.find(", started 20"), std::string::npos) << second.output;
+  EXPECT_EQ(second.output.find("samples to evaluate"), std::string::npos) << second.output;
+  EXPECT_TRUE(reader.exited(0)) << reader.output.substr(0, 1000);
+  waitpid(first, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the first run: status " << status;
+  const auto ok = cli::run("run " + config + " --output " + clean + " --progress=none");
+  ASSERT_TRUE(ok.exited(0)) << ok.output;
+  const std::string dump = cli::canonical_dump(dir + "/out");
+  EXPECT_TRUE(dump == cli::canonical_dump(clean));
+  // Both by index: each line the reader saw is a line of the end's, in order.
+  std::istringstream seen(reader.output), end(dump);
+  long lines = 0;
+  std::string at;
+  for (std::string line; std::getline(seen, line); ++lines) {
+    while (at != line && std::getline(end, at)) {
+    }
+    ASSERT_EQ(at, line) << "the reader saw a row the store does not end with";
+  }
+  EXPECT_GT(lines, 1) << "the reader saw no rows";
 }
 
 // Progress as JSON lines for scripts; the last line says finished.

@@ -104,7 +104,7 @@ TEST(DoeStore, RowsRoundTrip) {
 
   const auto r = query(dir.file(), "SELECT * FROM samples ORDER BY idx");
   ASSERT_EQ(r.size(), 3u);
-  ASSERT_EQ(r[2].size(), 8u);
+  ASSERT_EQ(r[2].size(), 9u);  // idx, status, wall_time, message, 2 factors, 2 metrics, checksum
   EXPECT_EQ(std::get<std::int64_t>(r[2][0]), 3);
   EXPECT_EQ(std::get<std::string>(r[2][1]), "cannot_assemble");
   EXPECT_EQ(real(r[2][2]), 0.5);
@@ -116,6 +116,7 @@ TEST(DoeStore, RowsRoundTrip) {
   EXPECT_TRUE(std::holds_alternative<std::monostate>(r[2][6]));  // NaN -> NULL
   EXPECT_TRUE(std::isnan(real(r[2][6])));                        // -> NaN
   EXPECT_EQ(real(r[1][6]), 1.5);
+  EXPECT_TRUE(std::holds_alternative<std::int64_t>(r[0][8]));
 
   // Movable: the runner keeps it in a member.
   Store moved = std::move(s);
@@ -183,6 +184,35 @@ TEST(DoeStore, ReopenResumesOrRefusesAnotherConfig) {
   ASSERT_EQ(old.size(), 1u);
   EXPECT_EQ(fs::path(old[0]).filename().string().size(), std::string("store.sqlite.old-20240101-120000").size());
   EXPECT_EQ(std::get<std::int64_t>(query(old[0], "SELECT count(*) FROM samples")[0][0]), 4);
+}
+
+// One writer at a time: while a Store lives, a second one on its directory
+// is refused, naming the first by pid, host and start time, and a --new
+// moves nothing aside; a reader reads on; the lock goes with the first.
+TEST(DoeStore, SecondWriterIsRefusedWhileTheFirstLives) {
+  TempDir dir("lock");
+  {
+    Store first(dir.path, layout(), meta("h1"), false);
+    first.append(rows(0, 3));
+    for (const bool fresh : {false, true}) {
+      try {
+        Store second(dir.path, layout(), meta("h1"), fresh);
+        ADD_FAILURE() << "fresh=" << fresh << ": a second writer was accepted";
+      } catch (const opt::doe::StoreBusy& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(dir.file()), std::string::npos) << what;
+        EXPECT_NE(what.find("pid " + std::to_string(getpid()) + ", host "), std::string::npos) << what;
+        EXPECT_NE(what.find(", started 20"), std::string::npos) << what;
+      }
+    }
+    for (const auto& e : fs::directory_iterator(dir.path))
+      EXPECT_FALSE(e.path().filename().string().starts_with("store.sqlite.old-")) << e.path() << ": moved aside";
+    const auto done = Store::peek(dir.path, layout(), meta("h1"), 10);
+    ASSERT_TRUE(done);
+    EXPECT_EQ(std::count(done->begin(), done->end(), true), 3);
+  }
+  Store again(dir.path, layout(), meta("h1"), false);
+  EXPECT_EQ(again.count(), 3);
 }
 
 // --dry-run's view: nothing when there is no store (and none is made), the

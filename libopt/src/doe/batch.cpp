@@ -430,8 +430,8 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   namespace fs = std::filesystem;
   fs::create_directories(o.output_directory);
   const std::string dir = o.output_directory + "/";
-  remove_previous_outputs(dir);
-  Store store(o.output_directory, layout, meta, o.fresh);
+  Store store(o.output_directory, layout, meta, o.fresh);  // first: a store another run writes is refused
+  remove_previous_outputs(dir);                              // before anything of that run's is removed
   const auto index_t0 = Clock::now();
   std::vector<bool> finished = store.finished(n);
   j["index_seconds"] = since(index_t0);  // reading which samples are done

@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "opt/doe/store.hpp"
+
 namespace opt::doe::sql {
 
 class Db {
@@ -33,7 +35,10 @@ class Db {
   }
   sqlite3* get() const { return handle_.get(); }
   const std::string& file() const { return file_; }
+  // SQLITE_CORRUPT and SQLITE_NOTADB say the file is damaged: StoreDamaged.
   [[noreturn]] void fail(const std::string& what) const {
+    const int rc = sqlite3_errcode(get()) & 0xff;
+    if (rc == SQLITE_CORRUPT || rc == SQLITE_NOTADB) throw StoreDamaged(file_, sqlite3_errmsg(get()));
     throw std::runtime_error(file_ + ": " + what + ": " + sqlite3_errmsg(get()));
   }
   void exec(const std::string& sql) const {

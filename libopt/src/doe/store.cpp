@@ -4,18 +4,27 @@
 // run loudly instead of losing rows.
 #include "opt/doe/store.hpp"
 
+#include <fcntl.h>
 #include <sqlite3.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <sstream>
+#include <utility>
 
+#include "doe/checksum.hpp"
 #include "doe/sqlite.hpp"
+#include "doe/store_file.hpp"
 #include "mech/status.hpp"
 
 namespace opt::doe {
@@ -29,6 +38,8 @@ using sql::Statement;
 using sql::Transaction;
 
 // ---- layout, meta, schema -----------------------------------------------
+
+constexpr std::size_t kColumnsBefore = 4;  // idx, status, wall_time, message: then factors, metrics, checksum
 
 std::string joined(const std::vector<std::string>& names) {
   std::string s;
@@ -117,13 +128,6 @@ std::string config_difference(const std::optional<std::string>& a_text, const st
   return s.empty() ? "no top-level key differs" : s.substr(0, s.size() - 2);
 }
 
-std::map<std::string, std::string> read_meta(const Db& db) {
-  std::map<std::string, std::string> m;
-  Statement s(db, "SELECT key, value FROM meta");
-  while (s.step()) m[*s.text(0)] = s.text(1).value_or("");
-  return m;
-}
-
 std::optional<std::string> find(const std::map<std::string, std::string>& m, const std::string& key) {
   const auto it = m.find(key);
   return it == m.end() ? std::nullopt : std::optional(it->second);
@@ -135,25 +139,13 @@ bool has_table(const Db& db, const char* name) {
   return s.step();
 }
 
-// Adds the keys the store lacks; stored values (e.g. "started" of the first
-// run) are kept.
-void add_meta(const Db& db, const std::map<std::string, std::string>& meta) {
-  Statement add(db, "INSERT OR IGNORE INTO meta(key, value) VALUES(?, ?)");
-  for (const auto& [key, value] : meta) {
-    add.reset();
-    add.bind(1, std::string_view(key));
-    add.bind(2, std::string_view(value));
-    add.step();
-  }
-}
-
 void create_schema(const Db& db, const StoreLayout& l, const std::map<std::string, std::string>& meta) {
   db.exec("CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT)");
   std::string sql = "CREATE TABLE samples(idx INTEGER PRIMARY KEY, status TEXT NOT NULL, wall_time REAL, message TEXT";
   for (std::size_t i = 0; i < l.factors.size(); ++i)
     sql += ", " + identifier(l.factors[i]) + (l.labels[i].empty() ? " REAL" : " TEXT");
   for (const auto& m : l.metrics) sql += ", " + identifier(m) + " REAL";
-  db.exec(sql + ")");
+  db.exec(sql + ", checksum INTEGER)");
   add_meta(db, meta);
 }
 
@@ -183,43 +175,135 @@ void move_aside(const std::string& file) {
     if (fs::exists(file + suffix)) fs::rename(file + suffix, old + suffix);
 }
 
-// A store to read: a missing file is an error, never a new empty store.
-// Opened read-write when the file allows it (nothing is written): a
-// read-only connection that is the last to close cannot checkpoint the WAL,
-// and would leave store.sqlite-wal and -shm beside the store.
-Db open_to_read(const std::string& file) {
-  if (!fs::is_regular_file(file)) throw std::runtime_error(file + ": no such store");
-  return Db(file, access(file.c_str(), W_OK) == 0 ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY);
+// The names of the columns of `samples` (SELECT * FROM samples), in order.
+std::vector<std::string> stored_columns(const Db& db) {
+  Statement s(db, "SELECT * FROM samples LIMIT 0");
+  std::vector<std::string> names;
+  for (int c = 0; c < sqlite3_column_count(s.get()); ++c) names.push_back(sqlite3_column_name(s.get(), c));
+  return names;
+}
+
+std::vector<std::string> column_names(const StoreLayout& l) {
+  std::vector<std::string> names = {"idx", "status", "wall_time", "message"};
+  names.insert(names.end(), l.factors.begin(), l.factors.end());
+  names.insert(names.end(), l.metrics.begin(), l.metrics.end());
+  names.push_back("checksum");
+  return names;
 }
 
 // An existing store must hold this run's samples: the same config_hash and
-// columns; else StoreMismatch names what differs.
-void check_same_run(const std::string& file, const std::map<std::string, std::string>& stored,
-                    const std::map<std::string, std::string>& meta, const StoreLayout& l) {
+// columns; else StoreMismatch names what differs. A store that `mechopt
+// recover` saved without its meta has neither hash nor layout: its columns
+// must be this run's, whose meta it then takes.
+void check_same_run(const Db& db, const std::map<std::string, std::string>& meta, const StoreLayout& l) {
+  const std::string& file = db.file();
+  const auto stored = read_meta(db);
   const auto stored_hash = find(stored, "config_hash"), hash = find(meta, "config_hash");
-  if (stored_hash != hash)
+  if (stored_hash && stored_hash != hash)
     throw StoreMismatch(
-        file + ": written by another configuration (config_hash " + stored_hash.value_or("none") + ", this run " +
+        file + ": written by another configuration (config_hash " + *stored_hash + ", this run " +
         hash.value_or("none") + "); " +
         config_difference(find(stored, "config_canonical"), find(meta, "config_canonical"), "the store", "this run") +
         ". Start afresh (--new) to move it aside.");
+  const std::vector<std::string> columns = stored_columns(db);
+  if (columns.empty() || columns.back() != "checksum")
+    throw StoreMismatch(file + ": written by a mechopt before row checksums; `mechopt recover " + file +
+                        " OUT` copies it into a store of this version, or start afresh (--new) to move it aside.");
+  if (!stored.contains("layout")) {
+    if (columns != column_names(l))
+      throw StoreMismatch(file + ": has no meta and other columns than this run (" + joined(columns) + "; this run " +
+                          joined(column_names(l)) + "). Start afresh (--new) to move it aside.");
+    return;
+  }
   const StoreLayout old = layout_from_json(file, find(stored, "layout"));
   if (layout_json(old) != layout_json(l))
     throw StoreMismatch(file + ": written with other columns; " + columns_difference(old, l, "the store", "this run") +
                         ". Start afresh (--new) to move it aside.");
 }
 
-// The indices in [0, total) of the rows of `s` (SELECT idx ...) as bits.
-std::vector<bool> index_bitmap(Statement& s, const std::string& file, std::int64_t total) {
+// SELECT * FROM samples ORDER BY idx, every row's checksum verified: step()
+// throws StoreDamaged at the first row that fails it. columns(): the values
+// without the checksum. A store from before checksums is read unverified.
+class Rows {
+ public:
+  explicit Rows(const Db& db)
+      : file_(db.file()), s_(db, "SELECT * FROM samples ORDER BY idx"), n_(sqlite3_column_count(s_.get())) {
+    checked_ = n_ > 0 && std::string_view(sqlite3_column_name(s_.get(), n_ - 1)) == "checksum";
+    n_ -= checked_;
+  }
+  bool step() {
+    if (!s_.step()) return false;
+    if (checked_ && !checksum_holds(s_.get()))
+      throw StoreDamaged(file_, "sample " + std::to_string(s_.int64(0)) + " fails its checksum");
+    return true;
+  }
+  Statement& row() { return s_; }
+  int columns() const { return n_; }
+
+ private:
+  std::string file_;
+  Statement s_;
+  int n_;
+  bool checked_ = false;
+};
+
+// The indices of the store's rows as `total` bits. Only the indices are
+// read: a value damaged inside an intact page is found by the readers of
+// whole rows (export, check, merge), since verifying every row's checksum
+// here would make the resume's scan about 10x slower (bench_doe_store,
+// BM_Finished).
+std::vector<bool> index_bitmap(const Db& db, std::int64_t total) {
   std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
+  Statement s(db, "SELECT idx FROM samples");
   while (s.step()) {
     const std::int64_t i = s.int64(0);
-    if (i < 0 || i >= total)
-      throw std::runtime_error(file + ": holds sample " + std::to_string(i) + ", outside this run's [0, " +
-                               std::to_string(total) + ")");
+    if (i < 0 || i >= total)  // the config hash matched: damage (a row or a page decoded into garbage)
+      throw StoreDamaged(db.file(), "it holds sample " + std::to_string(i) + ", outside this run's [0, " +
+                                        std::to_string(total) + ")");
     done[std::size_t(i)] = true;
   }
   return done;
+}
+
+// ---- the writer's lock ----------------------------------------------------
+//
+// DIR/store.lock, a file of its own: SQLite's fcntl locks on store.sqlite are
+// dropped when any descriptor of that file in the process closes, and cover
+// one file where a store may be several. flock belongs to the open file
+// description, so the kernel releases it with the process however it ends;
+// the file itself stays (removing it would race with a run that has just
+// opened it) and its text, the last writer's name, means nothing unlocked.
+
+std::string text_of(const std::string& file) {
+  std::ifstream in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// "pid 12, host h, started 2026-...Z, command mechopt run ..." from the lines
+// WriterLock writes.
+std::string holder_text(const std::string& lines) {
+  std::string s;
+  std::istringstream in(lines);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) s += (s.empty() ? "" : ", ") + line;
+  return s.empty() ? "a process that has not written its name yet" : s;
+}
+
+// This process, for the lock file: pid, host, start time (UTC), command line.
+std::string holder_lines() {
+  char host[256] = "?";
+  gethostname(host, sizeof host - 1);
+  std::string command = text_of("/proc/self/cmdline");  // NUL-separated arguments
+  while (!command.empty() && command.back() == '\0') command.pop_back();
+  std::replace(command.begin(), command.end(), '\0', ' ');
+  std::replace(command.begin(), command.end(), '\n', ' ');
+  const std::time_t t = std::time(nullptr);
+  char started[32];
+  std::strftime(started, sizeof started, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return "pid " + std::to_string(getpid()) + "\nhost " + host + "\nstarted " + started +
+         (command.empty() ? "" : "\ncommand " + command) + "\n";
 }
 
 // ---- a batch of rows as a table ------------------------------------------
@@ -252,7 +336,8 @@ int batch_connect(sqlite3* db, void* aux, int, const char* const*, sqlite3_vtab*
   auto* batch = static_cast<Batch*>(aux);
   const StoreLayout& l = *batch->layout;
   std::string sql = "CREATE TABLE x(c0";
-  for (std::size_t i = 1; i < 4 + l.factors.size() + l.metrics.size(); ++i) sql += ", c" + std::to_string(i);
+  for (std::size_t i = 1; i < kColumnsBefore + l.factors.size() + l.metrics.size() + 1; ++i)  // + the checksum
+    sql += ", c" + std::to_string(i);
   if (const int rc = sqlite3_declare_vtab(db, (sql + ")").c_str()); rc != SQLITE_OK) return rc;
   auto* t = new BatchTable;
   t->batch = batch;
@@ -307,19 +392,38 @@ void result(sqlite3_context* ctx, std::string_view v) {
   else sqlite3_result_text(ctx, v.data(), int(v.size()), SQLITE_STATIC);
 }
 
-// Columns: idx, status, wall_time, message, the factors, the metrics.
+// The checksum of a row as the store will hold it (checksum.hpp): the values
+// batch_column gives, NaN and "" as NULL, a categorical factor as its label.
+// Not inlined: in batch_column, its registers and frame cost every column's
+// call (callgrind: 1140 against 750 instructions a row of 20 columns).
+[[gnu::noinline]] std::int64_t checksum(const Row& r, const StoreLayout& l) {
+  RowHash h;
+  auto real = [&](double v) { std::isnan(v) ? h.null() : h.real(v); };
+  auto text = [&](std::string_view v) { v.empty() ? h.null() : h.text(v); };
+  h.integer(r.index);
+  text(r.status);
+  real(r.wall_time);
+  text(r.message);
+  for (std::size_t j = 0; j < r.factors.size(); ++j)
+    l.labels[j].empty() ? real(r.factors[j]) : text(l.labels[j][std::size_t(r.factors[j])]);
+  for (const double v : r.metrics) real(v);
+  return h.value();
+}
+
+// Columns: idx, status, wall_time, message, the factors, the metrics, the checksum.
 int batch_column(sqlite3_vtab_cursor* c, sqlite3_context* ctx, int column) {
   const Batch& b = batch_of(c);
   const Row& r = b.rows[b.at];
   const std::vector<std::vector<std::string>>& labels = b.layout->labels;
-  const std::size_t i = std::size_t(column), f = i - 4;
+  const std::size_t i = std::size_t(column), f = i - kColumnsBefore, m = f - labels.size();
   if (i == 0) sqlite3_result_int64(ctx, r.index);
   else if (i == 1) result(ctx, std::string_view(r.status));
   else if (i == 2) result(ctx, r.wall_time);
   else if (i == 3) result(ctx, std::string_view(r.message));
-  else if (f >= labels.size()) result(ctx, r.metrics[f - labels.size()]);
-  else if (labels[f].empty()) result(ctx, r.factors[f]);
-  else result(ctx, std::string_view(labels[f][std::size_t(r.factors[f])]));
+  else if (f < labels.size()) labels[f].empty() ? result(ctx, r.factors[f])
+                                                 : result(ctx, std::string_view(labels[f][std::size_t(r.factors[f])]));
+  else if (m < r.metrics.size()) result(ctx, r.metrics[m]);
+  else sqlite3_result_int64(ctx, checksum(r, *b.layout));
   return SQLITE_OK;
 }
 
@@ -349,27 +453,64 @@ Statement batch_insert(const Db& db, Batch& batch) {
 
 }  // namespace
 
-// ---- Store --------------------------------------------------------------
+// ---- what recover.cpp shares (store_file.hpp) -----------------------------
 
-struct Store::Impl {
-  Impl(Db d, StoreLayout l) : db(std::move(d)), layout(std::move(l)), insert(batch_insert(db, batch)) {}
-  Db db;  // declared first: destroyed after the statement
-  StoreLayout layout;
-  Batch batch{&layout, {}, 0};  // before insert: preparing it reads the layout
-  Statement insert;                // every batch goes through it
-};
+std::map<std::string, std::string> read_meta(const Db& db) {
+  std::map<std::string, std::string> m;
+  Statement s(db, "SELECT key, value FROM meta");
+  while (s.step()) m[*s.text(0)] = s.text(1).value_or("");
+  return m;
+}
 
-Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<std::string, std::string>& meta,
-             bool fresh) {
-  const auto hash = find(meta, "config_hash");
-  if (!hash) throw std::invalid_argument("store in " + dir + ": meta has no config_hash");
-  StoreLayout l = normalized(layout);
-  std::map<std::string, std::string> all = meta;
-  all["layout"] = layout_json(l).dump();
+// Adds the keys the store lacks; stored values (e.g. "started" of the first
+// run) are kept.
+void add_meta(const Db& db, const std::map<std::string, std::string>& meta) {
+  Statement add(db, "INSERT OR IGNORE INTO meta(key, value) VALUES(?, ?)");
+  for (const auto& [key, value] : meta) {
+    add.reset();
+    add.bind(1, std::string_view(key));
+    add.bind(2, std::string_view(value));
+    add.step();
+  }
+}
 
-  fs::create_directories(dir);
-  const std::string file = (fs::path(dir) / "store.sqlite").string();
-  if (fresh && fs::exists(file)) move_aside(file);
+// A store to read: a missing file is an error, never a new empty store.
+// Opened read-write when the file allows it (nothing is written): a
+// read-only connection that is the last to close cannot checkpoint the WAL,
+// and would leave store.sqlite-wal and -shm beside the store.
+Db open_to_read(const std::string& file) {
+  if (!fs::is_regular_file(file)) throw std::runtime_error(file + ": no such store");
+  return Db(file, access(file.c_str(), W_OK) == 0 ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY);
+}
+
+WriterLock::WriterLock(const std::string& dir) : file_((fs::path(dir) / "store.lock").string()) {
+  // CLOEXEC: a program the run starts does not inherit (and keep) the lock.
+  fd_ = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(file_ + ": cannot open the store's lock file: " + std::strerror(errno));
+  if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int e = errno;
+    ::close(fd_);
+    const std::string store = (fs::path(dir) / "store.sqlite").string();
+    if (e != EWOULDBLOCK) throw std::runtime_error(file_ + ": cannot lock the store's lock file: " + std::strerror(e));
+    throw StoreBusy(store + " is being written by another run (" + holder_text(text_of(file_)) + "), which holds " +
+                    file_ + " until it ends; wait for it or stop it (readers such as `mechopt export` "
+                    "and pandas may read the store meanwhile)");
+  }
+  const std::string lines = holder_lines();
+  if (ftruncate(fd_, 0) != 0 || pwrite(fd_, lines.data(), lines.size(), 0) != ssize_t(lines.size())) {
+    const int e = errno;
+    ::close(fd_);
+    throw std::runtime_error(file_ + ": cannot write to the store's lock file: " + std::strerror(e));
+  }
+}
+
+WriterLock::~WriterLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the flock
+}
+
+WriterLock::WriterLock(WriterLock&& o) noexcept : file_(std::move(o.file_)), fd_(std::exchange(o.fd_, -1)) {}
+
+Db open_to_write(const std::string& file) {
   Db db(file, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   // 64 KiB pages (a new file only; the page size is fixed once a table
   // exists): rows are appended and read in whole scans, and big pages cut
@@ -385,16 +526,43 @@ Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<s
     if (!wal.step() || wal.text(0) != "wal") throw std::runtime_error(file + ": cannot switch to WAL journal mode");
   }
   db.exec("PRAGMA synchronous=NORMAL");
+  return db;
+}
 
+// ---- Store --------------------------------------------------------------
+
+struct Store::Impl {
+  Impl(WriterLock w, Db d, StoreLayout l)
+      : lock(std::move(w)), db(std::move(d)), layout(std::move(l)), insert(batch_insert(db, batch)) {}
+  WriterLock lock;  // declared first: released after the store is closed
+  Db db;  // before the statement: destroyed after it
+  StoreLayout layout;
+  Batch batch{&layout, {}, 0};  // before insert: preparing it reads the layout
+  Statement insert;                // every batch goes through it
+};
+
+Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<std::string, std::string>& meta,
+             bool fresh) {
+  const auto hash = find(meta, "config_hash");
+  if (!hash) throw std::invalid_argument("store in " + dir + ": meta has no config_hash");
+  StoreLayout l = normalized(layout);
+  std::map<std::string, std::string> all = meta;
+  all["layout"] = layout_json(l).dump();
+
+  fs::create_directories(dir);
+  WriterLock lock(dir);  // before the store is moved aside, created or opened
+  const std::string file = (fs::path(dir) / "store.sqlite").string();
+  if (fresh && fs::exists(file)) move_aside(file);
+  Db db = open_to_write(file);
   Transaction t(db);  // the schema appears whole, or not at all
   if (!has_table(db, "samples")) {
     create_schema(db, l, all);
   } else {
-    check_same_run(file, read_meta(db), meta, l);
+    check_same_run(db, meta, l);
     add_meta(db, all);
   }
   t.commit();
-  impl_ = std::make_unique<Impl>(std::move(db), std::move(l));
+  impl_ = std::make_unique<Impl>(std::move(lock), std::move(db), std::move(l));
 }
 
 Store::~Store() = default;
@@ -404,8 +572,7 @@ Store& Store::operator=(Store&&) noexcept = default;
 const std::string& Store::path() const { return impl_->db.file(); }
 
 std::vector<bool> Store::finished(std::int64_t total) const {
-  Statement s(impl_->db, "SELECT idx FROM samples");
-  return index_bitmap(s, path(), total);
+  return index_bitmap(impl_->db, total);
 }
 
 std::optional<std::vector<bool>> Store::peek(const std::string& dir, const StoreLayout& layout,
@@ -414,9 +581,8 @@ std::optional<std::vector<bool>> Store::peek(const std::string& dir, const Store
   if (!fs::exists(file)) return std::nullopt;
   const Db db = open_to_read(file);
   if (!has_table(db, "samples")) return std::nullopt;  // created, killed before its schema
-  check_same_run(file, read_meta(db), meta, normalized(layout));
-  Statement s(db, "SELECT idx FROM samples");
-  return index_bitmap(s, file, total);
+  check_same_run(db, meta, normalized(layout));
+  return index_bitmap(db, total);
 }
 
 std::int64_t Store::count() const {
@@ -496,6 +662,7 @@ double row_bytes(const Row& r, const StoreLayout& layout) {
     else text(v >= 0 && v < double(layout.labels[j].size()) ? layout.labels[j][std::size_t(v)].size() : 0);
   }
   for (const double v : r.metrics) header += 1, body += std::isnan(v) ? 0 : 8;
+  header += 1, body += 8;  // the checksum: a 64-bit integer
   const std::size_t payload = varint(header + 1) + header + body;
   const std::size_t cell = varint(payload) + varint(std::uint64_t(std::max<std::int64_t>(r.index, 0))) + payload + 2;
   return double(cell) / 0.94;
@@ -522,12 +689,14 @@ void check_written(const std::ostream& out, const std::string& file) {
   if (!out) throw std::runtime_error(file + ": export: cannot write the output");
 }
 
+
 }  // namespace
 
 void export_csv(const std::string& store_file, std::ostream& out, bool wall_time) {
   const Db db = open_to_read(store_file);
-  Statement s(db, "SELECT * FROM samples ORDER BY idx");
-  const int n = sqlite3_column_count(s.get());
+  Rows rows(db);
+  Statement& s = rows.row();
+  const int n = rows.columns();
   constexpr int kWallTime = 2;  // idx, status, wall_time, ...
   auto skip = [&](int c) { return !wall_time && c == kWallTime; };
   for (int c = 0; c < n; ++c) {
@@ -537,7 +706,7 @@ void export_csv(const std::string& store_file, std::ostream& out, bool wall_time
   }
   out << '\n';
   char number[32];
-  while (s.step()) {
+  while (rows.step()) {
     for (int c = 0; c < n; ++c) {
       if (skip(c)) continue;
       if (c) out << ',';
@@ -559,11 +728,12 @@ void export_csv(const std::string& store_file, std::ostream& out, bool wall_time
 void read_rows(const std::string& store_file, const std::function<void(const Row&)>& f) {
   const Db db = open_to_read(store_file);
   const StoreLayout l = layout_from_json(store_file, find(read_meta(db), "layout"));
-  Statement s(db, "SELECT * FROM samples ORDER BY idx");
+  Rows rows(db);
+  const Statement& s = rows.row();
   Row r;
   r.factors.resize(l.factors.size());
   r.metrics.resize(l.metrics.size());
-  while (s.step()) {
+  while (rows.step()) {
     r.index = s.int64(0);
     // The status as its static name (Row holds a view).
     r.status = mech::to_string(mech::status_from_string(s.text(1).value_or("")).value_or(mech::Status::evaluation_error));
@@ -589,12 +759,13 @@ void export_json(const std::string& store_file, std::ostream& out) {
   json meta = json::object();
   for (const auto& [key, value] : read_meta(db)) meta[key] = value;
   out << "{\"meta\": " << meta.dump() << ",\n\"samples\": [";
-  Statement s(db, "SELECT * FROM samples ORDER BY idx");
-  const int n = sqlite3_column_count(s.get());
+  Rows rows(db);
+  Statement& s = rows.row();
+  const int n = rows.columns();
   std::vector<std::string> keys;  // quoted once
   for (int c = 0; c < n; ++c) keys.push_back(json(sqlite3_column_name(s.get(), c)).dump() + ": ");
   // One small object a row: memory stays constant for 10^7 rows.
-  for (bool first = true; s.step(); first = false) {
+  for (bool first = true; rows.step(); first = false) {
     out << (first ? "\n{" : ",\n{");
     for (int c = 0; c < n; ++c) {
       out << (c ? ", " : "") << keys[std::size_t(c)];
@@ -697,17 +868,23 @@ MergeReport merge_stores(const std::string& out_dir, const std::vector<std::stri
   auto meta = metas[0];
   meta.erase("shard");
   meta["merged_from"] = json(report.inputs).dump();
-  { Store created(out_dir, layout, meta, false); }  // the schema and meta
+  const Store created(out_dir, layout, meta, false);  // the schema and meta, and the writer's lock
   const Db out(out_file, SQLITE_OPEN_READWRITE);
-  Statement insert(out, insert_sql(4 + layout.factors.size() + layout.metrics.size()));
+  const int n = int(kColumnsBefore + layout.factors.size() + layout.metrics.size());
+  Statement insert(out, insert_sql(std::size_t(n) + 1));
   Transaction t(out);  // the merged store is whole or empty
   for (const auto& file : report.inputs) {
     const Db in = open_to_read(file);
-    Statement rows(in, "SELECT * FROM samples ORDER BY idx");
-    const int n = sqlite3_column_count(rows.get());
+    Rows rows(in);  // verified; a shard from before checksums gets them here
+    sqlite3_stmt* row = rows.row().get();
     while (rows.step()) {
       insert.reset();
-      for (int c = 0; c < n; ++c) insert.bind(c + 1, sqlite3_column_value(rows.get(), c));
+      RowHash h;
+      for (int c = 0; c < n; ++c) {
+        insert.bind(c + 1, sqlite3_column_value(row, c));
+        h.column(row, c);
+      }
+      insert.bind(n + 1, h.value());
       insert.step();
       ++report.rows;
     }

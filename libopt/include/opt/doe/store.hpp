@@ -25,7 +25,10 @@ struct StoreLayout {
   std::vector<std::string> metrics;              // column names, in order
 };
 
-// One evaluated sample.
+// One evaluated sample. In the store, one row of `samples`: idx, status,
+// wall_time, message, the factors, the metrics, and `checksum`, 64 bits over
+// the values before it, which the writer computes and every reader of whole
+// rows verifies (docs/doe.md, "Damage").
 struct Row {
   std::int64_t index = 0;
   std::string_view status;      // e.g. "ok", "cannot_assemble"
@@ -42,12 +45,39 @@ class StoreMismatch : public std::runtime_error {
   using runtime_error::runtime_error;
 };
 
+// A store file that SQLite (SQLITE_CORRUPT, SQLITE_NOTADB), a row's checksum
+// or an index outside the run finds damaged: the message names the file and
+// what was found, and points to `mechopt check` and `mechopt recover`.
+class StoreDamaged : public std::runtime_error {
+ public:
+  StoreDamaged(const std::string& file, const std::string& what)
+      : runtime_error(file + " is damaged (" + what + "): `mechopt check " + file + "` says what is wrong, " +
+                      "`mechopt recover " + file + " OUT` copies its intact rows into OUT/store.sqlite") {}
+};
+
+// Another process writes the store in that directory (it holds DIR/store.lock):
+// the message names it by pid, host, start time and command.
+class StoreBusy : public std::runtime_error {
+ public:
+  using runtime_error::runtime_error;
+};
+
+// One writer at a time: a Store holds an exclusive flock on DIR/store.lock
+// (a file of its own, beside the store) for its lifetime, taken before the
+// store is opened, created or moved aside. The operating system releases it
+// with the process, so a run killed by SIGKILL or a power cut leaves nothing
+// that blocks the next one. Readers (export, peek, check, pandas) never take
+// it. Under MPI only the rank that writes opens the Store.
 class Store {
  public:
-  // Opens DIR/store.sqlite (creating DIR), or creates it with `layout` and
+  // Takes DIR/store.lock (StoreBusy when another process holds it), then
+  // opens DIR/store.sqlite (creating DIR), or creates it with `layout` and
   // `meta` (key -> text; must hold "config_hash"). An existing store must have
   // the same config_hash and layout, else StoreMismatch names the file and the
-  // top-level keys of meta "config_canonical" (a JSON object) that differ. On
+  // top-level keys of meta "config_canonical" (a JSON object) that differ; one
+  // that `mechopt recover` saved without meta must have this run's columns,
+  // and takes this run's meta. A store from before row checksums is refused
+  // (StoreMismatch: recover copies it into one with them). On
   // reopening, meta keys the store lacks are added; stored ones are kept (use
   // set_meta to change them). fresh=true first renames an existing store (and
   // its -wal/-shm) to store.sqlite.old-YYYYmmdd-HHMMSS.
@@ -58,7 +88,8 @@ class Store {
 
   const std::string& path() const;
   // The indices in the store as `total` bits (bit i: sample i done). An index
-  // outside [0, total) means the store is not this run's: runtime_error.
+  // outside [0, total) (the config hash matched) or a page SQLite cannot
+  // read: StoreDamaged. The values are not read, nor their checksums.
   std::vector<bool> finished(std::int64_t total) const;
   // For a dry run, reading only: nullopt when DIR holds no store; else its
   // finished() bitmap, after the checks the constructor makes (StoreMismatch).
@@ -80,7 +111,9 @@ class Store {
 // page), for --dry-run's size estimate.
 double row_bytes(const Row& row, const StoreLayout& layout);
 
-// Readers of any store file (`mechopt export`): rows ordered by idx.
+// Readers of any store file (`mechopt export`): rows ordered by idx, every
+// row's checksum verified (StoreDamaged at the first that fails; what was
+// written by then is incomplete); the checksum column is not written.
 // CSV: a header row, numbers with 17 significant digits (%.17g: every double
 // exactly), NULL as an empty cell. Without wall_time it is the canonical dump
 // (`mechopt export --canonical`): rows by index and nothing of the run itself,
