@@ -18,6 +18,7 @@
 #include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/study.hpp"
+#include "opt/units.hpp"
 #include "problems/registry.hpp"
 
 namespace {
@@ -293,17 +294,49 @@ Args parse_args(int argc, char** argv) {
   return a;
 }
 
+// The unit grammar, the dimensions with their SI units and the symbols with
+// the prefixes, as opt/units.hpp reads them.
+void list_units(bool markdown) {
+  const auto& prefixes = opt::unit_prefixes();
+  if (!markdown) {
+    std::cout << "units: " << opt::unit_grammar() << "\n  symbols (* takes a prefix):";
+    for (const auto& s : opt::unit_symbols()) std::cout << " " << s.name << (s.prefixed ? "*" : "");
+    std::cout << "\n  prefixes:";
+    for (const auto& p : prefixes) std::cout << " " << p.name;
+    std::cout << "\n";
+    return;
+  }
+  std::cout << "## Units\n\n"
+               "A value with a dimension is `NUMBER UNIT` (`0.2 m`, `250mm`); a bare number is SI. A unit is a "
+               "product of symbols, each with an optional SI prefix and power (`^2`, `^-1`, `²`, `⁻¹`), separated "
+               "by a space, `*`, `·` or `.`; everything after its one `/` is the denominator (`kg/m s` is "
+               "kg/(m s)), and `1/` starts a reciprocal: `2 kN m s/rad`, `0.11 MN*m/rad`, `100 rev/min`, "
+               "`363 kgf`, `0.08 kg/mm`, `2 kgf/cm²`, `1 тс`. A unit fits a key when its exponents of mass, "
+               "length, time and angle are the key's dimension's (the radian counts: `rev/min` is an angular "
+               "speed, `N m/rad` a rotational stiffness). A torque and an energy have equal exponents, and the "
+               "spelling tells them apart: a unit with `J` or `W` is an energy, any other (`N m`, `kgf m`) a "
+               "torque. Constraint bounds take the metric's dimension. The SI value is within one ulp of the "
+               "exact product.\n\n| dimension | SI unit | also, e.g. |\n|---|---|---|\n";
+  for (const auto d : opt::unit_dimensions()) {
+    const std::string name = opt::to_string(d);
+    std::cout << "| " << name.substr(name.find(' ') + 1) << " | `" << opt::si_unit(d) << "` |";
+    for (const char* e : opt::unit_examples(d)) std::cout << " `" << e << "`";
+    std::cout << " |\n";
+  }
+  std::cout << "\n| symbol | is | prefixes |\n|---|---|---|\n";
+  for (const auto& s : opt::unit_symbols())
+    std::cout << "| `" << s.name << "` | " << s.meaning << " | " << (s.prefixed ? "yes" : "") << " |\n";
+  std::cout << "\nPrefixes:";
+  for (const auto& p : prefixes) std::cout << " `" << p.name << "` 10^" << p.power;
+  std::cout << " (the Cyrillic ones with Cyrillic symbols: `кН`, `мм`, `см`). A name is looked up whole "
+               "before it is split into a prefix and a symbol: `min` is the minute, `mm` the millimetre.\n";
+}
+
 // Problems with their parameter tables and metrics, and the drivers; with
 // `markdown`, the config reference kept in docs/config.md.
 void list(bool markdown) {
   if (markdown) {
-    std::cout << "## Units\n\n| dimension | units (SI first) |\n|---|---|\n";
-    for (int d = 1; d <= static_cast<int>(opt::Dimension::inverse_length); ++d) {
-      const auto dim = static_cast<opt::Dimension>(d);
-      std::cout << "| " << opt::to_string(dim).substr(opt::to_string(dim).find(' ') + 1) << " |";
-      for (const auto& u : opt::units_of(dim)) std::cout << " `" << u << "`";
-      std::cout << " |\n";
-    }
+    list_units(true);
     std::cout << "\nA value in a config may take any unit of its dimension. What mechopt prints (tables, "
                  "summaries, the defaults and domains below) and draws shows angles in deg, other quantities in "
                  "SI; result.json, the CSV files and the store hold SI (angles in rad), for scripts.\n";
@@ -342,6 +375,7 @@ void list(bool markdown) {
     std::cout << "\n";
   }
   if (markdown) return;
+  list_units(false);
   std::cout << "drivers:\n  nlopt:";
   for (const auto& a : opt::nlopt_algorithms()) std::cout << " " << a;
   std::cout << "\n  ipopt: interior point, L-BFGS Hessian, epigraph rows for cycle maxima\n";

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <sstream>
 #include <sys/wait.h>
 
@@ -131,6 +130,7 @@ TEST(CommandLine, VersionHelpList) {
   EXPECT_EQ(run("--help").exit_code, 0);
   const Outcome o = run("list");
   EXPECT_NE(o.output.find("recuperative_drive"), std::string::npos);
+  EXPECT_NE(o.output.find("units: a unit is symbols with SI prefixes"), std::string::npos) << o.output;
   EXPECT_NE(o.output.find("LD_SLSQP"), std::string::npos);
 }
 
@@ -162,41 +162,6 @@ TEST(CommandLine, EveryCommandHasHelp) {
   EXPECT_EQ(run("frobnicate --help").exit_code, 2);
 }
 
-TEST(Units, ConvertToSi) {
-  using opt::Dimension;
-  EXPECT_DOUBLE_EQ(opt::parse_quantity("100 rpm", Dimension::angular_speed).value, 100 * std::numbers::pi / 30);
-  EXPECT_DOUBLE_EQ(opt::parse_quantity("90 deg", Dimension::angle).value, std::numbers::pi / 2);
-  EXPECT_DOUBLE_EQ(opt::parse_quantity("250mm", Dimension::length).value, 0.25);
-  EXPECT_DOUBLE_EQ(opt::parse_quantity("0.2", Dimension::length).value, 0.2);
-  EXPECT_DOUBLE_EQ(opt::parse_quantity("3.562 kN", Dimension::force).value, 3562);
-  EXPECT_FALSE(opt::parse_quantity("1 m", Dimension::mass).error.empty());
-  EXPECT_FALSE(opt::parse_quantity("inf m", Dimension::length).error.empty());
-}
-
-// Every dimension the problems use, each unit against its SI definition
-// (tf: tonne-force, 1000 kg x standard gravity 9.80665 m/s^2).
-TEST(Units, EveryDimensionTheProblemsUse) {
-  using opt::Dimension;
-  struct Case { const char* text; Dimension d; double si; };
-  const Case cases[] = {
-      {"110 kN m/rad", Dimension::rotational_stiffness, 110e3},
-      {"110 kN*m / rad", Dimension::rotational_stiffness, 110e3},
-      {"2000 N m s/rad", Dimension::rotational_damping, 2000},
-      {"2 kN m", Dimension::torque, 2000},   {"5 tf", Dimension::force, 5 * 9806.65},
-      {"1.5 MN", Dimension::force, 1.5e6},   {"3 kN/m", Dimension::linear_stiffness, 3000},
-      {"0.32 kg m^2", Dimension::inertia, 0.32}, {"0.32 kg*m^2", Dimension::inertia, 0.32},
-      {"11 kW", Dimension::power, 11000},    {"2 MPa", Dimension::pressure, 2e6},
-      {"0.5 1/mm", Dimension::inverse_length, 500}, {"4 kJ", Dimension::energy, 4000},
-  };
-  for (const auto& c : cases) {
-    const auto q = opt::parse_quantity(c.text, c.d);
-    EXPECT_TRUE(q.error.empty()) << c.text << ": " << q.error;
-    EXPECT_DOUBLE_EQ(q.value, c.si) << c.text;
-  }
-  EXPECT_NE(opt::parse_quantity("110 kN m", Dimension::rotational_stiffness).error.find("is a torque"),
-            std::string::npos);
-}
-
 }  // namespace
 
 namespace {
@@ -204,12 +169,23 @@ namespace {
 // Model values with units of every kind read through the parameter tables.
 TEST(CommandLine, ParameterTableReadsUnitsAndSections) {
   const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/elastic_drive/optimum.yaml";
-  Outcome o = run("eval " + cfg + " --set \"stiffness=110 kN m/rad\" --set \"coupling_inertia=0.32 kg m^2\"");
+  Outcome o = run("eval " + cfg + " --set \"stiffness=0.11 MN*m/rad\" --set \"coupling_inertia=0.32 kg m^2\"" +
+                  " --set \"damping=2 kN m s/rad\"");
   ASSERT_EQ(o.exit_code, 0) << o.output;
   const auto j = nlohmann::json::parse(o.output);
   EXPECT_DOUBLE_EQ(j["settings"]["model"]["stiffness"].get<double>(), 110000);
+  EXPECT_DOUBLE_EQ(j["settings"]["model"]["damping"].get<double>(), 2000);
   EXPECT_DOUBLE_EQ(j["settings"]["model"]["coupling_inertia"].get<double>(), 0.32);
   EXPECT_DOUBLE_EQ(j["settings"]["model"]["motor"]["critical_torque"].get<double>(), 215.4);
+  // Issue 32's spellings of seed 000's values (kgf = 9.80665 N, 100 rev/min = 10 pi/3 rad/s).
+  const std::string recuperative = std::string(MECHOPT_SOURCE_DIR) + "/configs/recuperative_drive/rod_length.yaml";
+  o = run("eval " + recuperative + " --set \"crank_speed=100 rev/min\" --set \"cart_resistance=363 kgf\"" +
+          " --set \"rod_mass_per_length=0.08 kg/mm\"");
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  const auto model = nlohmann::json::parse(o.output)["settings"]["model"];
+  EXPECT_DOUBLE_EQ(model["crank_speed"].get<double>(), 10.47197551196597746);
+  EXPECT_DOUBLE_EQ(model["cart_resistance"].get<double>(), 3559.81395);
+  EXPECT_DOUBLE_EQ(model["rod_mass_per_length"].get<double>(), 80);
   o = run("eval " + cfg + " --set \"stiffness=110 kN m\"");
   EXPECT_EQ(o.exit_code, 2);
   EXPECT_NE(o.output.find("key 'model.stiffness': expected a rotational stiffness"), std::string::npos) << o.output;

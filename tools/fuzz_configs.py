@@ -44,11 +44,14 @@ BASE_SAMPLES = 4096     # a DOE base config's samples at most
 EXTREMES = ["1e308", "1e300", "-1e308", "1e-300", "5e-324", "0", "-0", "-1", "-1e-9", "nan",
             "inf", "-inf", "1e12", "-1e12", "1e-12", "2147483648", "4294967297", "1e20"]
 UNITS = ["m", "mm", "cm", "rad", "deg", "rad/s", "rpm", "kg", "t", "kg/m", "N", "kN", "s", "ms",
-         "furlong", "N m", "m/s", "J"]
+         "furlong", "N m", "m/s", "J", "kN m s/rad", "MN*m/rad", "rev/min", "kgf", "kg/mm", "kgf/cm^2",
+         "кгс/см²", "тс", "hp", "PS", "kg/m s", "m^", "m^x", "/s", "kg//m", "m^-99", "N·m·", "1/"]
 CONVERSIONS = {"m": [("mm", 1e3), ("cm", 1e2)], "mm": [("m", 1e-3)], "cm": [("m", 1e-2)],
                "deg": [("rad", math.pi / 180)], "rad": [("deg", 180 / math.pi)],
-               "rpm": [("rad/s", math.pi / 30)], "rad/s": [("rpm", 30 / math.pi)],
-               "kg": [("t", 1e-3)], "N": [("kN", 1e-3)], "kN": [("N", 1e3)], "s": [("ms", 1e3)]}
+               "rpm": [("rad/s", math.pi / 30), ("rev/min", 1.0)], "rad/s": [("rpm", 30 / math.pi)],
+               "kg": [("t", 1e-3)], "N": [("kN", 1e-3), ("kgf", 1 / 9.80665)],
+               "kN": [("N", 1e3), ("tf", 1 / 9.80665)], "s": [("ms", 1e3)],
+               "kg/m": [("kg/mm", 1e-3)], "N m/rad": [("kN*m/rad", 1e-3)], "W": [("kW", 1e-3)]}
 QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S.*)?$")
 TEXT_CHARS = ":{}[],-#&*!|>'\"%@` \t\n0123456789.eE"
 

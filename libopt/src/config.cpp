@@ -233,10 +233,8 @@ double ConfigNode::quantity(Dimension d) const {
   const std::string t = text();
   const ParsedQuantity q = parse_quantity(t, d);
   if (!q.error.empty()) {
-    const auto units = units_of(d);
-    fail("expected " + to_string(d) +
-         (units.empty() ? "" : " (a number with unit " + join(units) + ")") + ", got '" + t +
-         "': " + q.error);
+    const std::string si = si_unit(d);
+    fail("expected " + to_string(d) + (si.empty() ? "" : " (SI unit " + si + ")") + ", got '" + t + "': " + q.error);
   }
   return q.value;
 }
