@@ -4,7 +4,11 @@ written as a user would in numpy/scipy (loop-closure velocity and
 acceleration formulas vectorised over the crank angle, scipy to refine the
 peak and to optimise), timed in the same run as mechopt.
 Prints JSON rows {case: {seconds, value}}; run_bench.py turns them into ratios.
+With --wp, the work-precision cases instead: the optimum over SLSQP's ftol,
+swing_optimum_ftol_<-log10 ftol>: {seconds, value, evaluations, converged},
+drawn against mechopt's drivers in docs/img/work_precision_conveyor_l_co1.svg.
 """
+import argparse
 import json
 import math
 
@@ -72,16 +76,34 @@ def max_pressure(l_co1, n=48):
     return -res.fun
 
 
+def optimum_result(ftol):
+    return optimize.minimize(lambda x: peak_moment(x[0]) / 1e5, [1.2], method="SLSQP",
+                             bounds=[(0.9, 2.4)],
+                             constraints=[{"type": "ineq",
+                                           "fun": lambda x: math.radians(60) - max_pressure(x[0])}],
+                             options={"ftol": ftol, "maxiter": 200})
+
+
 def optimum():
-    res = optimize.minimize(lambda x: peak_moment(x[0]) / 1e5, [1.2], method="SLSQP",
-                            bounds=[(0.9, 2.4)],
-                            constraints=[{"type": "ineq",
-                                          "fun": lambda x: math.radians(60) - max_pressure(x[0])}],
-                            options={"ftol": 1e-12, "maxiter": 200})
-    return res.x[0]
+    return optimum_result(1e-12).x[0]
+
+
+def work_precision():
+    """The optimum over ftol; evaluations: the objective's (finite differences included)."""
+    out = {}
+    for k in (4, 6, 8, 10, 12):
+        seconds, res = timed(lambda: optimum_result(10.0 ** -k))
+        out[f"swing_optimum_ftol_{k}"] = {"seconds": seconds, "value": float(res.x[0]),
+                                          "evaluations": int(res.nfev), "converged": bool(res.success)}
+    return out
 
 
 def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--wp", action="store_true", help="the work-precision cases instead")
+    if ap.parse_args().wp:
+        print(json.dumps(work_precision(), indent=1))
+        return
     out = {}
     for name, fn in {"swing_peak": lambda: peak_moment(1.2), "swing_optimum": optimum}.items():
         seconds, value = timed(fn)

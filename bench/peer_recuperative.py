@@ -2,7 +2,12 @@
 """Peer baseline for the recuperative drive: what a user would write in
 Python with numpy/scipy (Debian packages), timed in the same run as mechopt.
 Prints JSON rows {case: {seconds, value}}; run_bench.py turns them into ratios.
+With --wp, the work-precision cases instead: the rod-length optimum over
+minimize_scalar's xatol, rod_length_optimum_xatol_<-log10 xatol>: {seconds,
+value, evaluations, converged}, drawn against mechopt's drivers in
+docs/img/work_precision_rod_length.svg.
 """
+import argparse
 import json
 import math
 import timeit
@@ -50,9 +55,13 @@ def peak(l, n=32):
     return -res.fun
 
 
-def optimum():
+def optimum_result(xatol):
     return optimize.minimize_scalar(mean_trapezoid, bounds=(0.5, 1.5), method="bounded",
-                                    options={"xatol": 1e-12}).x
+                                    options={"xatol": xatol})
+
+
+def optimum():
+    return optimum_result(1e-12).x
 
 
 def timed(fn, min_seconds=0.2):
@@ -64,7 +73,22 @@ def timed(fn, min_seconds=0.2):
     return runs[2] / number, fn()
 
 
+def work_precision():
+    """The optimum over xatol: (seconds, its result) per -log10 xatol."""
+    out = {}
+    for k in (4, 6, 8, 10, 12):
+        seconds, res = timed(lambda: optimum_result(10.0 ** -k))
+        out[f"rod_length_optimum_xatol_{k}"] = {"seconds": seconds, "value": float(res.x),
+                                                "evaluations": int(res.nfev), "converged": bool(res.success)}
+    return out
+
+
 def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--wp", action="store_true", help="the work-precision cases instead")
+    if ap.parse_args().wp:
+        print(json.dumps(work_precision(), indent=1))
+        return
     cases = {
         "cycle_mean": lambda: mean_trapezoid(0.8),
         "cycle_mean_16": lambda: mean_trapezoid(0.8, 16),

@@ -7,6 +7,8 @@ tools/reference_seed002.json, bench/reference_press_sawmill.json).
 Usage: /usr/bin/python3 bench/run_bench.py [--build build] [--repetitions 5]
        /usr/bin/python3 bench/run_bench.py --only press_sawmill   (the crank press,
        roller forming and the sawmill alone: their bench, peers, rows and docs block; a minute)
+       /usr/bin/python3 bench/run_bench.py --only wp   (the drivers' work-precision alone:
+       bench_drivers' WP/ cases, the peers' --wp cases, the two charts and docs/drivers.md)
 """
 import argparse
 import datetime
@@ -44,21 +46,26 @@ def google_benchmark(binary, repetitions, benchmark_filter=None, min_time=0.1):
     return rows
 
 
-def write_work_precision_svg(path, scene, drivers):
+def write_work_precision_svg(path, scene, drivers, peers=(), notes=()):
     """Log-log chart: error against time, one line per driver (or method)
     over its knob (tolerance, grid points); hollow markers where it did not
-    report convergence; errors of 0 drawn at 1e-17."""
+    report convergence; errors of 0 drawn at 1e-17. The lines named in
+    peers are dashed; notes: lines of text under the legend."""
     import math
     W, H, L, R, T, B = 820, 480, 80, 250, 40, 60
     floor = 1e-17  # an error of 0 (the reference's double exactly) is drawn here
-    pts = [(t, max(e, floor)) for runs in drivers.values() for t, e, _, _ in runs if e is not None]
+    drivers = {d: [r for r in runs if r[1] is not None and r[1] == r[1]] for d, runs in drivers.items()}  # no NaN
+    R = max(R, 40 + 7 * max(len(d) + (0 if runs else 11) for d, runs in drivers.items()))  # the legend's room
+    W += R - 250
+    pts = [(t, max(e, floor)) for runs in drivers.values() for t, e, _, _ in runs]
     xs = [math.log10(t) for t, _ in pts]
     ys = [math.log10(max(e, floor)) for _, e in pts]
     x0, x1 = math.floor(min(xs)), math.ceil(max(xs))
     y0, y1 = math.floor(min(ys)), math.ceil(max(ys))
     px = lambda v: L + (v - x0) / (x1 - x0) * (W - L - R)
     py = lambda v: H - B - (v - y0) / (y1 - y0) * (H - T - B)
-    colors = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
+    colors = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
+              "#bcbd22", "#7f7f7f", "#aec7e8"]  # and the peers black
     out = [f"<svg xmlns='http://www.w3.org/2000/svg' width='{W}' height='{H}' font-family='sans-serif' font-size='12'>",
            "<rect width='100%' height='100%' fill='white'/>",
            f"<text x='{W / 2}' y='22' text-anchor='middle' font-size='15'>{scene}: error against time</text>",
@@ -71,18 +78,25 @@ def write_work_precision_svg(path, scene, drivers):
                    f"<text x='{L - 6}' y='{py(v) + 4}' text-anchor='end'>1e{v}</text>")
     out.append(f"<text x='{(L + W - R) / 2}' y='{H - 18}' text-anchor='middle'>time per run, median [s]</text>")
     out.append(f"<text transform='translate(18,{(T + H - B) / 2}) rotate(-90)' text-anchor='middle'>relative error [-]</text>")
+    ours = [d for d in sorted(drivers) if d not in peers]
     for i, (driver, runs) in enumerate(sorted(drivers.items())):
-        c = colors[i % len(colors)]
+        c = "#000000" if driver in peers else colors[ours.index(driver) % len(colors)]
         runs = sorted(runs, key=lambda r: r[3])
-        line = " ".join(f"{px(math.log10(t))},{py(math.log10(max(e, floor)))}" for t, e, _, _ in runs if e is not None)
-        out.append(f"<polyline fill='none' stroke='{c}' stroke-width='2' points='{line}'/>")
+        line = " ".join(f"{px(math.log10(t))},{py(math.log10(max(e, floor)))}" for t, e, _, _ in runs)
+        dash = " stroke-dasharray='6,3'" if driver in peers else ""
+        if runs:
+            out.append(f"<polyline fill='none' stroke='{c}' stroke-width='2'{dash} points='{line}'/>")
         for t, e, ok, _ in runs:
-            if e is not None:
-                out.append(f"<circle cx='{px(math.log10(t))}' cy='{py(math.log10(max(e, floor)))}' r='4' "
-                           f"fill='{c if ok else 'white'}' stroke='{c}' stroke-width='2'/>")
-        out.append(f"<rect x='{W - R + 12}' y='{T + 14 + 20 * i - 8}' width='14' height='4' fill='{c}'/>"
-                   f"<text x='{W - R + 32}' y='{T + 14 + 20 * i}'>{driver}</text>")
-    out.append(f"<text x='{W - R + 12}' y='{H - B}' font-size='11'>hollow: did not converge</text>")
+            out.append(f"<circle cx='{px(math.log10(t))}' cy='{py(math.log10(max(e, floor)))}' r='4' "
+                       f"fill='{c if ok else 'white'}' stroke='{c}' stroke-width='2'/>")
+        key = (f"<line x1='{W - R + 12}' y1='{T + 14 + 20 * i - 6}' x2='{W - R + 26}' y2='{T + 14 + 20 * i - 6}' "
+               f"stroke='{c}' stroke-width='4' stroke-dasharray='4,2'/>" if driver in peers else
+               f"<rect x='{W - R + 12}' y='{T + 14 + 20 * i - 8}' width='14' height='4' fill='{c}'/>")
+        out.append(key + f"<text x='{W - R + 32}' y='{T + 14 + 20 * i}'>{driver}{'' if runs else ': no result'}</text>")
+    for j, note in enumerate(notes):
+        out.append(f"<text x='{W - R + 12}' y='{H - B - 16 * (len(notes) - j)}' font-size='11'>{note}</text>")
+    out.append(f"<text x='{W - R + 12}' y='{H - B}' font-size='11'>hollow: did not converge"
+               f"{'; dashed: peer' if peers else ''}</text>")
     out.append("</svg>")
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w") as f:
@@ -359,55 +373,63 @@ def performance_blocks(m, peer, debian, row, tcp, peak_elastic, lstar, l_co1_sta
     return blocks
 
 
-def drivers_blocks(m):
-    """The drivers' work-precision tables: per driver the loosest tolerance
-    that reaches 1e-8, and the tolerance of its best error where that is ten
-    times better; drivers that never reach 1e-8: their best."""
+def drivers_blocks(m, peer):
+    """The drivers' work-precision tables: per driver (and the scene's peer)
+    the loosest tolerance that reaches 1e-8, and the tolerance of its best
+    error where that is ten times better; drivers that never reach 1e-8:
+    their best. The summary: who is fastest, and the peer against mechopt at
+    the peer's best accuracy."""
     blocks = {}
-    scenes = {}
-    for name, a in m.items():
-        if name.startswith("WP/"):
-            _, scene, driver, tol = name.split("/")
-            scenes.setdefault(scene, {}).setdefault(driver, []).append(
-                (int(tol), a["seconds"], int(a["evaluations"]), a["error"], bool(a["converged"]) and a["error"] == a["error"],
-                 int(a.get("iterations") or 0)))
+    scenes, peers = wp_scenes(m, peer)
     label = lambda scene, d: {"ipopt": "ipopt (L-BFGS)" if scene == "rod_length" else "ipopt, epigraph",
                               "ipopt_mumps": "ipopt with MUMPS" if scene == "rod_length" else "ipopt, epigraph, MUMPS",
-                              "ipopt_plain": "ipopt, plain (no epigraph)"}.get(d, d.replace("_", " ", 1))
-    tol_name = lambda d, t: f"{'tol' if d.startswith('ipopt') else 'xtol'} 1e-{t}"
+                              "ipopt_plain": "ipopt, plain (no epigraph)",
+                              "peer": f"peer: {PEER_WP[scene][2]}"}.get(d, d.replace("_", " ", 1))
     names = {"rod_length": "rod length", "conveyor_l_co1": "conveyor l_CO1"}
-    summary = []
+    summary, matched = [], []
     for scene, drivers in scenes.items():
+        tol_name = lambda d, t: wp_tol(scene, d, t)
         body, first_to, never, best_of = [], [], [], []  # body: (driver's first time, tolerance, row)
-        for d, runs in drivers.items():
-            runs.sort()
+        for d, runs in list(drivers.items()) + ([("peer", peers[scene])] if scene in peers else []):
+            ours = d != "peer"  # the peer: in the table, not in the drivers' summary
             good = [r for r in runs if r[4] and r[3] <= 1e-8]
             conv = [r for r in runs if r[4]]
             best = min(conv, key=lambda r: r[3]) if conv else None
             if good:
                 body.append((good[0][1], good[0][0], [label(scene, d), tol_name(d, good[0][0]), fmt_time(good[0][1]),
                                                       good[0][2], fmt_err(good[0][3])]))
-                first_to.append((good[0][1], label(scene, d), tol_name(d, good[0][0])))
+                if ours:
+                    first_to.append((good[0][1], label(scene, d), tol_name(d, good[0][0])))
                 if best[3] < good[0][3] / 10:
                     body.append((good[0][1], best[0], [label(scene, d), tol_name(d, best[0]), fmt_time(best[1]),
                                                        best[2], fmt_err(best[3])]))
             elif best:
                 body.append((best[1], best[0], [label(scene, d), tol_name(d, best[0]), fmt_time(best[1]), best[2],
                                                 fmt_err(best[3]) + " (its best)"]))
-                never.append(f"{label(scene, d)} (at best {fmt_err(best[3])})")
+                if ours:
+                    never.append(f"{label(scene, d)} (at best {fmt_err(best[3])})")
             else:
                 r = runs[-1]
                 body.append((r[1], r[0], [label(scene, d), f"any ({tol_name(d, runs[0][0])} to 1e-{r[0]})", fmt_time(r[1]),
                                     r[2], f"not converged at any tolerance (figures at {tol_name(d, r[0])})"]))
-                never.append(f"{label(scene, d)} (does not converge)")
-            if best:
+                if ours:
+                    never.append(f"{label(scene, d)} (does not converge)")
+            if best and ours:
                 best_of.append((best[3], label(scene, d)))
+        mt = wp_matched(drivers, peers.get(scene, []))
+        if mt:
+            target, theirs, (d, r), ratio = mt
+            matched.append(f"- {names[scene]}, against the peer ({PEER_WP[scene][2]}, `bench/{PEER_WP[scene][0]}`): "
+                           f"its best error {fmt_err(theirs[3])} ({tol_name('peer', theirs[0])}, {fmt_time(theirs[1])}); "
+                           f"mechopt's fastest run within that, {label(scene, d)} ({tol_name(d, r[0])}, "
+                           f"{fmt_time(r[1])}, error {fmt_err(r[3])}): **{fmt_ratio(ratio)}x**.")
         blocks["wp_" + scene] = table(["driver", "tolerance", "time", "evaluations", "error"],
                                       [b for _, _, b in sorted(body, key=lambda x: x[:2])])
         first_to.sort()
         summary.append(f"- {names[scene]}: fastest to 1e-8 " + join_and(f"{n} ({tol}, {fmt_time(t)})" for t, n, tol in first_to[:2])
                        + "; never to 1e-8: " + join_and(never) + "; 1e-10 or better at some tolerance: "
                        + join_and(n for e, n in sorted(best_of) if e <= 1e-10) + ".")
+    summary += matched
     ratios = []
     for scene, drivers in scenes.items():
         ip = dict((r[0], r) for r in drivers.get("ipopt", []))
@@ -586,6 +608,99 @@ def run_press_sawmill(build, repetitions):
     return m, peer
 
 
+def run_peer(script, *args):
+    """A peer's JSON rows {case: {seconds, value, ...}}."""
+    return json.loads(subprocess.run([sys.executable, os.path.join(HERE, script), *args],
+                                     check=True, capture_output=True, text=True).stdout)
+
+
+# The drivers' work-precision (bench/bench_drivers.cpp, WP/<scene>/<driver>/<-log10 tol>)
+# and each scene's peer over its own knob (the peer script's --wp cases,
+# CASE<-log10 knob>): scene -> (script, CASE, label, knob).
+PEER_WP = {"rod_length": ("peer_recuperative.py", "rod_length_optimum_xatol_", "scipy minimize_scalar (bounded)",
+                          "xatol"),
+           "conveyor_l_co1": ("peer_conveyor.py", "swing_optimum_ftol_", "scipy SLSQP", "ftol")}
+
+
+# Lines under a chart's legend: what it leaves out.
+WP_NOTES = {"conveyor_l_co1": ["no line driver: it takes one", "variable with bounds only", ""]}
+
+
+def wp_tol(scene, driver, tol):
+    """A work-precision run's knob: the peer's own, Ipopt's KKT tolerance, or xtol_rel."""
+    knob = PEER_WP[scene][3] if driver == "peer" else "tol" if driver.startswith("ipopt") else "xtol"
+    return f"{knob} 1e-{tol}"
+
+
+def wp_scenes(m, peer):
+    """scene -> {driver: [(-log10 tol, seconds, evaluations, error, converged, iterations)]}, mechopt's
+    drivers, and scene -> the same of its peer (errors against the references bench_drivers.cpp uses)."""
+    scenes = {}
+    for name, a in m.items():
+        if name.startswith("WP/"):
+            _, scene, driver, tol = name.split("/")
+            scenes.setdefault(scene, {}).setdefault(driver, []).append(
+                (int(tol), a["seconds"], int(a["evaluations"]), a["error"],
+                 bool(a["converged"]) and a["error"] == a["error"], int(a.get("iterations") or 0)))
+    _, _, _, lstar, _, l_co1_star = references()
+    x_star = {"rod_length": lstar, "conveyor_l_co1": l_co1_star}
+    peers = {}
+    for scene, (_, case, _, _) in PEER_WP.items():
+        for name, p in peer.items():
+            if name.startswith(case):
+                peers.setdefault(scene, []).append((int(name[len(case):]), p["seconds"], p["evaluations"],
+                                                    rel(p["value"], x_star[scene]), p["converged"], 0))
+    return ({s: {d: sorted(r) for d, r in ds.items()} for s, ds in scenes.items()},
+            {s: sorted(r) for s, r in peers.items()})
+
+
+def wp_matched(drivers, peer_runs):
+    """At the peer's best accuracy (its least error of a converged run, 1e-15 at the least: both at
+    roundoff count as equal): the peer's fastest converged run within it and mechopt's (any driver,
+    any tolerance), as (target, peer run, (driver, run), peer seconds / ours), or None."""
+    ok = [r for r in peer_runs if r[4]]
+    if not ok:
+        return None
+    target = max(min(r[3] for r in ok), 1e-15)
+    theirs = min((r for r in ok if r[3] <= target), key=lambda r: r[1])
+    ours = min(((d, r) for d, runs in drivers.items() for r in runs if r[4] and r[3] <= target),
+               key=lambda x: x[1][1], default=None)
+    return ours and (target, theirs, ours, theirs[1] / ours[1][1])
+
+
+def work_precision(m, peer):
+    """The rows wp_* of bench-results.json and the charts
+    docs/img/work_precision_<scene>.svg: every driver and the scene's peer."""
+    scenes, peers = wp_scenes(m, peer)
+    rows = []
+    for scene, drivers in scenes.items():
+        for driver, runs in drivers.items():
+            for tol, seconds, evaluations, error, _, _ in runs:
+                a = m[f"WP/{scene}/{driver}/{tol}"]
+                rows.append({"case": f"wp_{scene}_{driver}_tol1e-{tol}", "mechopt_benchmark": f"WP/{scene}/{driver}/{tol}",
+                             "mechopt_seconds": seconds, "evaluations": evaluations,
+                             "mechopt_error": error, "converged": bool(a["converged"])})
+        script, case, label, knob = PEER_WP[scene]
+        for tol, seconds, evaluations, error, converged, _ in peers.get(scene, []):
+            rows.append({"case": f"wp_{scene}_peer_{knob}1e-{tol}", "peer_method": f"{label}, {knob} 1e-{tol} "
+                         f"(bench/{script})", "mechopt_seconds": None, "peer_seconds": seconds,
+                         "evaluations": evaluations, "peer_error": error, "converged": converged})
+        lines = {d: [(t, e, ok, tol) for tol, t, _, e, ok, _ in runs] for d, runs in drivers.items()}
+        notes = list(WP_NOTES.get(scene, []))
+        if scene in peers:
+            lines[f"{label} (peer)"] = [(t, e, ok, tol) for tol, t, _, e, ok, _ in peers[scene]]
+            mt = wp_matched(drivers, peers[scene])
+            if mt:
+                target, theirs, (driver, ours), ratio = mt
+                notes += [f"within the peer's best error, {fmt_err(theirs[3])}:",
+                         f"peer {fmt_time(theirs[1])} ({wp_tol(scene, 'peer', theirs[0])}),",
+                         f"{driver} {fmt_time(ours[1])} ({wp_tol(scene, driver, ours[0])}): {fmt_ratio(ratio)}x"]
+        path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
+        write_work_precision_svg(path, scene, lines, peers=[f"{label} (peer)"], notes=notes)
+        print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
+    return rows
+
+
 def print_rows(rows):
     print(f"{'case':34s} {'mechopt':>11s} {'peer':>11s} {'ratio':>7s} {'mech err':>9s} {'peer err':>9s}")
     for r in rows:
@@ -602,7 +717,8 @@ def doc_blocks(m, peer, debian, rows, tcp, peak_elastic, lstar, l_co1_star):
     line = machine_line()
     perf = performance_blocks(m, peer, debian, row, tcp, peak_elastic, lstar, l_co1_star)
     perf["press_sawmill"] = press_sawmill_block(row, m)
-    return {"docs/performance.md": {"machine": line, **perf}, "docs/drivers.md": {"machine": line, **drivers_blocks(m)}}
+    return {"docs/performance.md": {"machine": line, **perf},
+            "docs/drivers.md": {"machine": line, **drivers_blocks(m, peer)}}
 
 
 def write_blocks(path, blocks, partial=False):
@@ -630,9 +746,11 @@ def main():
                          "its bench_elastic fills performance.md's SUNDIALS table when present")
     ap.add_argument("--no-docs", action="store_true",
                     help="do not write the generated blocks of docs/performance.md and docs/drivers.md")
-    ap.add_argument("--only", choices=["press_sawmill"],
+    ap.add_argument("--only", choices=["press_sawmill", "wp"],
                     help="run one group alone: its bench and peers, its rows in build/bench-results-NAME.json "
-                         "and its block of docs/performance.md (with this run's machine line in it)")
+                         "and its docs (press_sawmill: its block of docs/performance.md, with this run's machine "
+                         "line in it; wp: the drivers' two work-precision charts and docs/drivers.md, machine line "
+                         "included)")
     args = ap.parse_args()
     if args.only == "press_sawmill":
         print("running bench_press_sawmill and its peers ...", file=sys.stderr)
@@ -650,6 +768,22 @@ def main():
                                            "\n\nThis block alone: " + machine_line().replace(" (`make bench`)", "")}, partial=True)
             print("written: docs/performance.md (block press_sawmill)")
         return
+    if args.only == "wp":
+        print("running bench_drivers' WP/ cases and the peers' work-precision cases ...", file=sys.stderr)
+        m = google_benchmark(os.path.join(args.build, "bin", "bench_drivers"), 3, "^WP/")
+        peer = {}
+        for script, *_ in PEER_WP.values():
+            peer.update(run_peer(script, "--wp"))
+        rows = work_precision(m, peer)
+        out = os.path.join(args.build, "bench-results-wp.json")
+        json.dump(rows, open(out, "w"), indent=1)
+        print_rows(rows)
+        print(f"written: {out}")
+        if not args.no_docs:
+            path = os.path.join(ROOT, "docs", "drivers.md")
+            write_blocks(path, {"machine": machine_line().replace(" (`make bench`)", ""), **drivers_blocks(m, peer)})
+            print(f"written: {os.path.relpath(path, ROOT)}")
+        return
     tcp, tmax, grad, lstar, peak_v1, l_co1_star = references()
 
     print("running Google Benchmark cases ...", file=sys.stderr)
@@ -666,8 +800,9 @@ def main():
     print("running the Python peers ...", file=sys.stderr)
     peer = {}
     for script in ("peer_recuperative.py", "peer_conveyor.py", "peer_elastic.py") + PRESS_SAWMILL_PEERS:
-        peer.update(json.loads(subprocess.run([sys.executable, os.path.join(HERE, script)],
-                                              check=True, capture_output=True, text=True).stdout))
+        peer.update(run_peer(script))
+    for script, *_ in PEER_WP.values():
+        peer.update(run_peer(script, "--wp"))
 
     cases = comparison_cases(peer)
     peak_elastic = peer["reference"]["value"]
@@ -729,16 +864,7 @@ def main():
     if wpe:
         path = os.path.join(ROOT, "docs", "img", "work_precision_elastic_steady.svg")
         write_work_precision_svg(path, "elastic drive steady state", {**wpe, **peer_wp})
-    # Work-precision of every driver: WP/<scene>/<driver>/<-log10 tol>.
-    wp = {}
-    for name, a in m.items():
-        if name.startswith("WP/"):
-            _, scene, driver, tol = name.split("/")
-            rows.append({"case": f"wp_{scene}_{driver}_tol1e-{tol}", "mechopt_benchmark": name,
-                         "mechopt_seconds": a["seconds"], "evaluations": a["evaluations"],
-                         "mechopt_error": a["error"], "converged": bool(a["converged"])})
-            wp.setdefault(scene, {}).setdefault(driver, []).append(
-                (a["seconds"], a["error"], bool(a["converged"]), int(tol)))
+    rows += work_precision(m, peer)
     if not args.no_docs:
         press_sawmill_charts(m, peer)
         grid_chart("cycle_mean", "recuperative drive, mean kinetic energy, l = 0.8 m", m,
@@ -748,10 +874,6 @@ def main():
                     ("scipy quad, epsrel 1e-12", peer["cycle_mean_quad"])])
         grid_chart("swing_peak", "conveyor variant 1, peak balancing moment", m, r"BM_SwingMetrics/(\d+)/0",
                    peak_v1, "grid points", [("numpy peer, 48 points + refine", peer["swing_peak"])])
-    for scene, drivers in wp.items():
-        path = os.path.join(ROOT, "docs", "img", f"work_precision_{scene}.svg")
-        write_work_precision_svg(path, scene, drivers)
-        print(f"chart: {os.path.relpath(path, ROOT)}", file=sys.stderr)
     print("running the batch DOE cases (bench/doe_bench.py) ...", file=sys.stderr)
     doe_rows = doe_bench.run(args.build, doe_bench.REPETITIONS, not args.no_docs)
     print("running each driver from 49 start points on a kink (bench/kink_map.py) ...", file=sys.stderr)
