@@ -1,15 +1,22 @@
-// Throughput of the DOE results store (docs/doe.md, "The store"): rows/s of
-// append() in 20 000-row batches, 4 factors and 4 to 60 metrics
-// (BM_Append/METRICS/ROWS: rows/s against the column count, and at 12
-// metrics against the rows a transaction), and the resume
-// bitmap finished() over 10^6 rows. Targets: >= 300k rows/s at 12 metrics,
-// finished(10^6) < 0.3 s, so the store never limits a batch run.
+// Throughput of the DOE results store (docs/doe.md, "The store" and
+// "Segments"): rows/s of append() in 20 000-row batches, 4 factors and 4 to
+// 60 metrics (BM_Append/METRICS/ROWS: rows/s against the column count, and at
+// 12 metrics against the rows a transaction); N producer threads, each
+// appending to a file of its own as a run's threads do (BM_Producers/N: the
+// rows/s of all together, against BM_Producers/1); the fold of segments
+// into the store (BM_Fold/INTERLEAVED: the segments' indices after the
+// store's, or interleaved with them in chunks as a run's threads take them);
+// `merge` of shard stores (BM_Merge); and the resume bitmap finished() over
+// 10^6 rows. Targets: >= 300k rows/s at 12 metrics, producers at N times one
+// producer's rate up to the cores, merge at no less than half of BM_Append,
+// finished(10^6) < 0.3 s.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "opt/doe/store.hpp"
@@ -78,6 +85,67 @@ BENCHMARK(BM_Append)
     ->Args({4, kBatch})->Args({12, kBatch})->Args({28, kBatch})->Args({60, kBatch})
     ->Args({12, 100})->Args({12, 1000})->Args({12, 4096})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// BM_Producers/N: N threads, each appending 4096-row batches of its own
+// indices to a file of its own (the first to store.sqlite, the others to
+// segments, as a run's threads do), for 0.2 s a round.
+void BM_Producers(benchmark::State& state) {
+  const int producers = int(state.range(0));
+  constexpr std::int64_t kRows = 4096, kStride = std::int64_t(1) << 40;  // producer p: indices from p kStride
+  BenchDir dir("producers");
+  auto s = store(dir.path);
+  std::vector<opt::doe::Segment> segments;
+  for (int p = 1; p < producers; ++p) segments.push_back(s.segment("bench-" + std::to_string(p)));
+  std::vector<std::int64_t> first(std::size_t(producers), 0);
+  std::int64_t rows = 0;
+  for (auto _ : state) {
+    std::vector<std::thread> threads;
+    std::vector<std::int64_t> made(std::size_t(producers), 0);
+    for (int p = 0; p < producers; ++p)
+      threads.emplace_back([&, p] {
+        auto b = batch(0, 12, kRows);
+        const auto t0 = std::chrono::steady_clock::now();
+        while (std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(200)) {
+          auto& at = first[std::size_t(p)];
+          for (std::int64_t k = 0; k < kRows; ++k) b[std::size_t(k)].index = p * kStride + at + k;
+          p == 0 ? s.append(b) : segments[std::size_t(p - 1)].append(b);
+          at += kRows;
+          made[std::size_t(p)] += kRows;
+        }
+      });
+    for (auto& t : threads) t.join();
+    for (const auto m : made) rows += m;
+  }
+  state.counters["rows_per_second"] = benchmark::Counter(double(rows), benchmark::Counter::kIsRate);
+  state.counters["producers"] = producers;
+}
+BENCHMARK(BM_Producers)->DenseRange(1, 4)->Iterations(5)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// BM_Fold/INTERLEAVED: 5*10^5 rows in the store and 5*10^5 in a segment,
+// folded: INTERLEAVED 0, the segment's indices after the store's; 1, the
+// two take turns in chunks of 4096 (a two-thread run).
+void BM_Fold(benchmark::State& state) {
+  constexpr std::int64_t kHalf = 500'000, kChunk = 4096;
+  const bool interleaved = state.range(0) != 0;
+  std::int64_t rows = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    BenchDir dir("fold");
+    auto s = store(dir.path);
+    {
+      auto segment = s.segment("bench");
+      for (std::int64_t c = 0; c < 2 * kHalf / kChunk; ++c) {
+        const bool mine = interleaved ? c % 2 == 0 : c < kHalf / kChunk;
+        const std::int64_t first = c * kChunk;
+        mine ? s.append(batch(first, 12, kChunk)) : segment.append(batch(first, 12, kChunk));
+      }
+    }  // the segment closed, as its writer closes it
+    state.ResumeTiming();
+    rows += s.fold();
+  }
+  state.counters["rows_per_second"] = benchmark::Counter(double(rows), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Fold)->Arg(0)->Arg(1)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Finished(benchmark::State& state) {
   constexpr std::int64_t kRows = 1'000'000;

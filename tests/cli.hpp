@@ -6,7 +6,9 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <set>
 #include <string>
+#include <vector>
 #include <sqlite3.h>
 #include <sys/wait.h>
 
@@ -69,21 +71,37 @@ inline std::uintmax_t directory_bytes(const std::string& dir) {
 
 // Rows in DIR/store.sqlite so far (0 while it is being created), for polling
 // a running batch.
-inline long stored_rows(const std::string& dir) {
+inline std::set<long> stored_indices(const std::string& file) {
   sqlite3* db = nullptr;
   sqlite3_stmt* st = nullptr;
-  long n = 0;
-  if (sqlite3_open_v2((dir + "/store.sqlite").c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
-      sqlite3_prepare_v2(db, "select count(*) from samples", -1, &st, nullptr) == SQLITE_OK &&
-      sqlite3_step(st) == SQLITE_ROW)
-    n = static_cast<long>(sqlite3_column_int64(st, 0));
+  std::set<long> found;
+  if (sqlite3_open_v2(file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
+      sqlite3_prepare_v2(db, "select idx from samples", -1, &st, nullptr) == SQLITE_OK)
+    while (sqlite3_step(st) == SQLITE_ROW) found.insert(static_cast<long>(sqlite3_column_int64(st, 0)));
   sqlite3_finalize(st);
   sqlite3_close(db);
-  return n;
+  return found;
 }
 
-// `mechopt export DIR/store.sqlite --canonical`: the store's rows by index,
-// every double as %.17g, no wall times. Equal results give equal bytes.
+// The segment files beside DIR/store.sqlite (docs/doe.md, "Segments").
+inline std::vector<std::string> segment_files(const std::string& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with("store.seg-") && name.ends_with(".sqlite")) found.push_back(e.path().string());
+  }
+  return found;
+}
+
+// The samples committed in DIR: the distinct indices of store.sqlite and its
+// segments, read straight through SQLite's C API.
+inline long stored_rows(const std::string& dir) {
+  std::set<long> all = stored_indices(dir + "/store.sqlite");
+  if (std::filesystem::is_directory(dir))
+    for (const auto& file : segment_files(dir)) all.merge(stored_indices(file));
+  return static_cast<long>(all.size());
+}
+
 inline std::string canonical_dump(const std::string& dir) {
   const Outcome o = run("export " + dir + "/store.sqlite --canonical");
   EXPECT_TRUE(o.exited(0)) << o.output;

@@ -200,11 +200,11 @@ TEST(DoeBatch, ThreadCountDoesNotChangeResults) {
   EXPECT_EQ(dumps[0], dumps[2]);
 }
 
-// More rows than one commit takes (20 000): the threads commit the queue in
-// turns, whichever finds a batch due while no other commits; more threads
-// than cores make the turns pass between them. Every row once, as one
-// thread writes them.
-TEST(DoeBatch, ThreadsTakeTurnsAtTheStore) {
+// More rows than one commit takes (4096), from more threads than cores:
+// each thread writes its own file (the first store.sqlite, the others
+// segments), the run folds the segments into store.sqlite and removes them.
+// Every row once, as one thread writes them.
+TEST(DoeBatch, ThreadsWriteFilesOfTheirOwnFoldedIntoOne) {
   const char* yaml = R"(problem: slider_crank
 study:
   type: doe
@@ -220,6 +220,7 @@ study:
     const auto j = run(yaml, dir, threads);
     EXPECT_EQ(j["evaluated"], 50000);
     EXPECT_EQ(j["run_status"], "complete");
+    EXPECT_TRUE(cli::segment_files(dir).empty()) << threads << " threads";
     stores.push_back(rows(dir, "idx, status, crank_radius, rod_length, stroke, peak_slider_acceleration"));
   }
   ASSERT_EQ(stores[0].size(), 50000u);
@@ -475,13 +476,13 @@ study:
 // `mechopt run CONFIG --output OUT --progress=none --threads 1` in a child
 // process, its output discarded, for the tests that kill a run or start
 // another beside it.
-pid_t start_run(const std::string& config, const std::string& out) {
+pid_t start_run(const std::string& config, const std::string& out, const char* threads = "1") {
   const pid_t pid = fork();
   if (pid == 0) {
     freopen("/dev/null", "w", stdout);
     freopen("/dev/null", "w", stderr);
     execl(MECHOPT_BINARY, "mechopt", "run", config.c_str(), "--output", out.c_str(), "--progress=none", "--threads",
-          "1", static_cast<char*>(nullptr));
+          threads, static_cast<char*>(nullptr));
     _exit(127);
   }
   return pid;
@@ -514,17 +515,19 @@ bool lock_is_free(const std::string& out) {
 
 // Killed with SIGKILL at 20 moments drawn from a fixed seed, each after
 // this round committed something and before the whole design was (the test
-// checks both), resumed each time: the lock is free after each kill, and the
-// final store's canonical dump equals a run's that was never killed, every
-// index once.
+// checks both), resumed each time: the lock is free after each kill, the
+// second thread's segment (which no list names: it is found beside the
+// store) is left by kills and folded by the next run, and the final store's
+// canonical dump equals a run's that was never killed, every index once.
 TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
   const std::string dir = cli::fresh_dir("doe_kill"), clean = cli::fresh_dir("doe_kill_clean");
-  constexpr long kSamples = 200000;  // a round commits <= ~0.3 s of one thread's work
+  constexpr long kSamples = 400000;  // a round commits <= ~0.3 s of two threads' work
   const std::string config = sobol_config(dir, kSamples);
   std::mt19937 moments(20261123);
   long kept = 0;
+  int left_segments = 0;  // rounds whose kill left a segment
   for (int k = 0; k < 20; ++k) {
-    const pid_t pid = start_run(config, dir + "/out");
+    const pid_t pid = start_run(config, dir + "/out", "2");
     // After a commit of this round, then 0-50 ms more: mid-batch or mid-commit.
     wait_for_rows(dir + "/out", kept);
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 50)(moments)));
@@ -537,13 +540,16 @@ TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
     EXPECT_GT(now, kept) << "round " << k << ": killed before anything was committed";
     ASSERT_LT(now, kSamples) << "round " << k << ": killed after everything was committed";
     kept = now;
+    left_segments += !cli::segment_files(dir + "/out").empty();
   }
+  EXPECT_GT(left_segments, 0);
   const auto again = cli::run("run " + config + " --output " + dir + "/out --progress=none");
   ASSERT_TRUE(again.exited(0)) << again.output;
   EXPECT_NE(again.output.find("resuming: " + std::to_string(kept) + " done"), std::string::npos) << again.output;
   const auto resumed = rows(dir + "/out", "idx");
   ASSERT_EQ(resumed.size(), static_cast<size_t>(kSamples));
   for (long i = 0; i < kSamples; ++i) ASSERT_EQ(resumed[static_cast<size_t>(i)][0], std::to_string(i));
+  EXPECT_TRUE(cli::segment_files(dir + "/out").empty());  // folded
   const auto ok = cli::run("run " + config + " --output " + clean + " --progress=none");
   ASSERT_TRUE(ok.exited(0)) << ok.output;
   EXPECT_TRUE(cli::canonical_dump(dir + "/out") == cli::canonical_dump(clean));

@@ -452,4 +452,101 @@ TEST(DoeStore, MergeRefusesGapsOverlapsAndOtherConfigs) {
   }
 }
 
+// ---- segments (docs/doe.md, "Segments") ------------------------------------
+
+std::string csv(const std::string& file, bool wall_time = true) {
+  std::ostringstream o;
+  opt::doe::export_csv(file, o, wall_time);
+  return o.str();
+}
+
+// The segment files in DIR, by name.
+std::vector<std::string> segment_names(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string n = e.path().filename().string();
+    if (n.starts_with("store.seg-")) names.push_back(n);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Rows 0-2 in store.sqlite, 3-5 in one segment, 6-9 and index 2 again (as a
+// fold killed half way leaves it, with another wall time) in a second: the
+// readers take each index once, the store file's copy, and equal the
+// export of the same ten rows written to one file; opening the store folds
+// the segments into it and removes them.
+TEST(DoeStore, SegmentsAreReadAsOneStoreAndFolded) {
+  TempDir dir("segments"), one("segments_one");
+  Store(one.path, layout(), meta("h1"), false).append(rows(0, 10));
+  {
+    Store s(dir.path, layout(), meta("h1"), false);
+    s.append(rows(0, 3));
+    s.segment("a").append(rows(3, 3));
+    std::vector<Row> b = rows(6, 4);
+    b.push_back(row(2));
+    b.back().wall_time = 9;
+    s.segment("b").append(b);
+  }
+  EXPECT_EQ(segment_names(dir.path), (std::vector<std::string>{"store.seg-a.sqlite", "store.seg-b.sqlite"}));
+  EXPECT_EQ(query(dir.file(), "SELECT count(*) FROM samples")[0][0], Cell(std::int64_t(3)));
+  EXPECT_EQ(csv(dir.file()), csv(one.file()));
+  std::vector<std::int64_t> read;
+  opt::doe::read_rows(dir.file(), [&](const Row& r) { read.push_back(r.index); });
+  EXPECT_EQ(read, (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_EQ(Store::peek(dir.path, layout(), meta("h1"), 12),
+            (std::vector<bool>{true, true, true, true, true, true, true, true, true, true, false, false}));
+
+  Store s(dir.path, layout(), meta("h1"), false);  // folds
+  EXPECT_TRUE(segment_names(dir.path).empty());
+  EXPECT_EQ(s.count(), 10);
+  EXPECT_EQ(query(dir.file(), "SELECT wall_time FROM samples WHERE idx = 2")[0][0], Cell(0.5));
+  EXPECT_EQ(csv(dir.file()), csv(one.file()));
+}
+
+// A segment whose rows are all in the store already (the fold was killed
+// after its commit, before the file was removed) folds to nothing new; a
+// segment of another config is refused by name, as its store would be.
+TEST(DoeStore, FoldTakesEachIndexOnceAndRefusesAnotherRunsSegment) {
+  TempDir dir("fold");
+  {
+    Store s(dir.path, layout(), meta("h1"), false);
+    s.append(rows(0, 4));
+    s.segment("again").append(rows(2, 2));
+    EXPECT_EQ(s.fold(), 0);
+    EXPECT_EQ(s.count(), 4);
+    EXPECT_TRUE(segment_names(dir.path).empty());
+  }
+  opt::doe::Segment(dir.path, "other", layout(), "h2").append(rows(4, 1));
+  try {
+    Store s(dir.path, layout(), meta("h1"), false);
+    FAIL() << "a segment of another run was folded";
+  } catch (const StoreMismatch& e) {
+    EXPECT_NE(std::string(e.what()).find("store.seg-other.sqlite"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(csv(dir.file()), StoreMismatch);
+  // --new moves the segments aside with the store.
+  Store fresh(dir.path, layout(), meta("h2"), true);
+  EXPECT_EQ(fresh.count(), 0);
+  const auto names = segment_names(dir.path);
+  ASSERT_EQ(names.size(), 1u);
+  EXPECT_TRUE(names[0].starts_with("store.seg-other.sqlite.old-")) << names[0];
+}
+
+// A shard whose rows are partly in a segment (its run was killed): merge
+// reads its segment, and an index in both its store file and its segment is
+// that shard's once, not "in more than one row".
+TEST(DoeStore, MergeReadsEachShardsSegments) {
+  TempDir dir("merge_segments");
+  shard(dir.path + "/a", 0, 5);
+  {
+    Store b(dir.path + "/b", layout(), meta("h1"), false);
+    b.append(rows(5, 2));
+    b.segment("t1").append(rows(6, 4));  // 6 in both
+  }
+  const auto report = opt::doe::merge_stores(dir.path + "/out", {dir.path + "/a", dir.path + "/b"});
+  EXPECT_EQ(report.rows, 10);
+  EXPECT_EQ(query(dir.path + "/out/store.sqlite", "SELECT count(*) FROM samples")[0][0], Cell(std::int64_t(10)));
+}
+
 }  // namespace

@@ -81,162 +81,153 @@ class Progress {
   double last_ = -1e9;
 };
 
-// One writer at a time: rows from the workers go to the store in batched
-// transactions, committed by whichever thread finds a batch due while no
-// other thread commits. A batch is due as soon as kBatchRows rows are
-// queued and the store is free (or 0.25 s has passed since the last commit,
-// or the run closes): a group commit, so the store never idles while rows wait
-// and a batch grows with the rows that queue during the commit before it;
-// where the store limits the run one thread ends up committing back to back
-// while the others evaluate. (Waiting for 20 000 rows left the store idle,
-// then behind: the conveyor's last commits, up to 30 ms, ran after every
-// evaluation had ended.) No thread of its own: --threads N runs N threads
-// in all, each evaluating and taking its turn at the store, so N threads
-// use N cores.
-// Under MPI, rank 0 gives the writer a thread of its own (`own_thread`):
-// its serving loop queues every other rank's rows and must never wait for
-// a commit while ranks wait for their next chunk.
-class Writer {
+// The rows committed by this run, with the progress line: each writer adds
+// the rows of its commits (a worker thread's, or another rank's reported
+// counts), so that the tally and the progress stay one.
+class Committed {
  public:
-  Writer(Store& store, Tally& tally, Progress& progress, std::int64_t pending, bool own_thread = false)
-      : store_(store), tally_(tally), progress_(progress), pending_(pending), own_thread_(own_thread) {
-    if (own_thread_) thread_ = std::thread([this] { run(); });
-  }
-  ~Writer() {
-    try {
-      close();
-    } catch (...) {  // an unwinding run: its own error is the one to report
-    }
-  }
-
-  // Queues rows and commits the queue if a batch is due. Blocks while too
-  // many rows wait for another thread's commit (memory stays constant in N).
-  void push(std::vector<Row> rows) {
-    std::unique_lock lock(m_);
-    room_.wait(lock, [&] { return queued_ < kMaxQueued || (!writing_ && !own_thread_) || failed_; });
-    queued_ += rows.size();
-    queue_.push_back(std::move(rows));
-    if (own_thread_) return ready_.notify_one();
-    commit_due(lock);
-  }
-
-  // Commits what is queued (the workers have stopped); rethrows the error of
-  // any commit, if one failed.
-  void close() {
-    {
-      std::lock_guard lock(m_);
-      closing_ = true;
-      ready_.notify_one();
-    }
-    if (thread_.joinable()) thread_.join();
-    std::unique_lock lock(m_);
-    room_.wait(lock, [&] { return !writing_; });
-    commit_due(lock);
-    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
-  }
-
-  // Commits the queue now unless another thread commits: a worker that
-  // finds no more work, so that the rows of the last chunks are not left
-  // for one commit after every worker has stopped.
-  void flush() {
-    std::unique_lock lock(m_);
-    if (own_thread_) return ready_.notify_one();
-    commit_due(lock, true);
-  }
-
-  bool failed() const { return failed_; }
-
-  // Swaps a committed batch's rows, if one is spare, into `stock` (a
-  // worker's, empty): evaluated into again, their vectors need no memory.
-  // Before, each sample's row was two mallocs in the thread that evaluated
-  // it and two frees in the one that committed it, into the first one's
-  // arena: on two threads the allocator's locks and lists moved between
-  // the cores with every row (a conveyor design took 1.09 us on two threads
-  // against 1.04 on one; now 1.04 and 1.01). Measured, interleaved A/B
-  // medians: conveyor 1 thread +6.5%, 2 threads +11%; recuperative 2
-  // threads +12%; callgrind, the conveyor DOE's worker: -950 instructions
-  // a row (-5.5%).
-  void take_spare(std::vector<Row>& stock) {
+  Committed(Tally& tally, Progress& progress, std::int64_t pending)
+      : tally_(tally), progress_(progress), pending_(pending) {}
+  void add(std::span<const Row> rows) {
     std::lock_guard lock(m_);
-    stock.swap(spare_);
+    for (std::size_t i = 0, j; i < rows.size(); i = j) {  // one map lookup per run of a status
+      for (j = i + 1; j < rows.size() && rows[j].status == rows[i].status;) ++j;
+      count(rows[i].status, static_cast<std::int64_t>(j - i));
+    }
+    progress_.update(tally_, pending_, false);
+  }
+  void add(const StatusCounts& counts) {
+    std::lock_guard lock(m_);
+    for (const auto& [status, n] : counts) count(status, n);
+    progress_.update(tally_, pending_, false);
+  }
+
+ private:
+  void count(std::string_view status, std::int64_t n) {
+    tally_.done += n;
+    tally_.evaluated += n;
+    tally_.statuses[std::string(status)] += n;
+  }
+  Tally& tally_;
+  Progress& progress_;
+  std::int64_t pending_;
+  std::mutex m_;
+};
+
+// The rows of one worker thread, committed in batches: the run's first
+// thread into store.sqlite itself, every other into a segment of its own
+// (docs/doe.md, "Segments"). No lock is shared between the writers, so the
+// write path scales with them, and a one-thread run folds nothing. A batch
+// is due at kBatchRows rows or 0.25 s after the last commit (a slow model's
+// rows do not wait long: a kill loses at most what is uncommitted), and at
+// the end. The rows' vectors are evaluated into again after their commit, so
+// a sample costs no allocation (each row two mallocs and frees across the
+// threads' arenas cost a conveyor design 5-10% on two threads).
+class RowWriter {
+ public:
+  // segment "": store.sqlite.
+  RowWriter(Store& store, std::string segment, Committed& committed)
+      : store_(store), name_(std::move(segment)), committed_(committed) {}
+  // A row to evaluate into: the next one of the batch.
+  Row& next() {
+    if (used_ == rows_.size()) rows_.emplace_back();
+    return rows_[used_++];
+  }
+  void commit_if_due() {
+    if (used_ >= kBatchRows || (used_ > 0 && since(last_) >= 0.25)) commit();
+  }
+  void commit() {
+    if (used_ == 0) return;
+    const std::span<const Row> rows(rows_.data(), used_);
+    if (name_.empty()) {
+      store_.append(rows);
+    } else {
+      if (!segment_) segment_ = store_.segment(name_);  // created by its first rows: no rows, no file
+      segment_->append(rows);
+    }
+    committed_.add(rows);
+    used_ = 0;
+    last_ = Clock::now();
   }
 
  private:
   // A commit rewrites its last, partly filled 64 KiB pages: at 20 columns
   // 4096-row transactions run as fast as 20 000-row ones, 1000-row ones at
   // 65-85% of it (bench_doe_store BM_Append/12/ROWS).
-  static constexpr size_t kBatchRows = 4096, kMaxQueued = 200000;
-
-  // The own thread: commits what is due, and progress, at least every 0.1 s.
-  void run() {
-    std::unique_lock lock(m_);
-    while (!failed_ && !(closing_ && queue_.empty())) {
-      ready_.wait_for(lock, std::chrono::milliseconds(100), [&] { return closing_ || queued_ >= kBatchRows; });
-      commit_due(lock);
-    }
-  }
-
-  // With m_ held: while a batch is due (or `now`) and no thread commits,
-  // this one commits the whole queue (m_ released meanwhile); then progress.
-  void commit_due(std::unique_lock<std::mutex>& lock, bool now = false) {
-    while (!writing_ && !failed_ && !queue_.empty() &&
-           (now || closing_ || queued_ >= kBatchRows || since(last_) >= 0.25)) {
-      writing_ = true;
-      batch_.reserve(queued_);  // once: the spent batch took its storage along
-      for (auto& rows : queue_) std::move(rows.begin(), rows.end(), std::back_inserter(batch_));
-      queue_.clear();
-      queued_ = 0;
-      room_.notify_all();
-      lock.unlock();
-      try {
-        store_.append(batch_);
-      } catch (...) {
-        lock.lock();
-        error_ = std::current_exception();
-        failed_ = true;
-        writing_ = false;
-        batch_.clear();
-        room_.notify_all();
-        return;
-      }
-      lock.lock();
-      tally_.done += static_cast<std::int64_t>(batch_.size());
-      tally_.evaluated += static_cast<std::int64_t>(batch_.size());
-      for (std::size_t i = 0, j; i < batch_.size(); i = j) {  // one map lookup per run of a status
-        for (j = i + 1; j < batch_.size() && batch_[j].status == batch_[i].status;) ++j;
-        tally_.statuses[std::string(batch_[i].status)] += static_cast<std::int64_t>(j - i);
-      }
-      std::vector<Row> spent;
-      spent.swap(batch_);
-      if (spare_.empty()) spare_.swap(spent);  // for take_spare
-      last_ = Clock::now();
-      writing_ = false;
-      room_.notify_all();
-      lock.unlock();
-      spent = {};  // (when a batch was still spare) freed while another thread may commit
-      lock.lock();
-    }
-    if (!writing_) progress_.update(tally_, pending_, false);  // the tally is still while no thread commits
-  }
-
+  static constexpr std::size_t kBatchRows = 4096;
   Store& store_;
-  Tally& tally_;
-  Progress& progress_;
-  std::int64_t pending_;
-  const bool own_thread_;
-  std::mutex m_;
-  std::condition_variable room_;   // the queue has room, or a commit ended
-  std::condition_variable ready_;  // for the own thread: a batch may be due
-  std::deque<std::vector<Row>> queue_;
-  std::vector<Row> batch_;  // the rows being committed (by the thread with writing_)
-  std::vector<Row> spare_;  // a committed batch's rows, for take_spare
-  size_t queued_ = 0;
+  std::string name_;
+  Committed& committed_;
+  std::optional<Segment> segment_;
+  std::vector<Row> rows_;
+  std::size_t used_ = 0;
   Clock::time_point last_ = Clock::now();
-  bool writing_ = false, closing_ = false;
-  std::atomic<bool> failed_{false};
-  std::exception_ptr error_;
-  std::thread thread_;  // declared last: started once the rest is ready
 };
+
+// The samples [lo, hi) as one contiguous range per taker (a thread of this
+// process, or under MPI another rank): each takes chunks from the front of
+// its own, and one whose range is spent steals the back half of the largest
+// range left. Each writer's rows are then few long runs of indices, so that
+// the fold appends them to the store's B-tree instead of inserting them
+// between another writer's: 2.3x faster (bench_doe_store, BM_Fold/0
+// against BM_Fold/1, which interleaves two writers in chunks of 4096 as one
+// shared counter did).
+class Ranges {
+ public:
+  Ranges(std::int64_t lo, std::int64_t hi, int takers) : ranges_(static_cast<std::size_t>(takers)) {
+    for (int k = 0; k < takers; ++k) {
+      ranges_[std::size_t(k)].begin = lo + (hi - lo) * k / takers;
+      ranges_[std::size_t(k)].end = lo + (hi - lo) * (k + 1) / takers;
+    }
+  }
+  // The next chunk, of up to `want` indices, for taker k: [begin, end), empty when every range is spent.
+  std::pair<std::int64_t, std::int64_t> take(int k, std::int64_t want) {
+    Range& own = ranges_[std::size_t(k)];
+    for (;;) {
+      {
+        std::lock_guard lock(own.m);
+        if (own.begin < own.end) {
+          const std::int64_t begin = own.begin;
+          own.begin = std::min(own.end, begin + std::max<std::int64_t>(want, 1));
+          return {begin, own.begin};
+        }
+      }
+      Range* victim = nullptr;
+      std::int64_t most = 0;
+      for (Range& r : ranges_) {
+        std::lock_guard lock(r.m);
+        if (r.end - r.begin > most) most = r.end - r.begin, victim = &r;
+      }
+      if (!victim) return {0, 0};
+      std::int64_t begin, end;
+      {
+        std::lock_guard lock(victim->m);
+        const std::int64_t left = victim->end - victim->begin;
+        if (left <= 0) continue;  // spent meanwhile: look again
+        end = victim->end;
+        begin = victim->end -= (left + 1) / 2;
+      }
+      std::lock_guard lock(own.m);
+      own.begin = begin, own.end = end;
+    }
+  }
+
+ private:
+  struct Range {
+    std::mutex m;
+    std::int64_t begin = 0, end = 0;
+  };
+  std::vector<Range> ranges_;
+};
+
+// A segment's name for taker k of a rank, numbered so that the names sort
+// in the order of the takers' ranges (the order the fold appends them in).
+std::string segment_name(int rank, int thread) {
+  char name[32];
+  if (thread < 0) std::snprintf(name, sizeof name, "r%05d", rank);
+  else std::snprintf(name, sizeof name, "r%05d-t%04d", rank, thread);
+  return name;
+}
 
 // The next chunk's size after `count` samples took `seconds` on `threads`
 // threads: ~50 ms of work, few enough requests to keep the counter (or rank
@@ -390,11 +381,14 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
                       {"settings", base.record()}};
 
   if (o.dry_run && o.peers && o.peers->rank() > 0) return j;  // rank 0 says what the run would take
-  if (o.peers && o.peers->rank() > 0) {  // an MPI worker: chunks from rank 0, rows back to it
+  const nlohmann::json canonical = canonical_run(base, spec, *sampler);
+  const std::string hash = config_hash(canonical);
+  if (o.peers && o.peers->rank() > 0) {  // an MPI worker: chunks from rank 0, rows into a segment of its own
     std::vector<bool> finished(static_cast<size_t>(n));
     o.peers->share(finished);
     std::vector<SampleMaker> makers_of(static_cast<size_t>(threads));
     for (auto& m : makers_of) m = maker();
+    std::optional<Segment> segment;
     o.peers->work([&](std::int64_t begin, std::int64_t end, std::int64_t& want) {
       const auto c0 = Clock::now();
       std::vector<std::vector<Row>> parts(static_cast<size_t>(threads));
@@ -408,17 +402,24 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
       for (auto& t : pool) t.join();
       std::vector<Row> rows;
       for (auto& p : parts) std::move(p.begin(), p.end(), std::back_inserter(rows));
+      StatusCounts counts;
+      if (!rows.empty()) {  // committed before rank 0 hears of them
+        if (!segment) segment.emplace(o.output_directory, segment_name(o.peers->rank(), -1), layout, hash);
+        segment->append(rows);
+        for (const Row& r : rows) ++counts[std::string(r.status)];
+      }
       want = next_chunk(since(c0), end - begin, threads);
-      return rows;
+      return counts;
     });
+    segment.reset();      // closed (its log checkpointed into the file) before rank 0 folds it
+    o.peers->barrier();
     j["rank"] = o.peers->rank();
     return j;
   }
 
-  const nlohmann::json canonical = canonical_run(base, spec, *sampler);
   const std::map<std::string, std::string> meta = {
       {"config", config.dump(2)},          {"config_canonical", canonical.dump()},
-      {"config_hash", config_hash(canonical)}, {"problem", base.name()},
+      {"config_hash", hash},                   {"problem", base.name()},
       {"sampler", sampler->describe().dump()}, {"seed", spec.seed ? std::to_string(*spec.seed) : ""},
       {"samples", std::to_string(n)},          {"mechopt_version", MECHOPT_VERSION},
       {"shard", shard},                        {"started", now_text()}};
@@ -430,7 +431,8 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   namespace fs = std::filesystem;
   fs::create_directories(o.output_directory);
   const std::string dir = o.output_directory + "/";
-  Store store(o.output_directory, layout, meta, o.fresh);  // first: a store another run writes is refused
+  // First: a store another run writes is refused. A killed run's segments are folded.
+  Store store(o.output_directory, layout, meta, o.fresh);
   remove_previous_outputs(dir);                              // before anything of that run's is removed
   const auto index_t0 = Clock::now();
   std::vector<bool> finished = store.finished(n);
@@ -448,37 +450,25 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   Progress progress(mode, err, hi - lo);
   const auto t0 = Clock::now();
   {
-    Writer writer(store, tally, progress, pending, o.peers != nullptr);
-    std::atomic<std::int64_t> next{lo};
+    Committed committed(tally, progress, pending);
+    Ranges ranges(lo, hi, threads + (o.peers ? o.peers->size() - 1 : 0));  // under MPI: rank k takes threads + k - 1
     std::exception_ptr worker_error;
     std::mutex error_m;
-    auto work = [&] {
+    auto work = [&](int t) {
       try {
         const SampleMaker m = maker();
+        RowWriter writer(store, t == 0 ? "" : segment_name(0, t), committed);
         std::int64_t chunk = 1;
-        std::vector<Row> stock;  // rows to evaluate into (Writer::take_spare)
-        while (!stop_requested() && !writer.failed()) {
-          const std::int64_t begin = next.fetch_add(chunk), end = std::min(hi, begin + chunk);
-          if (begin >= hi) return writer.flush();
-          std::vector<Row> rows;
-          rows.reserve(static_cast<std::size_t>(end - begin));
-          if (stock.empty()) writer.take_spare(stock);
+        while (!stop_requested()) {
+          const auto [begin, end] = ranges.take(t, chunk);
+          if (begin == end) break;
           const auto c0 = Clock::now();
-          for (std::int64_t i = begin; i < end && !stop_requested(); ++i) {
-            if (finished[static_cast<size_t>(i)]) continue;
-            rows.emplace_back();
-            if (!stock.empty()) {
-              rows.back() = std::move(stock.back());
-              stock.pop_back();
-            }
-            evaluator.evaluate(m, i, rows.back());
-          }
-          // Guided toward the end: at most a quarter of each thread's share
-          // of what is left, so the threads finish together.
-          chunk = std::min(next_chunk(since(c0), end - begin, 1),
-                           std::max<std::int64_t>(1, (hi - next.load()) / (4 * threads)));
-          if (!rows.empty()) writer.push(std::move(rows));
+          for (std::int64_t i = begin; i < end && !stop_requested(); ++i)
+            if (!finished[static_cast<size_t>(i)]) evaluator.evaluate(m, i, writer.next());
+          chunk = next_chunk(since(c0), end - begin, 1);
+          writer.commit_if_due();
         }
+        writer.commit();
       } catch (...) {
         std::lock_guard lock(error_m);
         if (!worker_error) worker_error = std::current_exception();
@@ -486,14 +476,17 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
       }
     };
     std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) pool.emplace_back(work);
+    for (int t = 0; t < threads; ++t) pool.emplace_back(work, t);
     if (o.peers)  // this thread serves the other ranks
-      o.peers->serve(next, hi, [&](std::vector<Row> rows) { writer.push(std::move(rows)); },
-                     [&] { return stop_requested() || writer.failed(); });
+      o.peers->serve([&](int rank, std::int64_t want) { return ranges.take(threads + rank - 1, want); },
+                     [&](const StatusCounts& counts) { committed.add(counts); }, [] { return stop_requested(); });
     for (auto& t : pool) t.join();
-    writer.close();
+    if (o.peers) o.peers->barrier();  // every rank's segment closed
     if (worker_error) std::rethrow_exception(worker_error);
   }
+  const auto fold_t0 = Clock::now();
+  store.fold();
+  j["fold_seconds"] = since(fold_t0);
   progress.update(tally, pending, true);
   const double seconds = since(t0);
   const bool complete = tally.done == hi - lo;
@@ -506,7 +499,8 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   j["rate"] = seconds > 0 ? static_cast<double>(tally.evaluated) / seconds : 0.0;
   j["statuses"] = tally.statuses;
   out << (complete ? "complete: " : "interrupted: ") << tally.done << "/" << hi - lo << " samples in the store; "
-      << tally.evaluated << " evaluated in " << seconds << " s (" << j["rate"].get<double>() << "/s)\n";
+      << tally.evaluated << " evaluated in " << seconds << " s (" << j["rate"].get<double>() << "/s; the fold "
+      << j["fold_seconds"].get<double>() << " s of it)\n";
   if (o.quiet) return j;
   // The summary covers every row in the store, this run's and earlier ones'.
   std::vector<std::string> summarised = spec.columns;

@@ -1,16 +1,17 @@
 // MPI ranks of one batch (docs/doe.md, "MPI"). Rank 0 owns the store: its
 // main thread serves chunks of sample indices to the other ranks, which ask
-// for a chunk size and send their rows back with the next request. Only the
-// main thread of a process calls MPI (MPI_THREAD_FUNNELED).
+// for a chunk size, commit each chunk's rows to a segment of their own and
+// report the rows committed, by status, with the next request. Only the main
+// thread of a process calls MPI (MPI_THREAD_FUNNELED).
 //
 // Messages, all MPI_BYTE on one tag:
-//   rank k -> 0: int64 wanted chunk size (0: stopping), then packed rows
+//   rank k -> 0: int64 wanted chunk size (0: stopping), then per status
+//                int32 status and int64 rows committed
 //   0 -> rank k: int64 begin, int64 end (begin == end: stop)
-// A packed row: int64 index, int32 status, double wall time, uint32 message
-// length and bytes, then the factor and metric values as doubles.
 #include <chrono>
 #include <cstdlib>
 #include <thread>
+#include <tuple>
 #include <cstring>
 
 #include "opt/doe/batch.hpp"
@@ -42,43 +43,26 @@ T take(const char*& p) {
   return v;
 }
 
-std::vector<char> pack(std::int64_t want, const std::vector<Row>& rows) {
+std::vector<char> pack(std::int64_t want, const StatusCounts& counts) {
   std::vector<char> b;
   put(b, want);
-  for (const auto& r : rows) {
-    put(b, r.index);
-    put(b, static_cast<std::int32_t>(mech::status_from_string(r.status).value_or(Status::evaluation_error)));
-    put(b, r.wall_time);
-    put(b, static_cast<std::uint32_t>(r.message.size()));
-    b.insert(b.end(), r.message.begin(), r.message.end());
-    put(b, static_cast<std::uint32_t>(r.factors.size()));
-    put(b, static_cast<std::uint32_t>(r.metrics.size()));
-    for (double v : r.factors) put(b, v);
-    for (double v : r.metrics) put(b, v);
+  for (const auto& [status, n] : counts) {
+    put(b, static_cast<std::int32_t>(mech::status_from_string(status).value_or(Status::evaluation_error)));
+    put(b, n);
   }
   return b;
 }
 
-std::vector<Row> unpack(const std::vector<char>& b, std::int64_t& want) {
+StatusCounts unpack(const std::vector<char>& b, std::int64_t& want) {
   const char* p = b.data();
   const char* end = b.data() + b.size();
   want = take<std::int64_t>(p);
-  std::vector<Row> rows;
+  StatusCounts counts;
   while (p < end) {
-    Row r;
-    r.index = take<std::int64_t>(p);
-    r.status = mech::to_string(static_cast<Status>(take<std::int32_t>(p)));
-    r.wall_time = take<double>(p);
-    const auto length = take<std::uint32_t>(p);
-    r.message.assign(p, length);
-    p += length;
-    r.factors.resize(take<std::uint32_t>(p));
-    r.metrics.resize(take<std::uint32_t>(p));
-    for (double& v : r.factors) v = take<double>(p);
-    for (double& v : r.metrics) v = take<double>(p);
-    rows.push_back(std::move(r));
+    const auto status = mech::to_string(static_cast<Status>(take<std::int32_t>(p)));
+    counts[std::string(status)] += take<std::int64_t>(p);
   }
-  return rows;
+  return counts;
 }
 
 class MpiPeers final : public Peers {
@@ -109,7 +93,8 @@ class MpiPeers final : public Peers {
     for (size_t i = 0; i < finished.size(); ++i) finished[i] = bytes[i / 8] >> (i % 8) & 1u;
   }
 
-  void serve(std::atomic<std::int64_t>& next, std::int64_t hi, const std::function<void(std::vector<Row>)>& rows,
+  void serve(const std::function<std::pair<std::int64_t, std::int64_t>(int, std::int64_t)>& chunk_of,
+             const std::function<void(const StatusCounts&)>& committed,
              const std::function<bool()>& stopping) override {
     for (int active = size_ - 1; active > 0;) {
       // Polled with a pause, not MPI_Probe: Open MPI's blocking calls spin,
@@ -126,30 +111,34 @@ class MpiPeers final : public Peers {
       std::vector<char> b(static_cast<size_t>(count));
       MPI_Recv(b.data(), count, MPI_BYTE, st.MPI_SOURCE, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       std::int64_t want = 0;
-      auto received = unpack(b, want);
-      if (!received.empty()) rows(std::move(received));
+      const StatusCounts counts = unpack(b, want);
+      if (!counts.empty()) committed(counts);
       std::int64_t chunk[2] = {0, 0};
-      if (want > 0 && !stopping()) {
-        chunk[0] = next.fetch_add(want);
-        chunk[1] = std::min(hi, chunk[0] + want);
-        if (chunk[0] >= hi) chunk[0] = chunk[1] = 0;
-      }
+      if (want > 0 && !stopping()) std::tie(chunk[0], chunk[1]) = chunk_of(st.MPI_SOURCE, want);
       if (chunk[0] == chunk[1]) --active;
       MPI_Send(chunk, sizeof chunk, MPI_BYTE, st.MPI_SOURCE, kTag, MPI_COMM_WORLD);
     }
   }
 
-  void work(const std::function<std::vector<Row>(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) override {
-    std::vector<Row> rows;
+  void work(const std::function<StatusCounts(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) override {
+    StatusCounts counts;
     std::int64_t want = 1;
     for (;;) {
-      const auto b = pack(stop_requested() ? 0 : want, rows);
+      const auto b = pack(stop_requested() ? 0 : want, counts);
       MPI_Send(b.data(), static_cast<int>(b.size()), MPI_BYTE, 0, kTag, MPI_COMM_WORLD);
       std::int64_t chunk[2];
       MPI_Recv(chunk, sizeof chunk, MPI_BYTE, 0, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       if (chunk[0] == chunk[1]) return;
-      rows = evaluate(chunk[0], chunk[1], want);
+      counts = evaluate(chunk[0], chunk[1], want);
     }
+  }
+
+  // Polled, as serve() is: Open MPI's blocking barrier spins.
+  void barrier() override {
+    MPI_Request request;
+    MPI_Ibarrier(MPI_COMM_WORLD, &request);
+    for (int done = 0; MPI_Test(&request, &done, MPI_STATUS_IGNORE), !done;)
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
 
  private:

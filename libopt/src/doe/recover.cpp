@@ -11,10 +11,12 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <unordered_set>
 
 #include "doe/checksum.hpp"
 #include "doe/store_file.hpp"
 #include "opt/doe/batch.hpp"
+#include "opt/doe/store.hpp"
 
 namespace opt::doe {
 namespace {
@@ -39,20 +41,48 @@ void note(std::vector<std::int64_t>& indices, std::int64_t i) {
   if (indices.size() < kNamed) indices.push_back(i);
 }
 
-// The rows of a store file, read around what cannot be read.
+// The indices read intact so far, over a store file and its segments: a row
+// in two files (a fold killed half way) counts once.
+class Seen {
+ public:
+  Seen(std::int64_t lo, std::int64_t hi) : lo_(lo), bits_(std::size_t(std::max<std::int64_t>(hi - lo, 0))) {}
+  // true the first time i is seen.
+  bool first(std::int64_t i) {
+    if (i >= lo_ && i - lo_ < std::int64_t(bits_.size())) {
+      if (bits_[std::size_t(i - lo_)]) return false;
+      return bits_[std::size_t(i - lo_)] = true;
+    }
+    return others_.insert(i).second;
+  }
+  // Up to kNamed indices of [lo, hi) not seen.
+  std::vector<std::int64_t> unseen() const {
+    std::vector<std::int64_t> at;
+    for (std::size_t k = 0; k < bits_.size() && at.size() < kNamed; ++k)
+      if (!bits_[k]) at.push_back(lo_ + std::int64_t(k));
+    return at;
+  }
+
+ private:
+  std::int64_t lo_;
+  std::vector<bool> bits_;
+  std::unordered_set<std::int64_t> others_;  // outside [lo, hi), or all when the range is unknown
+};
+
+// The rows of one file of a store, read around what cannot be read; its
+// problems are prefixed with `where` (the segment's name, or "" for the
+// store file).
 class Scan {
  public:
   using Intact = std::function<void(sqlite3_stmt* row)>;
-  Scan(const Db& db, StoreCheck& c, Intact intact)
-      : c_(c), intact_(std::move(intact)), q_(db, "SELECT * FROM samples WHERE idx >= ? AND idx < ? ORDER BY idx") {}
+  Scan(const Db& db, StoreCheck& c, Intact intact, Seen& seen, std::string where = "")
+      : c_(c), intact_(std::move(intact)), seen_(seen), where_(std::move(where)),
+        q_(db, "SELECT * FROM samples WHERE idx >= ? AND idx < ? ORDER BY idx") {}
 
   // Every row of the file: indices far outside any run are damage too.
   void all() {
     read(-(std::int64_t(1) << 62), (std::int64_t(1) << 62) - 1);
-    if (c_.hi >= 0) c_.missing = c_.hi - c_.lo - c_.intact;
-    for (std::int64_t m = std::max(next_, c_.lo); m < c_.hi && missing_at_.size() < kNamed; ++m) note(missing_at_, m);
     auto problem = [&](std::int64_t count, const std::vector<std::int64_t>& indices, const std::string& what) {
-      if (count) c_.problems.push_back(what + " " + named(count, indices));
+      if (count) c_.problems.push_back(where_ + what + " " + named(count, indices));
     };
     problem(failed_, failed_at_, "rows whose checksum fails (damaged values)");
     problem(lost_, lost_at_, "indices in pages SQLite cannot read");
@@ -60,9 +90,8 @@ class Scan {
     problem(outside_, outside_at_, "intact rows outside the run's [" + std::to_string(c_.lo) + ", " +
                                        std::to_string(c_.hi) + ")");
     if (gave_up_)
-      c_.problems.push_back("gave up after " + std::to_string(kMaxLostProbes) +
+      c_.problems.push_back(where_ + "gave up after " + std::to_string(kMaxLostProbes) +
                             " unreadable indices: the rows after " + std::to_string(last_) + " were not read");
-    if (c_.finished && c_.missing) problem(c_.missing, missing_at_, "samples missing from a finished store");
   }
 
  private:
@@ -116,8 +145,7 @@ class Scan {
       note(outside_at_, i);
       return;
     }
-    for (std::int64_t m = std::max(next_, c_.lo); m < i && missing_at_.size() < kNamed; ++m) note(missing_at_, m);
-    next_ = i + 1;
+    if (!seen_.first(i)) return;  // in the store file and a segment: once
     ++c_.intact;
     const auto* status = reinterpret_cast<const char*>(sqlite3_column_text(q, 1));
     ++c_.statuses[status ? status : "(none)"];
@@ -126,10 +154,12 @@ class Scan {
 
   StoreCheck& c_;
   Intact intact_;
+  Seen& seen_;
+  std::string where_;
   Statement q_;
-  std::int64_t last_ = std::numeric_limits<std::int64_t>::min(), next_ = 0;
+  std::int64_t last_ = std::numeric_limits<std::int64_t>::min();
   std::int64_t failed_ = 0, lost_ = 0, doubled_ = 0, outside_ = 0;
-  std::vector<std::int64_t> failed_at_, lost_at_, doubled_at_, outside_at_, missing_at_;
+  std::vector<std::int64_t> failed_at_, lost_at_, doubled_at_, outside_at_;
   bool gave_up_ = false;
 };
 
@@ -202,7 +232,27 @@ StoreCheck scan(const std::string& store, const Begin& begin = nullptr, const st
   std::map<std::string, std::string> meta;
   const std::string schema = examine(db, c, meta);
   if (schema.empty()) return c;
-  Scan(db, c, begin ? begin(db, schema, meta, c) : Scan::Intact()).all();
+  Seen seen(c.lo, c.hi);
+  const Scan::Intact intact = begin ? begin(db, schema, meta, c) : Scan::Intact();
+  Scan(db, c, intact, seen).all();
+  for (const auto& file : segment_files(c.file)) {  // a killed run's rows, not yet folded
+    const std::string where = fs::path(file).filename().string() + ": ";
+    try {
+      const Db segment = open_to_read(file);
+      Statement q(segment, "SELECT value FROM meta WHERE key = 'config_hash'");
+      const auto hash = q.step() ? q.text(0) : std::nullopt;
+      if (hash != c.config_hash && c.config_hash) {
+        c.problems.push_back(where + "a segment of another run (config_hash " + hash.value_or("none") + ")");
+        continue;
+      }
+      Scan(segment, c, intact, seen, where).all();
+    } catch (const std::runtime_error& e) {
+      c.problems.push_back(where + "cannot be read: " + e.what());
+    }
+  }
+  if (c.hi >= 0) c.missing = c.hi - c.lo - c.intact;
+  if (c.finished && c.missing)
+    c.problems.push_back("samples missing from a finished store " + named(c.missing, seen.unseen()));
   if (end) end();
   return c;
 }

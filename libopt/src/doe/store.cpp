@@ -252,8 +252,7 @@ class Rows {
 // whole rows (export, check, merge), since verifying every row's checksum
 // here would make the resume's scan about 10x slower (bench_doe_store,
 // BM_Finished).
-std::vector<bool> index_bitmap(const Db& db, std::int64_t total) {
-  std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
+void index_bitmap(const Db& db, std::int64_t total, std::vector<bool>& done) {
   Statement s(db, "SELECT idx FROM samples");
   while (s.step()) {
     const std::int64_t i = s.int64(0);
@@ -262,7 +261,6 @@ std::vector<bool> index_bitmap(const Db& db, std::int64_t total) {
                                         std::to_string(total) + ")");
     done[std::size_t(i)] = true;
   }
-  return done;
 }
 
 // ---- the writer's lock ----------------------------------------------------
@@ -529,16 +527,209 @@ Db open_to_write(const std::string& file) {
   return db;
 }
 
-// ---- Store --------------------------------------------------------------
+namespace {
 
-struct Store::Impl {
-  Impl(WriterLock w, Db d, StoreLayout l)
-      : lock(std::move(w)), db(std::move(d)), layout(std::move(l)), insert(batch_insert(db, batch)) {}
-  WriterLock lock;  // declared first: released after the store is closed
+// ---- appending batches -----------------------------------------------------
+
+// One file's batched appends: a Store's or a Segment's. Rows are checked
+// before the transaction (a bad row is the caller's bug, and nothing of its
+// batch is written), then written in one statement and one transaction.
+struct Appender {
+  Appender(Db d, StoreLayout l) : db(std::move(d)), layout(std::move(l)), insert(batch_insert(db, batch)) {}
+  Appender(Appender&&) = delete;  // SQLite holds &batch, the statement &db
   Db db;  // before the statement: destroyed after it
   StoreLayout layout;
   Batch batch{&layout, {}, 0};  // before insert: preparing it reads the layout
-  Statement insert;                // every batch goes through it
+  Statement insert;             // every batch goes through it
+
+  void append(std::span<const Row> rows) {
+    const StoreLayout& l = layout;
+    for (const Row& r : rows) {
+      auto where = [&] { return db.file() + ": sample " + std::to_string(r.index); };  // only on an error
+      if (r.status.empty()) throw std::invalid_argument(where() + ": no status");
+      if (r.factors.size() != l.factors.size() || r.metrics.size() != l.metrics.size())
+        throw std::invalid_argument(where() + ": " + std::to_string(r.factors.size()) + " factors and " +
+                                    std::to_string(r.metrics.size()) + " metrics, the store has " +
+                                    std::to_string(l.factors.size()) + " and " + std::to_string(l.metrics.size()));
+      for (std::size_t j = 0; j < l.factors.size(); ++j) {
+        const double v = r.factors[j];
+        const auto n = double(l.labels[j].size());
+        if (n > 0 && !(v >= 0 && v < n && v == std::floor(v)))
+          throw std::invalid_argument(where() + ": factor " + l.factors[j] + ": option index " + std::to_string(v) +
+                                      " is not one of its " + std::to_string(l.labels[j].size()) + " options");
+      }
+    }
+    if (rows.empty()) return;
+    // Never INSERT OR REPLACE: a sample written twice means the scheduler
+    // handed it out twice, which must not pass silently.
+    Transaction t(db);
+    batch.rows = rows;
+    insert.reset();
+    const int rc = sqlite3_step(insert.get());
+    const std::int64_t at = rows[std::min(batch.at, rows.size() - 1)].index;
+    batch.rows = {};
+    if (rc == SQLITE_CONSTRAINT_PRIMARYKEY)
+      throw std::logic_error(db.file() + ": sample " + std::to_string(at) +
+                             " is already in the store (or twice in the batch); the batch was rolled back");
+    if (rc != SQLITE_DONE) db.fail("cannot insert sample " + std::to_string(at));
+    t.commit();
+  }
+};
+
+// ---- segments --------------------------------------------------------------
+
+constexpr const char* kSegmentInfix = ".seg-";
+
+// A segment must be of the store's run: its config_hash and columns.
+void check_segment(const Db& segment, const Db& store) {
+  const auto hash = find(read_meta(segment), "config_hash");
+  const auto store_hash = find(read_meta(store), "config_hash");
+  if (hash != store_hash || stored_columns(segment) != stored_columns(store))
+    throw StoreMismatch(segment.file() + " is a segment of another run than " + store.file() + " (config_hash " +
+                        hash.value_or("none") + ", the store's " + store_hash.value_or("none") +
+                        "): remove it, or run with --new to move both aside");
+}
+
+void remove_file(const std::string& file) {
+  for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(file + suffix);
+}
+
+// The segment's rows into `store` in one transaction, then the segment's
+// files removed: a kill in between leaves rows in both, which every reader
+// takes once and the next fold skips. Returns the rows moved.
+std::int64_t fold_segment(const Db& store, const std::string& file) {
+  {
+    const Db segment = open_to_read(file);  // recovers a killed writer's WAL
+    if (!has_table(segment, "samples")) {   // created, killed before its schema
+      remove_file(file);
+      return 0;
+    }
+    check_segment(segment, store);
+  }
+  Statement attach(store, "ATTACH DATABASE ? AS segment");
+  attach.bind(1, std::string_view(file));
+  attach.step();
+  std::int64_t moved = 0;
+  try {
+    // The plain INSERT copies each row's record as it lies in the segment
+    // (SQLite's transfer optimisation: no column decoded or encoded); only
+    // after a killed fold, whose rows are in both files, are they compared.
+    Transaction t(store);
+    const int rc =
+        sqlite3_exec(store.get(), "INSERT INTO main.samples SELECT * FROM segment.samples", nullptr, nullptr, nullptr);
+    if (rc == SQLITE_CONSTRAINT_PRIMARYKEY) store.exec("INSERT OR IGNORE INTO main.samples SELECT * FROM segment.samples");
+    else if (rc != SQLITE_OK) store.fail("cannot fold " + file);
+    moved = sqlite3_changes64(store.get());
+    t.commit();
+  } catch (...) {
+    sqlite3_exec(store.get(), "DETACH DATABASE segment", nullptr, nullptr, nullptr);
+    throw;
+  }
+  store.exec("DETACH DATABASE segment");
+  remove_file(file);
+  return moved;
+}
+
+// ---- reading a store and its segments ---------------------------------------
+
+// The rows of a store file and of its segments, by idx, each index once (a
+// fold killed half way leaves a row in both; the copies differ at most in
+// wall_time, and the store file's is taken), every checksum verified.
+class UnionRows {
+ public:
+  explicit UnionRows(const std::string& store_file) {
+    sources_.push_back(std::make_unique<Source>(open_to_read(store_file)));
+    for (const auto& file : segment_files(store_file)) {
+      if (!fs::exists(file)) continue;  // folded since it was listed: its rows are in the store file
+      auto s = std::make_unique<Source>(open_to_read(file));
+      if (!has_table(s->db, "samples")) continue;
+      check_segment(s->db, sources_[0]->db);
+      sources_.push_back(std::move(s));
+    }
+  }
+  bool step() {
+    if (!started_) {
+      // The segments' snapshots first: rows a fold moves meanwhile are then
+      // in the store file's snapshot, taken after.
+      for (auto s = sources_.rbegin(); s != sources_.rend(); ++s) (*s)->live = (*s)->rows.step();
+      started_ = true;
+    } else {
+      current_->live = current_->rows.step();
+    }
+    current_ = nullptr;
+    for (auto& s : sources_)
+      if (s->live && (!current_ || s->index() < current_->index())) current_ = s.get();
+    if (!current_) return false;
+    for (auto& s : sources_)  // the same index elsewhere: skipped
+      if (s.get() != current_ && s->live && s->index() == current_->index()) s->live = s->rows.step();
+    return true;
+  }
+  Statement& row() { return current_ ? current_->rows.row() : sources_[0]->rows.row(); }
+  int columns() const { return sources_[0]->rows.columns(); }
+  const Db& store() const { return sources_[0]->db; }
+
+ private:
+  struct Source {
+    explicit Source(Db d) : db(std::move(d)), rows(db) {}
+    std::int64_t index() const { return rows.row().int64(0); }
+    Db db;
+    mutable Rows rows;
+    bool live = false;
+  };
+  std::vector<std::unique_ptr<Source>> sources_;
+  Source* current_ = nullptr;
+  bool started_ = false;
+};
+
+}  // namespace
+
+std::vector<std::string> segment_files(const std::string& store_file) {
+  const fs::path file(store_file);
+  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  const std::string prefix = file.stem().string() + kSegmentInfix;
+  std::vector<std::string> found;
+  std::error_code e;
+  for (const auto& entry : fs::directory_iterator(dir, e)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with(prefix) && name.ends_with(".sqlite")) found.push_back(entry.path().string());
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+// ---- Segment ---------------------------------------------------------------
+
+struct Segment::Impl {
+  Impl(Db d, StoreLayout l) : appender(std::move(d), std::move(l)) {}
+  Appender appender;
+};
+
+Segment::Segment(const std::string& dir, const std::string& name, const StoreLayout& layout,
+                 const std::string& config_hash) {
+  const StoreLayout l = normalized(layout);
+  const std::string file = (fs::path(dir) / ("store" + std::string(kSegmentInfix) + name + ".sqlite")).string();
+  if (fs::exists(file)) throw std::runtime_error(file + ": a segment of that name exists already");
+  Db db = open_to_write(file);
+  Transaction t(db);
+  create_schema(db, l, {{"config_hash", config_hash}, {"layout", layout_json(l).dump()}});
+  t.commit();
+  impl_ = std::make_unique<Impl>(std::move(db), l);
+}
+
+Segment::~Segment() = default;
+Segment::Segment(Segment&&) noexcept = default;
+Segment& Segment::operator=(Segment&&) noexcept = default;
+const std::string& Segment::path() const { return impl_->appender.db.file(); }
+void Segment::append(std::span<const Row> rows) { impl_->appender.append(rows); }
+
+// ---- Store --------------------------------------------------------------
+
+struct Store::Impl {
+  Impl(WriterLock w, Db d, StoreLayout l, std::string h)
+      : lock(std::move(w)), appender(std::move(d), std::move(l)), hash(std::move(h)) {}
+  WriterLock lock;  // declared first: released after the store is closed
+  Appender appender;
+  std::string hash;
 };
 
 Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<std::string, std::string>& meta,
@@ -552,27 +743,45 @@ Store::Store(const std::string& dir, const StoreLayout& layout, const std::map<s
   fs::create_directories(dir);
   WriterLock lock(dir);  // before the store is moved aside, created or opened
   const std::string file = (fs::path(dir) / "store.sqlite").string();
-  if (fresh && fs::exists(file)) move_aside(file);
-  Db db = open_to_write(file);
-  Transaction t(db);  // the schema appears whole, or not at all
-  if (!has_table(db, "samples")) {
-    create_schema(db, l, all);
-  } else {
-    check_same_run(db, meta, l);
-    add_meta(db, all);
+  if (fresh) {
+    if (fs::exists(file)) move_aside(file);
+    for (const auto& segment : segment_files(file)) move_aside(segment);
   }
-  t.commit();
-  impl_ = std::make_unique<Impl>(std::move(lock), std::move(db), std::move(l));
+  Db db = open_to_write(file);
+  {
+    Transaction t(db);  // the schema appears whole, or not at all
+    if (!has_table(db, "samples")) {
+      create_schema(db, l, all);
+    } else {
+      check_same_run(db, meta, l);
+      add_meta(db, all);
+    }
+    t.commit();
+  }
+  impl_ = std::make_unique<Impl>(std::move(lock), std::move(db), std::move(l), *hash);
+  fold();  // what a killed run left in segments
 }
 
 Store::~Store() = default;
 Store::Store(Store&&) noexcept = default;
 Store& Store::operator=(Store&&) noexcept = default;
 
-const std::string& Store::path() const { return impl_->db.file(); }
+const std::string& Store::path() const { return impl_->appender.db.file(); }
+
+Segment Store::segment(const std::string& name) const {
+  return Segment(fs::path(path()).parent_path().string(), name, impl_->appender.layout, impl_->hash);
+}
+
+std::int64_t Store::fold() {
+  std::int64_t moved = 0;
+  for (const auto& file : segment_files(path())) moved += fold_segment(impl_->appender.db, file);
+  return moved;
+}
 
 std::vector<bool> Store::finished(std::int64_t total) const {
-  return index_bitmap(impl_->db, total);
+  std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
+  index_bitmap(impl_->appender.db, total, done);
+  return done;
 }
 
 std::optional<std::vector<bool>> Store::peek(const std::string& dir, const StoreLayout& layout,
@@ -582,54 +791,27 @@ std::optional<std::vector<bool>> Store::peek(const std::string& dir, const Store
   const Db db = open_to_read(file);
   if (!has_table(db, "samples")) return std::nullopt;  // created, killed before its schema
   check_same_run(db, meta, normalized(layout));
-  return index_bitmap(db, total);
+  std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
+  index_bitmap(db, total, done);
+  for (const auto& segment_file : segment_files(file)) {  // what the run would fold first
+    const Db segment = open_to_read(segment_file);
+    if (!has_table(segment, "samples")) continue;
+    check_segment(segment, db);
+    index_bitmap(segment, total, done);
+  }
+  return done;
 }
 
 std::int64_t Store::count() const {
-  Statement s(impl_->db, "SELECT count(*) FROM samples");
+  Statement s(impl_->appender.db, "SELECT count(*) FROM samples");
   s.step();
   return s.int64(0);
 }
 
-void Store::append(std::span<const Row> rows) {
-  const StoreLayout& l = impl_->layout;
-  // Checked before the transaction: a bad row is the caller's bug, and
-  // nothing of its batch is written.
-  for (const Row& r : rows) {
-    auto where = [&] { return path() + ": sample " + std::to_string(r.index); };  // only on an error: rows are many
-    if (r.status.empty()) throw std::invalid_argument(where() + ": no status");
-    if (r.factors.size() != l.factors.size() || r.metrics.size() != l.metrics.size())
-      throw std::invalid_argument(where() + ": " + std::to_string(r.factors.size()) + " factors and " +
-                                  std::to_string(r.metrics.size()) + " metrics, the store has " +
-                                  std::to_string(l.factors.size()) + " and " + std::to_string(l.metrics.size()));
-    for (std::size_t j = 0; j < l.factors.size(); ++j) {
-      const double v = r.factors[j];
-      const auto n = double(l.labels[j].size());
-      if (n > 0 && !(v >= 0 && v < n && v == std::floor(v)))
-        throw std::invalid_argument(where() + ": factor " + l.factors[j] + ": option index " + std::to_string(v) +
-                                    " is not one of its " + std::to_string(l.labels[j].size()) + " options");
-    }
-  }
-  if (rows.empty()) return;
-
-  // Never INSERT OR REPLACE: a sample written twice means the scheduler
-  // handed it out twice, which must not pass silently.
-  Transaction t(impl_->db);
-  Batch& b = impl_->batch;
-  b.rows = rows;
-  impl_->insert.reset();
-  const int rc = sqlite3_step(impl_->insert.get());
-  const std::int64_t at = rows[std::min(b.at, rows.size() - 1)].index;
-  b.rows = {};
-  if (rc == SQLITE_CONSTRAINT_PRIMARYKEY)
-    throw std::logic_error(path() + ": sample " + std::to_string(at) +
-                           " is already in the store (or twice in the batch); the batch was rolled back");
-  if (rc != SQLITE_DONE) impl_->db.fail("cannot insert sample " + std::to_string(at));
-  t.commit();
-}
+void Store::append(std::span<const Row> rows) { impl_->appender.append(rows); }
 
 void Store::set_meta(const std::string& key, const std::string& value) {
-  Statement s(impl_->db,
+  Statement s(impl_->appender.db,
               "INSERT INTO meta(key, value) VALUES(?, ?) ON CONFLICT(key) DO UPDATE SET value = excluded.value");
   s.bind(1, std::string_view(key));
   s.bind(2, std::string_view(value));
@@ -637,7 +819,7 @@ void Store::set_meta(const std::string& key, const std::string& value) {
 }
 
 std::optional<std::string> Store::meta(const std::string& key) const {
-  Statement s(impl_->db, "SELECT value FROM meta WHERE key = ?");
+  Statement s(impl_->appender.db, "SELECT value FROM meta WHERE key = ?");
   s.bind(1, std::string_view(key));
   return s.step() ? s.text(0) : std::nullopt;
 }
@@ -693,20 +875,19 @@ void check_written(const std::ostream& out, const std::string& file) {
 }  // namespace
 
 void export_csv(const std::string& store_file, std::ostream& out, bool wall_time) {
-  const Db db = open_to_read(store_file);
-  Rows rows(db);
-  Statement& s = rows.row();
+  UnionRows rows(store_file);
   const int n = rows.columns();
   constexpr int kWallTime = 2;  // idx, status, wall_time, ...
   auto skip = [&](int c) { return !wall_time && c == kWallTime; };
   for (int c = 0; c < n; ++c) {
     if (skip(c)) continue;
     if (c) out << ',';
-    csv_text(out, sqlite3_column_name(s.get(), c));
+    csv_text(out, sqlite3_column_name(rows.row().get(), c));
   }
   out << '\n';
   char number[32];
   while (rows.step()) {
+    const Statement& s = rows.row();
     for (int c = 0; c < n; ++c) {
       if (skip(c)) continue;
       if (c) out << ',';
@@ -726,14 +907,13 @@ void export_csv(const std::string& store_file, std::ostream& out, bool wall_time
 }
 
 void read_rows(const std::string& store_file, const std::function<void(const Row&)>& f) {
-  const Db db = open_to_read(store_file);
-  const StoreLayout l = layout_from_json(store_file, find(read_meta(db), "layout"));
-  Rows rows(db);
-  const Statement& s = rows.row();
+  UnionRows rows(store_file);
+  const StoreLayout l = layout_from_json(store_file, find(read_meta(rows.store()), "layout"));
   Row r;
   r.factors.resize(l.factors.size());
   r.metrics.resize(l.metrics.size());
   while (rows.step()) {
+    const Statement& s = rows.row();
     r.index = s.int64(0);
     // The status as its static name (Row holds a view).
     r.status = mech::to_string(mech::status_from_string(s.text(1).value_or("")).value_or(mech::Status::evaluation_error));
@@ -755,18 +935,17 @@ void read_rows(const std::string& store_file, const std::function<void(const Row
 }
 
 void export_json(const std::string& store_file, std::ostream& out) {
-  const Db db = open_to_read(store_file);
+  UnionRows rows(store_file);
   json meta = json::object();
-  for (const auto& [key, value] : read_meta(db)) meta[key] = value;
+  for (const auto& [key, value] : read_meta(rows.store())) meta[key] = value;
   out << "{\"meta\": " << meta.dump() << ",\n\"samples\": [";
-  Rows rows(db);
-  Statement& s = rows.row();
   const int n = rows.columns();
   std::vector<std::string> keys;  // quoted once
-  for (int c = 0; c < n; ++c) keys.push_back(json(sqlite3_column_name(s.get(), c)).dump() + ": ");
+  for (int c = 0; c < n; ++c) keys.push_back(json(sqlite3_column_name(rows.row().get(), c)).dump() + ": ");
   // One small object a row: memory stays constant for 10^7 rows.
   for (bool first = true; rows.step(); first = false) {
     out << (first ? "\n{" : ",\n{");
+    const Statement& s = rows.row();
     for (int c = 0; c < n; ++c) {
       out << (c ? ", " : "") << keys[std::size_t(c)];
       switch (sqlite3_column_type(s.get(), c)) {
@@ -801,16 +980,24 @@ std::string coverage_errors(const std::vector<std::string>& files, std::int64_t 
   std::vector<std::uint8_t> seen(std::size_t(total), 0);  // 0, 1, 2 = twice or more
   std::vector<std::int64_t> outside;
   std::int64_t outside_count = 0;
+  std::vector<bool> mine;  // the indices of one store: in its file and its segments, counted once
   for (const auto& file : files) {
-    const Db db = open_to_read(file);
-    Statement s(db, "SELECT idx FROM samples");
-    while (s.step()) {
-      const std::int64_t i = s.int64(0);
-      if (i < 0 || i >= total) {
-        if (outside.size() < kNamed) outside.push_back(i);
-        ++outside_count;
-      } else if (seen[std::size_t(i)] < 2) {
-        ++seen[std::size_t(i)];
+    mine.assign(std::size_t(total), false);
+    std::vector<std::string> parts = segment_files(file);
+    parts.insert(parts.begin(), file);
+    for (const auto& part : parts) {
+      const Db db = open_to_read(part);
+      if (part != file && !has_table(db, "samples")) continue;
+      Statement s(db, "SELECT idx FROM samples");
+      while (s.step()) {
+        const std::int64_t i = s.int64(0);
+        if (i < 0 || i >= total) {
+          if (outside.size() < kNamed) outside.push_back(i);
+          ++outside_count;
+        } else if (!mine[std::size_t(i)]) {
+          mine[std::size_t(i)] = true;
+          seen[std::size_t(i)] += seen[std::size_t(i)] < 2;
+        }
       }
     }
   }
@@ -874,10 +1061,9 @@ MergeReport merge_stores(const std::string& out_dir, const std::vector<std::stri
   Statement insert(out, insert_sql(std::size_t(n) + 1));
   Transaction t(out);  // the merged store is whole or empty
   for (const auto& file : report.inputs) {
-    const Db in = open_to_read(file);
-    Rows rows(in);  // verified; a shard from before checksums gets them here
-    sqlite3_stmt* row = rows.row().get();
+    UnionRows rows(file);  // with its segments; verified; a shard from before checksums gets them here
     while (rows.step()) {
+      sqlite3_stmt* row = rows.row().get();
       insert.reset();
       RowHash h;
       for (int c = 0; c < n; ++c) {

@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "opt/config.hpp"
@@ -89,9 +91,13 @@ struct Shard {
 
 struct Row;  // opt/doe/store.hpp
 
+// Rows committed, by status name.
+using StatusCounts = std::map<std::string, std::int64_t>;
+
 // The other processes of one run (MPI ranks, docs/doe.md): rank 0 owns the
 // store and hands out chunks of indices; every other rank evaluates the
-// chunks it is given and sends back its rows with its next request.
+// chunks it is given, commits their rows to a segment of its own and reports
+// what it committed with its next request.
 class Peers {
  public:
   virtual ~Peers() = default;
@@ -99,14 +105,18 @@ class Peers {
   virtual int size() const = 0;
   // The finished-sample bitmap, from rank 0 to all (n bits everywhere).
   virtual void share(std::vector<bool>& finished) = 0;
-  // Rank 0: serves chunks of [next, hi) to the other ranks (each asks for a
-  // size) until every one has been told to stop; their rows go to `rows`.
-  // Stops handing out work once `stopping()` is true.
-  virtual void serve(std::atomic<std::int64_t>& next, std::int64_t hi,
-                     const std::function<void(std::vector<Row>)>& rows, const std::function<bool()>& stopping) = 0;
-  // Other ranks: asks for chunks, evaluates each with `evaluate(begin, end,
-  // chunk size wanted next)`, until told to stop.
-  virtual void work(const std::function<std::vector<Row>(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) = 0;
+  // Rank 0: serves chunks to the other ranks, each asking for a size (`chunk(rank,
+  // size)` gives [begin, end), empty when none is left), until every one has
+  // been told to stop; what they committed goes to `committed`. Stops handing
+  // out work once `stopping()` is true.
+  virtual void serve(const std::function<std::pair<std::int64_t, std::int64_t>(int, std::int64_t)>& chunk,
+                     const std::function<void(const StatusCounts&)>& committed,
+                     const std::function<bool()>& stopping) = 0;
+  // Other ranks: asks for chunks, evaluates and commits each with
+  // `evaluate(begin, end, chunk size wanted next)`, until told to stop.
+  virtual void work(const std::function<StatusCounts(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) = 0;
+  // Every rank waits for every other (rank 0 folds the segments after it).
+  virtual void barrier() = 0;
 };
 
 // The MPI ranks of this process's run, or nullptr when it was not started

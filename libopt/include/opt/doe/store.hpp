@@ -1,8 +1,10 @@
 // The results store of the batch pipeline (docs/doe.md, "The store" and
 // "Resume, exactly"): one SQLite file DIR/store.sqlite, one row per evaluated
-// sample, written by one writer at a time in batched transactions. A row is
-// committed or absent, so a run killed at any moment resumes from the indices
-// the store holds, and a duplicate index is impossible.
+// sample, and while a run writes, one segment file per writer beside it
+// (DIR/store.seg-NAME.sqlite), folded into store.sqlite when the run ends or
+// the next run opens the store. A row is committed or absent, so a run
+// killed at any moment resumes from the indices the store and its segments
+// hold; readers of whole rows take each index once.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -62,6 +64,35 @@ class StoreBusy : public std::runtime_error {
   using runtime_error::runtime_error;
 };
 
+// A writer's own file beside a store, DIR/store.seg-NAME.sqlite (docs/doe.md,
+// "Segments"): the samples table of the store and the meta keys config_hash
+// and layout, appended to by one thread in batched transactions with no lock
+// shared with any other writer, so that N writers append N times as fast as
+// one. Its rows join store.sqlite at the store's fold; until then the
+// readers of whole rows (export, read_rows, merge, check, recover) and the
+// resume read the union. Under MPI each rank writes segments of its own
+// (DIR on a file system every rank reaches).
+class Segment {
+ public:
+  // Creates DIR/store.seg-NAME.sqlite; std::runtime_error if it exists.
+  Segment(const std::string& dir, const std::string& name, const StoreLayout& layout, const std::string& config_hash);
+  ~Segment();
+  Segment(Segment&&) noexcept;
+  Segment& operator=(Segment&&) noexcept;
+  const std::string& path() const;
+  // As Store::append, within this file (an index in another segment or the
+  // store is not seen: the scheduler hands each index out once).
+  void append(std::span<const Row> rows);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The segment files of a store file FILE.sqlite: FILE.seg-*.sqlite beside it,
+// sorted by name.
+std::vector<std::string> segment_files(const std::string& store_file);
+
 // One writer at a time: a Store holds an exclusive flock on DIR/store.lock
 // (a file of its own, beside the store) for its lifetime, taken before the
 // store is opened, created or moved aside. The operating system releases it
@@ -80,19 +111,29 @@ class Store {
   // (StoreMismatch: recover copies it into one with them). On
   // reopening, meta keys the store lacks are added; stored ones are kept (use
   // set_meta to change them). fresh=true first renames an existing store (and
-  // its -wal/-shm) to store.sqlite.old-YYYYmmdd-HHMMSS.
+  // its -wal/-shm) to store.sqlite.old-YYYYmmdd-HHMMSS, and its segments
+  // likewise. Segments left by a killed run are folded in (StoreMismatch when
+  // one is of another run).
   Store(const std::string& dir, const StoreLayout& layout, const std::map<std::string, std::string>& meta, bool fresh);
   ~Store();
   Store(Store&&) noexcept;
   Store& operator=(Store&&) noexcept;
 
   const std::string& path() const;
+  // A new segment DIR/store.seg-NAME.sqlite of this store, for one writer.
+  Segment segment(const std::string& name) const;
+  // Moves every segment's rows into store.sqlite (INSERT OR IGNORE: a row a
+  // killed fold left in both is taken once), each segment in a transaction of
+  // its own and then removed; returns the rows moved. The segments' writers
+  // must have closed them.
+  std::int64_t fold();
   // The indices in the store as `total` bits (bit i: sample i done). An index
   // outside [0, total) (the config hash matched) or a page SQLite cannot
   // read: StoreDamaged. The values are not read, nor their checksums.
   std::vector<bool> finished(std::int64_t total) const;
-  // For a dry run, reading only: nullopt when DIR holds no store; else its
-  // finished() bitmap, after the checks the constructor makes (StoreMismatch).
+  // For a dry run, reading only: nullopt when DIR holds no store; else the
+  // finished() bitmap of it and its segments, after the checks the
+  // constructor makes (StoreMismatch).
   static std::optional<std::vector<bool>> peek(const std::string& dir, const StoreLayout& layout,
                                                const std::map<std::string, std::string>& meta, std::int64_t total);
   std::int64_t count() const;
@@ -111,7 +152,8 @@ class Store {
 // page), for --dry-run's size estimate.
 double row_bytes(const Row& row, const StoreLayout& layout);
 
-// Readers of any store file (`mechopt export`): rows ordered by idx, every
+// Readers of any store file (`mechopt export`) and its segments: rows ordered
+// by idx, each index once, every
 // row's checksum verified (StoreDamaged at the first that fails; what was
 // written by then is incomplete); the checksum column is not written.
 // CSV: a header row, numbers with 17 significant digits (%.17g: every double
@@ -127,7 +169,7 @@ void read_rows(const std::string& store_file, const std::function<void(const Row
 void export_json(const std::string& store_file, std::ostream& out);
 
 // `mechopt merge OUT STORE...`: the shard stores (files, or directories holding
-// store.sqlite) into OUT/store.sqlite, which must not exist yet. Every
+// store.sqlite), each with its segments, into OUT/store.sqlite, which must not exist yet. Every
 // config_hash must agree (else StoreMismatch naming the store), and every index
 // in [0, meta "samples") must appear exactly once (else runtime_error naming up
 // to 10 missing or doubled indices and their counts); nothing is written then.
