@@ -147,6 +147,30 @@ void BM_Fold(benchmark::State& state) {
 }
 BENCHMARK(BM_Fold)->Arg(0)->Arg(1)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// BM_Merge: four shard stores of 250 000 rows each (12 metrics) merged into
+// one, as `mechopt merge` does; against BM_Append/12/20000.
+void BM_Merge(benchmark::State& state) {
+  constexpr std::int64_t kShard = 250'000;
+  BenchDir dir("merge");
+  std::vector<std::string> shards;
+  for (int k = 0; k < 4; ++k) {
+    shards.push_back(dir.path + "/shard" + std::to_string(k));
+    auto s = opt::doe::Store(shards.back(), layout(12), {{"config_hash", "bench"}, {"samples", std::to_string(4 * kShard)}},
+                             false);
+    for (std::int64_t first = k * kShard; first < (k + 1) * kShard; first += kBatch)
+      s.append(batch(first, 12, std::min(kBatch, (k + 1) * kShard - first)));
+  }
+  std::int64_t rows = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    fs::remove_all(dir.path + "/out");
+    state.ResumeTiming();
+    rows += opt::doe::merge_stores(dir.path + "/out", shards).rows;
+  }
+  state.counters["rows_per_second"] = benchmark::Counter(double(rows), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Merge)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_Finished(benchmark::State& state) {
   constexpr std::int64_t kRows = 1'000'000;
   BenchDir dir("finished");

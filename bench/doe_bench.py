@@ -7,7 +7,7 @@ run by run_bench.py or alone:
 - designs per second of each configs/doe/ problem, every metric and the
   store, on 1 thread, on 2 threads and on 2 MPI ranks, with the scaling
   efficiency rate(2) / (2 rate(1)) (--threads N runs N threads in all, each
-  evaluating and taking its turn at the store: N threads, N cores); as a
+  evaluating and committing to a file of its own: N threads, N cores); as a
   control, two separate 1 thread runs at once (the sum of their rates over
   twice one run's: what the machine's two cores give work that shares
   nothing, measured in the same rounds); the
@@ -17,8 +17,8 @@ run by run_bench.py or alone:
 - a same-run peer for the recuperative DOE (bench/doe/peer_recuperative_doe.py):
   chunked numpy computing the same metrics, checked against mechopt's rows,
   and writing them to SQLite.
-Rates are medians over the repetitions of the evaluation phase (`rate` in
-result.json: samples / seconds from the first sample to the last commit),
+Rates are medians over the repetitions of the run (`rate` in result.json:
+samples / seconds from the first sample to the end of the fold),
 the labels of a case interleaved (1 thread, 2 threads, 2 processes, 2
 ranks, again), so
 that a shared machine's drifting load weighs on the efficiencies' both
@@ -79,6 +79,18 @@ def mean_sample_seconds(store):
     """Mean wall time of one evaluation in the store (the model alone)."""
     with sqlite3.connect(store) as db:
         return db.execute("select avg(wall_time) from samples").fetchone()[0]
+
+
+def write_path_rates(build):
+    """{benchmark name: rows/s} of bench_doe_store's write path: N producers
+    into files of their own, the fold, merge (medians of 3)."""
+    out = subprocess.run([os.path.join(build, "bin", "bench_doe_store"),
+                          "--benchmark_filter=BM_Producers|BM_Fold|BM_Merge",
+                          "--benchmark_format=json", "--benchmark_repetitions=3",
+                          "--benchmark_report_aggregates_only=true"],
+                         check=True, capture_output=True, text=True).stdout
+    return {b["run_name"].split("/iterations")[0]: b["rows_per_second"]
+            for b in json.loads(out)["benchmarks"] if b.get("aggregate_name") == "median"}
 
 
 def store_rates(build):
@@ -152,6 +164,8 @@ def measure(build, repetitions):
     for (metrics, batch), (columns, rate) in sorted(store_rates(build).items(), key=lambda kv: (-kv[0][1], kv[0][0])):
         rows.append({"case": f"doe_store_append_{columns}_columns_{batch}_rows", "columns": columns,
                      "metrics": metrics, "batch_rows": batch, "rows_per_second": rate})
+    for name, rate in write_path_rates(build).items():
+        rows.append({"case": "doe_store_" + name.replace("/", "_"), "rows_per_second": rate})
     return rows
 
 
@@ -213,6 +227,20 @@ def block(rows):
     for r in rows:
         if r["case"].startswith("doe_store_append_"):
             lines.append(f"| {r['columns']} | {r['batch_rows']} | {fmt_rate(r['rows_per_second'])} |")
+    rate = {r["case"][len("doe_store_BM_"):]: r["rows_per_second"] for r in rows if r["case"].startswith("doe_store_BM_")}
+    append = next(r["rows_per_second"] for r in rows if r["case"] == "doe_store_append_20_columns_20000_rows")
+    if rate:
+        lines += ["", "| store write path (20 columns) | rows/s | against | target |", "|---|---|---|---|"]
+        for n in (1, 2, 3, 4):
+            if f"Producers_{n}" in rate:
+                lines.append(f"| {n} producer{'s' if n > 1 else ''}, a file each | {fmt_rate(rate[f'Producers_{n}'])} | "
+                             f"{rate[f'Producers_{n}'] / rate['Producers_1']:.2f}x one | "
+                             f"{'>= 1.8x with 2' if n == 2 else ''} |")
+        lines += [f"| fold, runs of indices appended | {fmt_rate(rate['Fold_0'])} | "
+                  f"{rate['Fold_0'] / rate['Fold_1']:.2f}x interleaved | |",
+                  f"| fold, two writers interleaved in 4096-row chunks | {fmt_rate(rate['Fold_1'])} | | |",
+                  f"| merge of 4 shards of 250 000 rows | {fmt_rate(rate['Merge'])} | "
+                  f"{rate['Merge'] / append:.2f}x append | >= 0.5x |"]
     return "\n".join(lines)
 
 

@@ -322,17 +322,21 @@ def main():
            "chunk": args.chunk}
     if args.check:
         ref = sqlite3.connect(args.check)
-        want = np.array(ref.execute(f"select {', '.join(FACTORS + METRICS)} from samples "
+        # The columns mechopt's run stores (its config's `columns`, and the
+        # objective's and constraints' metrics), compared where both have them.
+        stored = {row[1] for row in ref.execute("pragma table_info(samples)")}
+        names = [c for c in FACTORS + METRICS if c in stored]
+        want = np.array(ref.execute(f"select {', '.join(names)} from samples "
                                     "where idx < ? order by idx",
                                     (args.samples,)).fetchall(), dtype=float)  # NULL -> NaN
-        got = np.concatenate(results)
+        got = np.concatenate(results)[:, [(FACTORS + METRICS).index(c) for c in names]]
         with np.errstate(invalid="ignore", divide="ignore"):
             rel = np.abs(got - want) / np.abs(want)
         same = (got == want) | (np.isnan(got) & np.isnan(want))
         rel[same] = 0
         rel[np.isnan(rel)] = np.inf          # NULL on one side only
-        out["max_rel_diff"] = dict(zip(FACTORS + METRICS, rel.max(axis=0).tolist()))
-        out["rows_over_1e-9"] = dict(zip(FACTORS + METRICS, (rel > 1e-9).sum(axis=0).tolist()))
+        out["max_rel_diff"] = dict(zip(names, rel.max(axis=0).tolist()))
+        out["rows_over_1e-9"] = dict(zip(names, (rel > 1e-9).sum(axis=0).tolist()))
     out["numpy"] = np.__version__
     if tmp:
         shutil.rmtree(tmp)

@@ -169,7 +169,7 @@ class RowWriter {
 // its own, and one whose range is spent steals the back half of the largest
 // range left. Each writer's rows are then few long runs of indices, so that
 // the fold appends them to the store's B-tree instead of inserting them
-// between another writer's: 2.3x faster (bench_doe_store, BM_Fold/0
+// between another writer's: 1.4-1.6x faster (bench_doe_store, BM_Fold/0
 // against BM_Fold/1, which interleaves two writers in chunks of 4096 as one
 // shared counter did).
 class Ranges {
@@ -284,8 +284,11 @@ std::string duration_text(double seconds) {
 }
 
 // The store's seconds a row: the pilot's rows appended to a scratch store
-// in the temporary directory (removed). Threads pay it in turns, so a run
-// of r samples takes about r max((e + w) / threads, w).
+// in the temporary directory (removed). Each thread pays it for its own rows,
+// and the fold once more for the rows of all threads but the first (a fold
+// appends a row in less than an append's time: BM_Fold/0 against BM_Append),
+// so a run of r samples on T threads takes at most about
+// r (e + w) / T + r w (T - 1) / T.
 double store_seconds_per_row(const StoreLayout& layout, const std::map<std::string, std::string>& meta,
                              std::span<const Row> rows) {
   namespace fs = std::filesystem;
@@ -333,7 +336,7 @@ nlohmann::json dry_run(const Evaluator& evaluator, const SampleMaker& maker, con
   for (const Row& r : rows) bytes_per_row += row_bytes(r, layout);
   bytes_per_row /= static_cast<double>(std::max<std::size_t>(1, rows.size()));
   const double store = store_seconds_per_row(layout, meta, rows);
-  const double seconds = static_cast<double>(rest) * std::max((per + store) / threads, store),
+  const double seconds = static_cast<double>(rest) * ((per + store) / threads + store * (threads - 1) / threads),
                bytes = bytes_per_row * static_cast<double>(hi - lo);
   const bool needs_force = total > kMaxSamples && !o.force;
   const std::string shard = meta.at("shard");

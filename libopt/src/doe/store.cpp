@@ -594,9 +594,35 @@ void remove_file(const std::string& file) {
   for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(file + suffix);
 }
 
-// The segment's rows into `store` in one transaction, then the segment's
-// files removed: a kill in between leaves rows in both, which every reader
-// takes once and the next fold skips. Returns the rows moved.
+// The rows of the store file `file` appended to `to` in one transaction;
+// returns how many. The plain INSERT copies each row's record as it lies in
+// `file` (SQLite's transfer optimisation: no column decoded or encoded);
+// only when an index is in both (after a killed fold) are rows compared,
+// and `to`'s copy kept.
+std::int64_t copy_rows(const Db& to, const std::string& file) {
+  Statement attach(to, "ATTACH DATABASE ? AS source");
+  attach.bind(1, std::string_view(file));
+  attach.step();
+  std::int64_t copied = 0;
+  try {
+    Transaction t(to);
+    const int rc =
+        sqlite3_exec(to.get(), "INSERT INTO main.samples SELECT * FROM source.samples", nullptr, nullptr, nullptr);
+    if (rc == SQLITE_CONSTRAINT_PRIMARYKEY) to.exec("INSERT OR IGNORE INTO main.samples SELECT * FROM source.samples");
+    else if (rc != SQLITE_OK) to.fail("cannot copy the rows of " + file);
+    copied = sqlite3_changes64(to.get());
+    t.commit();
+  } catch (...) {
+    sqlite3_exec(to.get(), "DETACH DATABASE source", nullptr, nullptr, nullptr);
+    throw;
+  }
+  to.exec("DETACH DATABASE source");
+  return copied;
+}
+
+// The segment's rows into `store`, then the segment's files removed: a kill
+// in between leaves rows in both, which every reader takes once and the next
+// fold skips. Returns the rows moved.
 std::int64_t fold_segment(const Db& store, const std::string& file) {
   {
     const Db segment = open_to_read(file);  // recovers a killed writer's WAL
@@ -606,26 +632,7 @@ std::int64_t fold_segment(const Db& store, const std::string& file) {
     }
     check_segment(segment, store);
   }
-  Statement attach(store, "ATTACH DATABASE ? AS segment");
-  attach.bind(1, std::string_view(file));
-  attach.step();
-  std::int64_t moved = 0;
-  try {
-    // The plain INSERT copies each row's record as it lies in the segment
-    // (SQLite's transfer optimisation: no column decoded or encoded); only
-    // after a killed fold, whose rows are in both files, are they compared.
-    Transaction t(store);
-    const int rc =
-        sqlite3_exec(store.get(), "INSERT INTO main.samples SELECT * FROM segment.samples", nullptr, nullptr, nullptr);
-    if (rc == SQLITE_CONSTRAINT_PRIMARYKEY) store.exec("INSERT OR IGNORE INTO main.samples SELECT * FROM segment.samples");
-    else if (rc != SQLITE_OK) store.fail("cannot fold " + file);
-    moved = sqlite3_changes64(store.get());
-    t.commit();
-  } catch (...) {
-    sqlite3_exec(store.get(), "DETACH DATABASE segment", nullptr, nullptr, nullptr);
-    throw;
-  }
-  store.exec("DETACH DATABASE segment");
+  const std::int64_t moved = copy_rows(store, file);
   remove_file(file);
   return moved;
 }
@@ -980,24 +987,15 @@ std::string coverage_errors(const std::vector<std::string>& files, std::int64_t 
   std::vector<std::uint8_t> seen(std::size_t(total), 0);  // 0, 1, 2 = twice or more
   std::vector<std::int64_t> outside;
   std::int64_t outside_count = 0;
-  std::vector<bool> mine;  // the indices of one store: in its file and its segments, counted once
   for (const auto& file : files) {
-    mine.assign(std::size_t(total), false);
-    std::vector<std::string> parts = segment_files(file);
-    parts.insert(parts.begin(), file);
-    for (const auto& part : parts) {
-      const Db db = open_to_read(part);
-      if (part != file && !has_table(db, "samples")) continue;
-      Statement s(db, "SELECT idx FROM samples");
-      while (s.step()) {
-        const std::int64_t i = s.int64(0);
-        if (i < 0 || i >= total) {
-          if (outside.size() < kNamed) outside.push_back(i);
-          ++outside_count;
-        } else if (!mine[std::size_t(i)]) {
-          mine[std::size_t(i)] = true;
-          seen[std::size_t(i)] += seen[std::size_t(i)] < 2;
-        }
+    UnionRows rows(file);  // with its segments, each index once; every checksum verified
+    while (rows.step()) {
+      const std::int64_t i = rows.row().int64(0);
+      if (i < 0 || i >= total) {
+        if (outside.size() < kNamed) outside.push_back(i);
+        ++outside_count;
+      } else if (seen[std::size_t(i)] < 2) {
+        ++seen[std::size_t(i)];
       }
     }
   }
@@ -1057,25 +1055,38 @@ MergeReport merge_stores(const std::string& out_dir, const std::vector<std::stri
   meta["merged_from"] = json(report.inputs).dump();
   const Store created(out_dir, layout, meta, false);  // the schema and meta, and the writer's lock
   const Db out(out_file, SQLITE_OPEN_READWRITE);
-  const int n = int(kColumnsBefore + layout.factors.size() + layout.metrics.size());
-  Statement insert(out, insert_sql(std::size_t(n) + 1));
-  Transaction t(out);  // the merged store is whole or empty
-  for (const auto& file : report.inputs) {
-    UnionRows rows(file);  // with its segments; verified; a shard from before checksums gets them here
-    while (rows.step()) {
-      sqlite3_stmt* row = rows.row().get();
-      insert.reset();
-      RowHash h;
-      for (int c = 0; c < n; ++c) {
-        insert.bind(c + 1, sqlite3_column_value(row, c));
-        h.column(row, c);
+  try {
+    for (const auto& file : report.inputs) {
+      std::vector<std::string> parts = segment_files(file);
+      parts.insert(parts.begin(), file);
+      if (stored_columns(open_to_read(file)).back() == "checksum") {
+        for (const auto& part : parts)  // verified above
+          if (part == file || has_table(open_to_read(part), "samples")) report.rows += copy_rows(out, part);
+        continue;
       }
-      insert.bind(n + 1, h.value());
-      insert.step();
-      ++report.rows;
+      // A shard from before checksums gets them here, row by row.
+      const int n = int(kColumnsBefore + layout.factors.size() + layout.metrics.size());
+      Statement insert(out, insert_sql(std::size_t(n) + 1));
+      Transaction t(out);
+      UnionRows rows(file);
+      while (rows.step()) {
+        sqlite3_stmt* row = rows.row().get();
+        insert.reset();
+        RowHash h;
+        for (int c = 0; c < n; ++c) {
+          insert.bind(c + 1, sqlite3_column_value(row, c));
+          h.column(row, c);
+        }
+        insert.bind(n + 1, h.value());
+        insert.step();
+        ++report.rows;
+      }
+      t.commit();
     }
+  } catch (...) {  // a merge is whole or absent
+    for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(out_file + suffix);
+    throw;
   }
-  t.commit();
   return report;
 }
 
