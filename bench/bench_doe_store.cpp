@@ -13,8 +13,10 @@
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -146,6 +148,57 @@ void BM_Fold(benchmark::State& state) {
   state.counters["rows_per_second"] = benchmark::Counter(double(rows), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Fold)->Arg(0)->Arg(1)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// BM_FoldAlong/OVERLAP: a producer thread appends 16 segments of 65536 rows
+// (a run's segment size) while this thread folds each one it closes
+// (OVERLAP 1, as a run's first thread does), or folds them all after it
+// (0): rows/s of the whole, the fold included. On two cores the overlap
+// takes about the longer of the two, not their sum.
+void BM_FoldAlong(benchmark::State& state) {
+  constexpr int kSegments = 16;
+  constexpr std::int64_t kRows = 65536, kChunk = 4096;
+  const bool overlap = state.range(0) != 0;
+  std::int64_t rows = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    BenchDir dir("fold_along");
+    auto s = store(dir.path);
+    auto chunk = batch(0, 12, kChunk);
+    state.ResumeTiming();
+    std::mutex m;
+    std::vector<std::string> closed;
+    std::atomic<bool> done{false};
+    std::thread producer([&] {
+      for (int k = 0; k < kSegments; ++k) {
+        std::string file;
+        {
+          auto segment = s.segment("p" + std::to_string(100 + k));
+          for (std::int64_t first = k * kRows; first < (k + 1) * kRows; first += kChunk) {
+            for (std::int64_t j = 0; j < kChunk; ++j) chunk[std::size_t(j)].index = first + j;
+            segment.append(chunk);
+          }
+          file = segment.path();
+        }
+        std::lock_guard lock(m);
+        closed.push_back(file);
+      }
+      done = true;
+    });
+    for (std::size_t folded = 0; overlap && !(done && folded == closed.size());) {
+      std::string file;
+      {
+        std::lock_guard lock(m);
+        if (folded < closed.size()) file = closed[folded++];
+      }
+      if (file.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      else rows += s.fold(file);
+    }
+    producer.join();
+    rows += s.fold();
+  }
+  state.counters["rows_per_second"] = benchmark::Counter(double(rows), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_FoldAlong)->Arg(0)->Arg(1)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // BM_Merge: four shard stores of 250 000 rows each (12 metrics) merged into
 // one, as `mechopt merge` does; against BM_Append/12/20000.

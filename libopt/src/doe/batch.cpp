@@ -114,20 +114,67 @@ class Committed {
   std::mutex m_;
 };
 
-// The rows of one worker thread, committed in batches: the run's first
-// thread into store.sqlite itself, every other into a segment of its own
-// (docs/doe.md, "Segments"). No lock is shared between the writers, so the
-// write path scales with them, and a one-thread run folds nothing. A batch
-// is due at kBatchRows rows or 0.25 s after the last commit (a slow model's
-// rows do not wait long: a kill loses at most what is uncommitted), and at
-// the end. The rows' vectors are evaluated into again after their commit, so
-// a sample costs no allocation (each row two mallocs and frees across the
-// threads' arenas cost a conveyor design 5-10% on two threads).
+// A segment's name for thread `thread` of rank `rank` (thread -1: the
+// rank's one segment under MPI) and its `part`-th file, numbered so that the
+// names sort in the order of the ranges (the order the fold appends them in).
+std::string segment_name(int rank, int thread, int part = 0) {
+  char name[48];
+  if (thread < 0) std::snprintf(name, sizeof name, "r%05d", rank);
+  else std::snprintf(name, sizeof name, "r%05d-t%04d-p%06d", rank, thread, part);
+  return name;
+}
+
+// The segments the other threads have closed, which the run's first thread
+// folds into store.sqlite between its own commits while the run goes
+// (docs/doe.md, "Segments"): the run then takes about the longer of its
+// evaluation and its fold rather than their sum, with no thread of its own
+// and no second writer of store.sqlite. Work stealing between the ranges
+// hands the first thread's samples to the others while it folds.
+class Folder {
+ public:
+  void hand(std::string file) {
+    std::lock_guard lock(m_);
+    files_.push_back(std::move(file));
+  }
+  // Folds every segment handed over so far.
+  void fold(Store& store) {
+    for (;;) {
+      std::string file;
+      {
+        std::lock_guard lock(m_);
+        if (files_.empty()) return;
+        file = std::move(files_.front());
+        files_.pop_front();
+      }
+      store.fold(file);
+    }
+  }
+
+ private:
+  std::mutex m_;
+  std::deque<std::string> files_;
+};
+
+// The rows of one worker thread, committed in batches to a file of its own
+// (docs/doe.md, "Segments"): the first thread's into store.sqlite, whose
+// only writer it is (it also folds what the folder holds after each
+// commit), every other's into segments, each closed at kSegmentRows rows
+// and handed to the folder. No lock is shared between the writers, so the
+// write path scales with them. A batch is due at kBatchRows rows or 0.25 s
+// after the last commit (a slow model's rows do not wait long: a kill loses
+// at most what is uncommitted), and at the end. The rows' vectors are
+// evaluated into again after their commit, so a sample costs no allocation
+// and no thread frees what another allocated.
 class RowWriter {
  public:
-  // segment "": store.sqlite.
-  RowWriter(Store& store, std::string segment, Committed& committed)
-      : store_(store), name_(std::move(segment)), committed_(committed) {}
+  RowWriter(Store& store, Folder* folder, int thread, Committed& committed)
+      : store_(store), folder_(folder), thread_(thread), committed_(committed) {}
+  ~RowWriter() {
+    try {
+      close();
+    } catch (...) {  // an unwinding run: its own error is the one to report
+    }
+  }
   // A row to evaluate into: the next one of the batch.
   Row& next() {
     if (used_ == rows_.size()) rows_.emplace_back();
@@ -135,19 +182,31 @@ class RowWriter {
   }
   void commit_if_due() {
     if (used_ >= kBatchRows || (used_ > 0 && since(last_) >= 0.25)) commit();
+    if (thread_ == 0) folder_->fold(store_);
   }
   void commit() {
     if (used_ == 0) return;
     const std::span<const Row> rows(rows_.data(), used_);
-    if (name_.empty()) {
+    if (thread_ == 0) {
       store_.append(rows);
     } else {
-      if (!segment_) segment_ = store_.segment(name_);  // created by its first rows: no rows, no file
+      if (!segment_) segment_ = store_.segment(segment_name(0, thread_, part_++));  // no rows, no file
       segment_->append(rows);
+      in_segment_ += used_;
     }
     committed_.add(rows);
     used_ = 0;
     last_ = Clock::now();
+    if (in_segment_ >= kSegmentRows) close();
+  }
+  // Commits what is left and hands the open segment to the folder.
+  void close() {
+    commit();
+    if (!segment_) return;
+    const std::string file = segment_->path();
+    segment_.reset();
+    in_segment_ = 0;
+    folder_->hand(file);
   }
 
  private:
@@ -155,10 +214,16 @@ class RowWriter {
   // 4096-row transactions run as fast as 20 000-row ones, 1000-row ones at
   // 65-85% of it (bench_doe_store BM_Append/12/ROWS).
   static constexpr std::size_t kBatchRows = 4096;
+  // A segment's rows, folded in one transaction: 10 MB at 150 bytes a row,
+  // so that the fold follows the writers closely and a file stays small.
+  static constexpr std::size_t kSegmentRows = 65536;
   Store& store_;
-  std::string name_;
+  Folder* folder_;
+  int thread_;
   Committed& committed_;
   std::optional<Segment> segment_;
+  int part_ = 0;
+  std::size_t in_segment_ = 0;
   std::vector<Row> rows_;
   std::size_t used_ = 0;
   Clock::time_point last_ = Clock::now();
@@ -219,15 +284,6 @@ class Ranges {
   };
   std::vector<Range> ranges_;
 };
-
-// A segment's name for taker k of a rank, numbered so that the names sort
-// in the order of the takers' ranges (the order the fold appends them in).
-std::string segment_name(int rank, int thread) {
-  char name[32];
-  if (thread < 0) std::snprintf(name, sizeof name, "r%05d", rank);
-  else std::snprintf(name, sizeof name, "r%05d-t%04d", rank, thread);
-  return name;
-}
 
 // The next chunk's size after `count` samples took `seconds` on `threads`
 // threads: ~50 ms of work, few enough requests to keep the counter (or rank
@@ -454,13 +510,15 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
   const auto t0 = Clock::now();
   {
     Committed committed(tally, progress, pending);
+    Folder folder;
+    std::atomic<int> working{threads};  // the workers not yet done
     Ranges ranges(lo, hi, threads + (o.peers ? o.peers->size() - 1 : 0));  // under MPI: rank k takes threads + k - 1
     std::exception_ptr worker_error;
     std::mutex error_m;
     auto work = [&](int t) {
       try {
         const SampleMaker m = maker();
-        RowWriter writer(store, t == 0 ? "" : segment_name(0, t), committed);
+        RowWriter writer(store, &folder, t, committed);
         std::int64_t chunk = 1;
         while (!stop_requested()) {
           const auto [begin, end] = ranges.take(t, chunk);
@@ -471,7 +529,14 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
           chunk = next_chunk(since(c0), end - begin, 1);
           writer.commit_if_due();
         }
-        writer.commit();
+        writer.close();
+        --working;
+        // The first thread folds until the others are done.
+        for (bool last = false; t == 0 && !last && !stop_requested();) {
+          last = working.load() == 0;
+          folder.fold(store);
+          if (!last) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
       } catch (...) {
         std::lock_guard lock(error_m);
         if (!worker_error) worker_error = std::current_exception();
@@ -486,10 +551,10 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     for (auto& t : pool) t.join();
     if (o.peers) o.peers->barrier();  // every rank's segment closed
     if (worker_error) std::rethrow_exception(worker_error);
+    const auto fold_t0 = Clock::now();
+    store.fold();  // what the first thread left, and the other ranks' segments
+    j["fold_seconds"] = since(fold_t0);  // the fold's time after the evaluation
   }
-  const auto fold_t0 = Clock::now();
-  store.fold();
-  j["fold_seconds"] = since(fold_t0);
   progress.update(tally, pending, true);
   const double seconds = since(t0);
   const bool complete = tally.done == hi - lo;

@@ -785,6 +785,8 @@ std::int64_t Store::fold() {
   return moved;
 }
 
+std::int64_t Store::fold(const std::string& segment_file) { return fold_segment(impl_->appender.db, segment_file); }
+
 std::vector<bool> Store::finished(std::int64_t total) const {
   std::vector<bool> done(std::size_t(std::max<std::int64_t>(total, 0)));
   index_bitmap(impl_->appender.db, total, done);

@@ -127,6 +127,9 @@ class Store {
   // its own and then removed; returns the rows moved. The segments' writers
   // must have closed them.
   std::int64_t fold();
+  // The same for one segment file of this store, which its writer has
+  // closed (a run's folder thread, while the other threads write).
+  std::int64_t fold(const std::string& segment_file);
   // The indices in the store as `total` bits (bit i: sample i done). An index
   // outside [0, total) (the config hash matched) or a page SQLite cannot
   // read: StoreDamaged. The values are not read, nor their checksums.
