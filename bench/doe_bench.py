@@ -239,6 +239,9 @@ def block(rows):
         lines += [f"| fold, runs of indices appended | {fmt_rate(rate['Fold_0'])} | "
                   f"{rate['Fold_0'] / rate['Fold_1']:.2f}x interleaved | |",
                   f"| fold, two writers interleaved in 4096-row chunks | {fmt_rate(rate['Fold_1'])} | | |",
+                  f"| one producer and the fold along with it | {fmt_rate(rate['FoldAlong_1'])} | "
+                  f"{rate['FoldAlong_1'] / rate['FoldAlong_0']:.2f}x folding after | |",
+                  f"| one producer, then the fold | {fmt_rate(rate['FoldAlong_0'])} | | |",
                   f"| merge of 4 shards of 250 000 rows | {fmt_rate(rate['Merge'])} | "
                   f"{rate['Merge'] / append:.2f}x append | >= 0.5x |"]
     return "\n".join(lines)

@@ -114,12 +114,16 @@ class Committed {
   std::mutex m_;
 };
 
+// A segment's rows, folded in one transaction: 10 MB at 150 bytes a row, so
+// that the fold follows the writers closely and a file stays small.
+constexpr std::size_t kSegmentRows = 65536;
+
 // A segment's name for thread `thread` of rank `rank` (thread -1: the
-// rank's one segment under MPI) and its `part`-th file, numbered so that the
+// rank's own, under MPI, written by its main thread) and its `part`-th file, numbered so that the
 // names sort in the order of the ranges (the order the fold appends them in).
 std::string segment_name(int rank, int thread, int part = 0) {
   char name[48];
-  if (thread < 0) std::snprintf(name, sizeof name, "r%05d", rank);
+  if (thread < 0) std::snprintf(name, sizeof name, "r%05d-p%06d", rank, part);
   else std::snprintf(name, sizeof name, "r%05d-t%04d-p%06d", rank, thread, part);
   return name;
 }
@@ -214,9 +218,6 @@ class RowWriter {
   // 4096-row transactions run as fast as 20 000-row ones, 1000-row ones at
   // 65-85% of it (bench_doe_store BM_Append/12/ROWS).
   static constexpr std::size_t kBatchRows = 4096;
-  // A segment's rows, folded in one transaction: 10 MB at 150 bytes a row,
-  // so that the fold follows the writers closely and a file stays small.
-  static constexpr std::size_t kSegmentRows = 65536;
   Store& store_;
   Folder* folder_;
   int thread_;
@@ -448,6 +449,8 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     std::vector<SampleMaker> makers_of(static_cast<size_t>(threads));
     for (auto& m : makers_of) m = maker();
     std::optional<Segment> segment;
+    std::int64_t closed = 0;      // segment files closed, for rank 0 to fold
+    std::size_t in_segment = 0;  // rows in the open one
     o.peers->work([&](std::int64_t begin, std::int64_t end, std::int64_t& want) {
       const auto c0 = Clock::now();
       std::vector<std::vector<Row>> parts(static_cast<size_t>(threads));
@@ -461,16 +464,23 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
       for (auto& t : pool) t.join();
       std::vector<Row> rows;
       for (auto& p : parts) std::move(p.begin(), p.end(), std::back_inserter(rows));
-      StatusCounts counts;
+      Report report;
       if (!rows.empty()) {  // committed before rank 0 hears of them
-        if (!segment) segment.emplace(o.output_directory, segment_name(o.peers->rank(), -1), layout, hash);
+        if (!segment)
+          segment.emplace(o.output_directory, segment_name(o.peers->rank(), -1, int(closed)), layout, hash);
         segment->append(rows);
-        for (const Row& r : rows) ++counts[std::string(r.status)];
+        for (const Row& r : rows) ++report.committed[std::string(r.status)];
+        if ((in_segment += rows.size()) >= kSegmentRows) {
+          segment.reset();  // closed (its log checkpointed into the file): rank 0 may fold it
+          ++closed;
+          in_segment = 0;
+        }
       }
+      report.closed = closed;
       want = next_chunk(since(c0), end - begin, threads);
-      return counts;
+      return report;
     });
-    segment.reset();      // closed (its log checkpointed into the file) before rank 0 folds it
+    segment.reset();      // closed before rank 0 folds it at the end
     o.peers->barrier();
     j["rank"] = o.peers->rank();
     return j;
@@ -545,9 +555,16 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     };
     std::vector<std::thread> pool;
     for (int t = 0; t < threads; ++t) pool.emplace_back(work, t);
-    if (o.peers)  // this thread serves the other ranks
+    if (o.peers) {  // this thread serves the other ranks
+      std::vector<std::int64_t> handed(std::size_t(o.peers->size()), 0);  // their closed segments, to the folder
       o.peers->serve([&](int rank, std::int64_t want) { return ranges.take(threads + rank - 1, want); },
-                     [&](const StatusCounts& counts) { committed.add(counts); }, [] { return stop_requested(); });
+                     [&](int rank, const Report& report) {
+                       committed.add(report.committed);
+                       for (auto& k = handed[std::size_t(rank)]; k < report.closed; ++k)
+                         folder.hand(segment_path(o.output_directory, segment_name(rank, -1, int(k))));
+                     },
+                     [] { return stop_requested(); });
+    }
     for (auto& t : pool) t.join();
     if (o.peers) o.peers->barrier();  // every rank's segment closed
     if (worker_error) std::rethrow_exception(worker_error);

@@ -5,8 +5,9 @@
 // thread of a process calls MPI (MPI_THREAD_FUNNELED).
 //
 // Messages, all MPI_BYTE on one tag:
-//   rank k -> 0: int64 wanted chunk size (0: stopping), then per status
-//                int32 status and int64 rows committed
+//   rank k -> 0: int64 wanted chunk size (0: stopping), int64 segment files
+//                closed in all, then per status int32 status and int64 rows
+//                committed since the last request
 //   0 -> rank k: int64 begin, int64 end (begin == end: stop)
 #include <chrono>
 #include <cstdlib>
@@ -43,26 +44,28 @@ T take(const char*& p) {
   return v;
 }
 
-std::vector<char> pack(std::int64_t want, const StatusCounts& counts) {
+std::vector<char> pack(std::int64_t want, const Report& report) {
   std::vector<char> b;
   put(b, want);
-  for (const auto& [status, n] : counts) {
+  put(b, report.closed);
+  for (const auto& [status, n] : report.committed) {
     put(b, static_cast<std::int32_t>(mech::status_from_string(status).value_or(Status::evaluation_error)));
     put(b, n);
   }
   return b;
 }
 
-StatusCounts unpack(const std::vector<char>& b, std::int64_t& want) {
+Report unpack(const std::vector<char>& b, std::int64_t& want) {
   const char* p = b.data();
   const char* end = b.data() + b.size();
   want = take<std::int64_t>(p);
-  StatusCounts counts;
+  Report report;
+  report.closed = take<std::int64_t>(p);
   while (p < end) {
     const auto status = mech::to_string(static_cast<Status>(take<std::int32_t>(p)));
-    counts[std::string(status)] += take<std::int64_t>(p);
+    report.committed[std::string(status)] += take<std::int64_t>(p);
   }
-  return counts;
+  return report;
 }
 
 class MpiPeers final : public Peers {
@@ -94,7 +97,7 @@ class MpiPeers final : public Peers {
   }
 
   void serve(const std::function<std::pair<std::int64_t, std::int64_t>(int, std::int64_t)>& chunk_of,
-             const std::function<void(const StatusCounts&)>& committed,
+             const std::function<void(int, const Report&)>& reported,
              const std::function<bool()>& stopping) override {
     for (int active = size_ - 1; active > 0;) {
       // Polled with a pause, not MPI_Probe: Open MPI's blocking calls spin,
@@ -111,8 +114,7 @@ class MpiPeers final : public Peers {
       std::vector<char> b(static_cast<size_t>(count));
       MPI_Recv(b.data(), count, MPI_BYTE, st.MPI_SOURCE, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       std::int64_t want = 0;
-      const StatusCounts counts = unpack(b, want);
-      if (!counts.empty()) committed(counts);
+      reported(st.MPI_SOURCE, unpack(b, want));
       std::int64_t chunk[2] = {0, 0};
       if (want > 0 && !stopping()) std::tie(chunk[0], chunk[1]) = chunk_of(st.MPI_SOURCE, want);
       if (chunk[0] == chunk[1]) --active;
@@ -120,16 +122,16 @@ class MpiPeers final : public Peers {
     }
   }
 
-  void work(const std::function<StatusCounts(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) override {
-    StatusCounts counts;
+  void work(const std::function<Report(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) override {
+    Report report;
     std::int64_t want = 1;
     for (;;) {
-      const auto b = pack(stop_requested() ? 0 : want, counts);
+      const auto b = pack(stop_requested() ? 0 : want, report);
       MPI_Send(b.data(), static_cast<int>(b.size()), MPI_BYTE, 0, kTag, MPI_COMM_WORLD);
       std::int64_t chunk[2];
       MPI_Recv(chunk, sizeof chunk, MPI_BYTE, 0, kTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       if (chunk[0] == chunk[1]) return;
-      counts = evaluate(chunk[0], chunk[1], want);
+      report = evaluate(chunk[0], chunk[1], want);
     }
   }
 

@@ -690,6 +690,10 @@ class UnionRows {
 
 }  // namespace
 
+std::string segment_path(const std::string& dir, const std::string& name) {
+  return (fs::path(dir) / ("store" + std::string(kSegmentInfix) + name + ".sqlite")).string();
+}
+
 std::vector<std::string> segment_files(const std::string& store_file) {
   const fs::path file(store_file);
   const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
@@ -714,7 +718,7 @@ struct Segment::Impl {
 Segment::Segment(const std::string& dir, const std::string& name, const StoreLayout& layout,
                  const std::string& config_hash) {
   const StoreLayout l = normalized(layout);
-  const std::string file = (fs::path(dir) / ("store" + std::string(kSegmentInfix) + name + ".sqlite")).string();
+  const std::string file = segment_path(dir, name);
   if (fs::exists(file)) throw std::runtime_error(file + ": a segment of that name exists already");
   Db db = open_to_write(file);
   Transaction t(db);

@@ -94,6 +94,14 @@ struct Row;  // opt/doe/store.hpp
 // Rows committed, by status name.
 using StatusCounts = std::map<std::string, std::int64_t>;
 
+// What a rank reports to rank 0 with each request: the rows it committed
+// since its last report, and how many of its segment files it has closed
+// in all (rank 0 folds those while the run goes).
+struct Report {
+  StatusCounts committed;
+  std::int64_t closed = 0;
+};
+
 // The other processes of one run (MPI ranks, docs/doe.md): rank 0 owns the
 // store and hands out chunks of indices; every other rank evaluates the
 // chunks it is given, commits their rows to a segment of its own and reports
@@ -107,14 +115,15 @@ class Peers {
   virtual void share(std::vector<bool>& finished) = 0;
   // Rank 0: serves chunks to the other ranks, each asking for a size (`chunk(rank,
   // size)` gives [begin, end), empty when none is left), until every one has
-  // been told to stop; what they committed goes to `committed`. Stops handing
-  // out work once `stopping()` is true.
+  // been told to stop; each request's report goes to `reported(rank,
+  // report)`. Stops handing out work once `stopping()` is true.
   virtual void serve(const std::function<std::pair<std::int64_t, std::int64_t>(int, std::int64_t)>& chunk,
-                     const std::function<void(const StatusCounts&)>& committed,
+                     const std::function<void(int, const Report&)>& reported,
                      const std::function<bool()>& stopping) = 0;
   // Other ranks: asks for chunks, evaluates and commits each with
-  // `evaluate(begin, end, chunk size wanted next)`, until told to stop.
-  virtual void work(const std::function<StatusCounts(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) = 0;
+  // `evaluate(begin, end, chunk size wanted next)`, whose report goes with
+  // the next request, until told to stop.
+  virtual void work(const std::function<Report(std::int64_t, std::int64_t, std::int64_t&)>& evaluate) = 0;
   // Every rank waits for every other (rank 0 folds the segments after it).
   virtual void barrier() = 0;
 };

@@ -89,6 +89,9 @@ class Segment {
   std::unique_ptr<Impl> impl_;
 };
 
+// DIR/store.seg-NAME.sqlite: the file of the segment NAME of the store in DIR.
+std::string segment_path(const std::string& dir, const std::string& name);
+
 // The segment files of a store file FILE.sqlite: FILE.seg-*.sqlite beside it,
 // sorted by name.
 std::vector<std::string> segment_files(const std::string& store_file);
