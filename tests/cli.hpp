@@ -6,7 +6,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <set>
 #include <string>
 #include <vector>
 #include <sqlite3.h>
@@ -69,37 +68,47 @@ inline std::uintmax_t directory_bytes(const std::string& dir) {
   return total;
 }
 
-// Rows in DIR/store.sqlite so far (0 while it is being created), for polling
-// a running batch.
-inline std::set<long> stored_indices(const std::string& file) {
-  sqlite3* db = nullptr;
-  sqlite3_stmt* st = nullptr;
-  std::set<long> found;
-  if (sqlite3_open_v2(file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
-      sqlite3_prepare_v2(db, "select idx from samples", -1, &st, nullptr) == SQLITE_OK)
-    while (sqlite3_step(st) == SQLITE_ROW) found.insert(static_cast<long>(sqlite3_column_int64(st, 0)));
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return found;
-}
-
 // The segment files beside DIR/store.sqlite (docs/doe.md, "Segments").
 inline std::vector<std::string> segment_files(const std::string& dir) {
   std::vector<std::string> found;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     if (name.starts_with("store.seg-") && name.ends_with(".sqlite")) found.push_back(e.path().string());
   }
   return found;
 }
 
-// The samples committed in DIR: the distinct indices of store.sqlite and its
-// segments, read straight through SQLite's C API.
+// The samples committed in DIR so far (0 while the store is being created),
+// for polling a running batch: the distinct indices of store.sqlite and its
+// segments, read straight through SQLite's C API (segments never share an
+// index with each other, only with store.sqlite after a fold was killed).
 inline long stored_rows(const std::string& dir) {
-  std::set<long> all = stored_indices(dir + "/store.sqlite");
-  if (std::filesystem::is_directory(dir))
-    for (const auto& file : segment_files(dir)) all.merge(stored_indices(file));
-  return static_cast<long>(all.size());
+  sqlite3* db = nullptr;
+  long n = 0;
+  auto count = [&](const std::string& sql) {
+    sqlite3_stmt* st = nullptr;
+    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
+      n += static_cast<long>(sqlite3_column_int64(st, 0));
+    sqlite3_finalize(st);
+  };
+  const std::string main = dir + "/store.sqlite";
+  if (!std::filesystem::exists(main) ||
+      sqlite3_open_v2(main.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
+    sqlite3_close(db);
+    return 0;
+  }
+  count("select count(*) from samples");
+  for (const auto& file : segment_files(dir)) {
+    char* quoted = sqlite3_mprintf("attach %Q as segment", file.c_str());
+    if (sqlite3_exec(db, quoted, nullptr, nullptr, nullptr) == SQLITE_OK) {
+      count("select count(*) from segment.samples where idx not in (select idx from main.samples)");
+      sqlite3_exec(db, "detach segment", nullptr, nullptr, nullptr);
+    }
+    sqlite3_free(quoted);
+  }
+  sqlite3_close(db);
+  return n;
 }
 
 inline std::string canonical_dump(const std::string& dir) {
