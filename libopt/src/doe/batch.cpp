@@ -114,10 +114,6 @@ class Committed {
   std::mutex m_;
 };
 
-// A segment's rows, folded in one transaction: 10 MB at 150 bytes a row, so
-// that the fold follows the writers closely and a file stays small.
-constexpr std::size_t kSegmentRows = 65536;
-
 // A segment's name for thread `thread` of rank `rank` (thread -1: the
 // rank's own, under MPI, written by its main thread) and its `part`-th file, numbered so that the
 // names sort in the order of the ranges (the order the fold appends them in).
@@ -162,7 +158,7 @@ class Folder {
 // The rows of one worker thread, committed in batches to a file of its own
 // (docs/doe.md, "Segments"): the first thread's into store.sqlite, whose
 // only writer it is (it also folds what the folder holds after each
-// commit), every other's into segments, each closed at kSegmentRows rows
+// commit), every other's into segments, each closed at `segment_rows` rows
 // and handed to the folder. No lock is shared between the writers, so the
 // write path scales with them. A batch is due at kBatchRows rows or 0.25 s
 // after the last commit (a slow model's rows do not wait long: a kill loses
@@ -171,8 +167,8 @@ class Folder {
 // and no thread frees what another allocated.
 class RowWriter {
  public:
-  RowWriter(Store& store, Folder* folder, int thread, Committed& committed)
-      : store_(store), folder_(folder), thread_(thread), committed_(committed) {}
+  RowWriter(Store& store, Folder* folder, int thread, std::size_t segment_rows, Committed& committed)
+      : store_(store), folder_(folder), thread_(thread), segment_rows_(segment_rows), committed_(committed) {}
   ~RowWriter() {
     try {
       close();
@@ -201,7 +197,7 @@ class RowWriter {
     committed_.add(rows);
     used_ = 0;
     last_ = Clock::now();
-    if (in_segment_ >= kSegmentRows) close();
+    if (in_segment_ >= segment_rows_) close();
   }
   // Commits what is left and hands the open segment to the folder.
   void close() {
@@ -221,6 +217,7 @@ class RowWriter {
   Store& store_;
   Folder* folder_;
   int thread_;
+  std::size_t segment_rows_;
   Committed& committed_;
   std::optional<Segment> segment_;
   int part_ = 0;
@@ -470,7 +467,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
           segment.emplace(o.output_directory, segment_name(o.peers->rank(), -1, int(closed)), layout, hash);
         segment->append(rows);
         for (const Row& r : rows) ++report.committed[std::string(r.status)];
-        if ((in_segment += rows.size()) >= kSegmentRows) {
+        if ((in_segment += rows.size()) >= o.segment_rows) {
           segment.reset();  // closed (its log checkpointed into the file): rank 0 may fold it
           ++closed;
           in_segment = 0;
@@ -528,7 +525,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     auto work = [&](int t) {
       try {
         const SampleMaker m = maker();
-        RowWriter writer(store, &folder, t, committed);
+        RowWriter writer(store, &folder, t, o.segment_rows, committed);
         std::int64_t chunk = 1;
         while (!stop_requested()) {
           const auto [begin, end] = ranges.take(t, chunk);

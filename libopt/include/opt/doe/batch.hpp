@@ -4,6 +4,7 @@
 // progress. A sample's values depend on (seed, index) only.
 #pragma once
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -145,6 +146,10 @@ struct BatchOptions {
   Shard shard;
   Peers* peers = nullptr;  // MPI ranks, if any
   bool quiet = false;      // the caller reports: no printed lines, summary or result.json (sweeps)
+  // A segment's rows before its writer closes it for the fold (docs/doe.md,
+  // "Segments"): 10 MB at 150 bytes a row, so that the fold follows the
+  // writers closely and each fold is one transaction of a small file.
+  std::size_t segment_rows = 65536;
 };
 
 // Makes the problem of a sample whose model values differ from the run's
