@@ -1,0 +1,199 @@
+// How a run's threads share its samples and write its rows (batch.cpp;
+// docs/doe.md, "Threads" and "Segments"): a writer per thread, the folder
+// of closed segments, the ranges of indices with work stealing.
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "doe/evaluator.hpp"
+#include "doe/progress.hpp"
+#include "opt/doe/store.hpp"
+
+namespace opt::doe {
+
+// A segment's name for thread `thread` of rank `rank` (thread -1: the
+// rank's own, under MPI, written by its main thread) and its `part`-th file, numbered so that the
+// names sort in the order of the ranges (the order the fold appends them in).
+inline std::string segment_name(int rank, int thread, int part = 0) {
+  char name[48];
+  if (thread < 0) std::snprintf(name, sizeof name, "r%05d-p%06d", rank, part);
+  else std::snprintf(name, sizeof name, "r%05d-t%04d-p%06d", rank, thread, part);
+  return name;
+}
+
+// The segments the other threads have closed, which the run's first thread
+// folds into store.sqlite between its own commits while the run goes
+// (docs/doe.md, "Segments"): the run then takes about the longer of its
+// evaluation and its fold rather than their sum, with no thread of its own
+// and no second writer of store.sqlite. Work stealing between the ranges
+// hands the first thread's samples to the others while it folds.
+class Folder {
+ public:
+  void hand(std::string file) {
+    std::lock_guard lock(m_);
+    files_.push_back(std::move(file));
+  }
+  // Folds every segment handed over so far.
+  void fold(Store& store) {
+    for (;;) {
+      std::string file;
+      {
+        std::lock_guard lock(m_);
+        if (files_.empty()) return;
+        file = std::move(files_.front());
+        files_.pop_front();
+      }
+      store.fold(file);
+    }
+  }
+
+ private:
+  std::mutex m_;
+  std::deque<std::string> files_;
+};
+
+// The rows of one worker thread, committed in batches to a file of its own
+// (docs/doe.md, "Segments"): the first thread's into store.sqlite, whose
+// only writer it is (it also folds what the folder holds after each
+// commit), every other's into segments, each closed at `segment_rows` rows
+// and handed to the folder. No lock is shared between the writers, so the
+// write path scales with them. A batch is due at kBatchRows rows or 0.25 s
+// after the last commit (a slow model's rows do not wait long: a kill loses
+// at most what is uncommitted), and at the end. The rows' vectors are
+// evaluated into again after their commit, so a sample costs no allocation
+// and no thread frees what another allocated.
+class RowWriter {
+ public:
+  RowWriter(Store& store, Folder* folder, int thread, std::size_t segment_rows, Committed& committed)
+      : store_(store), folder_(folder), thread_(thread), segment_rows_(segment_rows), committed_(committed) {}
+  ~RowWriter() {
+    try {
+      close();
+    } catch (...) {  // an unwinding run: its own error is the one to report
+    }
+  }
+  // A row to evaluate into: the next one of the batch.
+  Row& next() {
+    if (used_ == rows_.size()) rows_.emplace_back();
+    return rows_[used_++];
+  }
+  void commit_if_due() {
+    if (used_ >= kBatchRows || (used_ > 0 && since(last_) >= 0.25)) commit();
+    if (thread_ == 0) folder_->fold(store_);
+  }
+  void commit() {
+    if (used_ == 0) return;
+    const std::span<const Row> rows(rows_.data(), used_);
+    if (thread_ == 0) {
+      store_.append(rows);
+    } else {
+      if (!segment_) segment_ = store_.segment(segment_name(0, thread_, part_++));  // no rows, no file
+      segment_->append(rows);
+      in_segment_ += used_;
+    }
+    committed_.add(rows);
+    used_ = 0;
+    last_ = Clock::now();
+    if (in_segment_ >= segment_rows_) close();
+  }
+  // Commits what is left and hands the open segment to the folder.
+  void close() {
+    commit();
+    if (!segment_) return;
+    const std::string file = segment_->path();
+    segment_.reset();
+    in_segment_ = 0;
+    folder_->hand(file);
+  }
+
+ private:
+  // A commit rewrites its last, partly filled 64 KiB pages: at 20 columns
+  // 4096-row transactions run as fast as 20 000-row ones, 1000-row ones at
+  // 65-85% of it (bench_doe_store BM_Append/12/ROWS).
+  static constexpr std::size_t kBatchRows = 4096;
+  Store& store_;
+  Folder* folder_;
+  int thread_;
+  std::size_t segment_rows_;
+  Committed& committed_;
+  std::optional<Segment> segment_;
+  int part_ = 0;
+  std::size_t in_segment_ = 0;
+  std::vector<Row> rows_;
+  std::size_t used_ = 0;
+  Clock::time_point last_ = Clock::now();
+};
+
+// The samples [lo, hi) as one contiguous range per taker (a thread of this
+// process, or under MPI another rank): each takes chunks from the front of
+// its own, and one whose range is spent steals the back half of the largest
+// range left. Each writer's rows are then few long runs of indices, so that
+// the fold appends them to the store's B-tree instead of inserting them
+// between another writer's: 1.4-1.6x faster (bench_doe_store, BM_Fold/0
+// against BM_Fold/1, which interleaves two writers in chunks of 4096 as one
+// shared counter did).
+class Ranges {
+ public:
+  Ranges(std::int64_t lo, std::int64_t hi, int takers) : ranges_(static_cast<std::size_t>(takers)) {
+    for (int k = 0; k < takers; ++k) {
+      ranges_[std::size_t(k)].begin = lo + (hi - lo) * k / takers;
+      ranges_[std::size_t(k)].end = lo + (hi - lo) * (k + 1) / takers;
+    }
+  }
+  // The next chunk, of up to `want` indices, for taker k: [begin, end), empty when every range is spent.
+  std::pair<std::int64_t, std::int64_t> take(int k, std::int64_t want) {
+    Range& own = ranges_[std::size_t(k)];
+    for (;;) {
+      {
+        std::lock_guard lock(own.m);
+        if (own.begin < own.end) {
+          const std::int64_t begin = own.begin;
+          own.begin = std::min(own.end, begin + std::max<std::int64_t>(want, 1));
+          return {begin, own.begin};
+        }
+      }
+      Range* victim = nullptr;
+      std::int64_t most = 0;
+      for (Range& r : ranges_) {
+        std::lock_guard lock(r.m);
+        if (r.end - r.begin > most) most = r.end - r.begin, victim = &r;
+      }
+      if (!victim) return {0, 0};
+      std::int64_t begin, end;
+      {
+        std::lock_guard lock(victim->m);
+        const std::int64_t left = victim->end - victim->begin;
+        if (left <= 0) continue;  // spent meanwhile: look again
+        end = victim->end;
+        begin = victim->end -= (left + 1) / 2;
+      }
+      std::lock_guard lock(own.m);
+      own.begin = begin, own.end = end;
+    }
+  }
+
+ private:
+  struct Range {
+    std::mutex m;
+    std::int64_t begin = 0, end = 0;
+  };
+  std::vector<Range> ranges_;
+};
+
+// The next chunk's size after `count` samples took `seconds` on `threads`
+// threads: ~50 ms of work, few enough requests to keep the counter (or rank
+// 0) cold, small enough that slow samples do not idle the others.
+inline std::int64_t next_chunk(double seconds, std::int64_t count, int threads) {
+  const double per = seconds / static_cast<double>(std::max<std::int64_t>(1, count));
+  return std::clamp<std::int64_t>(static_cast<std::int64_t>(0.05 * threads / std::max(per, 1e-9)), 1, 4096);
+}
+
+}  // namespace opt::doe
