@@ -546,14 +546,15 @@ TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
     left_segments += !cli::segment_files(dir + "/out").empty();
   }
   EXPECT_GT(left_segments, 0);
-  const auto again = cli::run("run " + config + " --output " + dir + "/out --progress=none");
+  // 200 000 samples: under ASan, on a loaded machine, more than cli::run's 120 s.
+  const auto again = cli::run("run " + config + " --output " + dir + "/out --progress=none", 600);
   ASSERT_TRUE(again.exited(0)) << again.output;
   EXPECT_NE(again.output.find("resuming: " + std::to_string(kept) + " done"), std::string::npos) << again.output;
   const auto resumed = rows(dir + "/out", "idx");
   ASSERT_EQ(resumed.size(), static_cast<size_t>(kSamples));
   for (long i = 0; i < kSamples; ++i) ASSERT_EQ(resumed[static_cast<size_t>(i)][0], std::to_string(i));
   EXPECT_TRUE(cli::segment_files(dir + "/out").empty());  // folded
-  const auto ok = cli::run("run " + config + " --output " + clean + " --progress=none");
+  const auto ok = cli::run("run " + config + " --output " + clean + " --progress=none", 600);
   ASSERT_TRUE(ok.exited(0)) << ok.output;
   EXPECT_TRUE(cli::canonical_dump(dir + "/out") == cli::canonical_dump(clean));
 }
