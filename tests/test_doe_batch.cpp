@@ -517,20 +517,19 @@ bool lock_is_free(const std::string& out) {
 
 // Killed with SIGKILL at 20 moments drawn from a fixed seed, each after
 // this round committed something and before the whole design was (the test
-// checks both), resumed each time, on one thread and two in turn: the lock
-// is free after each kill, the second thread's segment (which no list
-// names: it is found beside the store) is left by kills and folded by the
-// next run, and the final store's canonical dump equals a run's that was
-// never killed, every index once.
+// checks both), resumed each time, on one thread and four in turn (whose
+// rows go to segments when store.sqlite is busy; DoeStore.KilledWriter...
+// leaves one for certain): the lock is free after each kill, whatever
+// segments a kill left are folded by the next run, and the final store's
+// canonical dump equals a run's that was never killed, every index once.
 TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
   const std::string dir = cli::fresh_dir("doe_kill"), clean = cli::fresh_dir("doe_kill_clean");
   constexpr long kSamples = 200000;  // a round commits <= ~0.3 s of its threads' work
   const std::string config = sobol_config(dir, kSamples);
   std::mt19937 moments(20261123);
   long kept = 0;
-  int left_segments = 0;  // rounds whose kill left a segment
   for (int k = 0; k < 20; ++k) {
-    const pid_t pid = start_run(config, dir + "/out", k % 2 ? "2" : "1");
+    const pid_t pid = start_run(config, dir + "/out", k % 2 ? "4" : "1");
     // After a commit of this round, then 0-50 ms more: mid-batch or mid-commit.
     wait_for_rows(dir + "/out", kept);
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 50)(moments)));
@@ -543,9 +542,7 @@ TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
     EXPECT_GT(now, kept) << "round " << k << ": killed before anything was committed";
     ASSERT_LT(now, kSamples) << "round " << k << ": killed after everything was committed";
     kept = now;
-    left_segments += !cli::segment_files(dir + "/out").empty();
   }
-  EXPECT_GT(left_segments, 0);
   // 200 000 samples: under ASan, on a loaded machine, more than cli::run's 120 s.
   const auto again = cli::run("run " + config + " --output " + dir + "/out --progress=none", 600);
   ASSERT_TRUE(again.exited(0)) << again.output;

@@ -280,8 +280,22 @@ TEST(DoeStore, DuplicateIndexRollsBackTheBatch) {
   EXPECT_EQ(s.count(), 7);
 }
 
-// A writer killed at a random moment: the store holds whole batches, and the
-// next run resumes after them. Three kill-and-resume rounds.
+// The segment files in DIR (not their -wal and -shm), by name.
+std::vector<std::string> segment_names(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string n = e.path().filename().string();
+    if (n.starts_with("store.seg-") && !n.ends_with("-wal") && !n.ends_with("-shm")) names.push_back(n);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A writer killed at a random moment, its batches going in turn to the store
+// and to a segment of its own (as a run's threads' do): the store and the
+// segment hold whole batches, the next opening of the store finds the
+// segment beside it and folds it, and the next run resumes after them.
+// Three kill-and-resume rounds.
 TEST(DoeStore, KilledWriterLeavesWholeBatches) {
   constexpr std::int64_t kBatch = 1000;
   TempDir dir("kill");
@@ -297,10 +311,11 @@ TEST(DoeStore, KilledWriterLeavesWholeBatches) {
       close(ready[0]);
       try {
         Store s(dir.path, layout(), meta("h1"), false);
-        for (std::int64_t first = s.count();; first += kBatch) {
-          s.append(rows(first, kBatch));
+        auto segment = s.segment("killed-" + std::to_string(round));
+        for (std::int64_t first = s.count(), k = 0;; first += kBatch, ++k) {
+          k % 2 ? segment.append(rows(first, kBatch)) : s.append(rows(first, kBatch));
           const char one = 1;
-          if (ready[1] >= 0 && write(ready[1], &one, 1) == 1) {  // first commit done: the parent may kill now
+          if (k > 0 && ready[1] >= 0 && write(ready[1], &one, 1) == 1) {  // both files hold a batch: kill now
             close(ready[1]);
             ready[1] = -1;
           }
@@ -323,7 +338,9 @@ TEST(DoeStore, KilledWriterLeavesWholeBatches) {
     const auto check = query(dir.file(), "PRAGMA integrity_check");
     ASSERT_EQ(check.size(), 1u);
     EXPECT_EQ(std::get<std::string>(check[0][0]), "ok");
+    EXPECT_EQ(segment_names(dir.path).size(), 1u) << "round " << round;
     Store s(dir.path, layout(), meta("h1"), false);
+    EXPECT_TRUE(segment_names(dir.path).empty()) << "round " << round;
     const std::int64_t n = s.count();
     EXPECT_GT(n, before) << "round " << round;
     EXPECT_EQ(n % kBatch, 0) << n << " rows";
@@ -460,16 +477,6 @@ std::string csv(const std::string& file, bool wall_time = true) {
   return o.str();
 }
 
-// The segment files in DIR, by name.
-std::vector<std::string> segment_names(const std::string& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string n = e.path().filename().string();
-    if (n.starts_with("store.seg-")) names.push_back(n);
-  }
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 // Rows 0-2 in store.sqlite, 3-5 in one segment, 6-9 and index 2 again (as a
 // fold killed half way leaves it, with another wall time) in a second: the

@@ -29,14 +29,24 @@ inline std::string segment_name(int rank, int thread, int part = 0) {
   return name;
 }
 
-// The segments the other threads have closed, which the run's first thread
-// folds into store.sqlite between its own commits while the run goes
-// (docs/doe.md, "Segments"): the run then takes about the longer of its
-// evaluation and its fold rather than their sum, with no thread of its own
-// and no second writer of store.sqlite. Work stealing between the ranges
-// hands the first thread's samples to the others while it folds.
+// store.sqlite's one writer at a time, and the segments waiting to be
+// folded into it (docs/doe.md, "Segments"). A thread's batch goes to
+// store.sqlite when no other thread is writing it, else to the thread's own
+// segment: with few threads and a cheap store most rows go straight in and
+// little is folded; with many, the threads never wait for each other. The
+// run's first thread folds the closed segments between its own commits
+// while the run goes, so that a run takes about the longer of its
+// evaluation and its fold rather than their sum; work stealing between the
+// ranges hands its samples to the others while it folds.
 class Folder {
  public:
+  // Appends to store.sqlite if no other thread is writing it.
+  bool try_append(Store& store, std::span<const Row> rows) {
+    std::unique_lock lock(store_m_, std::try_to_lock);
+    if (!lock) return false;
+    store.append(rows);
+    return true;
+  }
   void hand(std::string file) {
     std::lock_guard lock(m_);
     files_.push_back(std::move(file));
@@ -51,25 +61,25 @@ class Folder {
         file = std::move(files_.front());
         files_.pop_front();
       }
+      std::lock_guard lock(store_m_);
       store.fold(file);
     }
   }
 
  private:
-  std::mutex m_;
+  std::mutex store_m_;  // held while a thread writes store.sqlite
+  std::mutex m_;        // files_
   std::deque<std::string> files_;
 };
 
-// The rows of one worker thread, committed in batches to a file of its own
-// (docs/doe.md, "Segments"): the first thread's into store.sqlite, whose
-// only writer it is (it also folds what the folder holds after each
-// commit), every other's into segments, each closed at `segment_rows` rows
-// and handed to the folder. No lock is shared between the writers, so the
-// write path scales with them. A batch is due at kBatchRows rows or 0.25 s
-// after the last commit (a slow model's rows do not wait long: a kill loses
-// at most what is uncommitted), and at the end. The rows' vectors are
-// evaluated into again after their commit, so a sample costs no allocation
-// and no thread frees what another allocated.
+// The rows of one worker thread, committed in batches (docs/doe.md,
+// "Segments"): to store.sqlite when no other thread writes it, else to the
+// thread's own segment, closed at `segment_rows` rows and handed to the
+// folder. A batch is due at kBatchRows rows or 0.25 s after the last commit
+// (a slow model's rows do not wait long: a kill loses at most what is
+// uncommitted), and at the end. The rows' vectors are evaluated into again
+// after their commit, so a sample costs no allocation and no thread frees
+// what another allocated.
 class RowWriter {
  public:
   RowWriter(Store& store, Folder* folder, int thread, std::size_t segment_rows, Committed& committed)
@@ -92,9 +102,7 @@ class RowWriter {
   void commit() {
     if (used_ == 0) return;
     const std::span<const Row> rows(rows_.data(), used_);
-    if (thread_ == 0) {
-      store_.append(rows);
-    } else {
+    if (!folder_->try_append(store_, rows)) {
       if (!segment_) segment_ = store_.segment(segment_name(0, thread_, part_++));  // no rows, no file
       segment_->append(rows);
       in_segment_ += used_;
