@@ -90,7 +90,7 @@ BENCHMARK(BM_Append)
 
 // BM_Producers/N: N threads, each appending 4096-row batches of its own
 // indices to a file of its own (the first to store.sqlite, the others to
-// segments, as a run's threads do), for 0.2 s a round.
+// segments: a run's threads when store.sqlite is busy), for 0.2 s a round.
 void BM_Producers(benchmark::State& state) {
   const int producers = int(state.range(0));
   constexpr std::int64_t kRows = 4096, kStride = std::int64_t(1) << 40;  // producer p: indices from p kStride

@@ -201,11 +201,11 @@ TEST(DoeBatch, ThreadCountDoesNotChangeResults) {
   EXPECT_EQ(dumps[0], dumps[2]);
 }
 
-// Many segments' rows (3000 each here) on each thread, from more threads
-// than cores: each thread writes its own files (the first store.sqlite, the
-// others segments, closed and folded by the first as the run goes, the
-// rest at its end), and no segment is left. Every row once, as one thread
-// writes them.
+// Small segments (3000 rows) and more threads than cores: each thread
+// writes store.sqlite when it is free and a segment of its own when it is
+// busy; the segments are closed and folded by the first thread as the run
+// goes, the rest at its end, and no segment is left. Every row once, as
+// one thread writes them.
 TEST(DoeBatch, ThreadsWriteFilesOfTheirOwnFoldedIntoOne) {
   const char* yaml = R"(problem: slider_crank
 study:

@@ -40,6 +40,10 @@ inline std::string segment_name(int rank, int thread, int part = 0) {
 // ranges hands its samples to the others while it folds.
 class Folder {
  public:
+  void append(Store& store, std::span<const Row> rows) {
+    std::lock_guard lock(store_m_);
+    store.append(rows);
+  }
   // Appends to store.sqlite if no other thread is writing it.
   bool try_append(Store& store, std::span<const Row> rows) {
     std::unique_lock lock(store_m_, std::try_to_lock);
@@ -90,19 +94,31 @@ class RowWriter {
     } catch (...) {  // an unwinding run: its own error is the one to report
     }
   }
-  // A row to evaluate into: the next one of the batch.
+  // A row to evaluate into: the next one of the batch. A full batch
+  // (kBatchRows) is committed before it grows, while its rows are still in
+  // the cache; one that has waited for store.sqlite to be free as long as
+  // kSpillRows rows take goes to the thread's segment instead.
   Row& next() {
+    if (used_ % kBatchRows == 0 && used_ > 0) commit(used_ >= kSpillRows ? Busy::spill : Busy::keep);
     if (used_ == rows_.size()) rows_.emplace_back();
     return rows_[used_++];
   }
   void commit_if_due() {
-    if (used_ >= kBatchRows || (used_ > 0 && since(last_) >= 0.25)) commit();
+    if (used_ > 0 && since(last_) >= 0.25) commit(Busy::keep);
     if (thread_ == 0) folder_->fold(store_);
   }
-  void commit() {
+  // What a batch does when another thread is writing store.sqlite: keep its
+  // rows and evaluate on (a few threads, whose commits take turns: rows
+  // written to a segment would be written again by the fold), go to the
+  // segment (store.sqlite has been busy for long: many threads), or wait.
+  enum class Busy { keep, spill, wait };
+  void commit(Busy busy) {
     if (used_ == 0) return;
     const std::span<const Row> rows(rows_.data(), used_);
-    if (!folder_->try_append(store_, rows)) {
+    if (busy == Busy::wait) {
+      folder_->append(store_, rows);
+    } else if (!folder_->try_append(store_, rows)) {
+      if (busy == Busy::keep) return;
       if (!segment_) segment_ = store_.segment(segment_name(0, thread_, part_++));  // no rows, no file
       segment_->append(rows);
       in_segment_ += used_;
@@ -110,23 +126,26 @@ class RowWriter {
     committed_.add(rows);
     used_ = 0;
     last_ = Clock::now();
-    if (in_segment_ >= segment_rows_) close();
+    if (in_segment_ >= segment_rows_) close_segment();
   }
-  // Commits what is left and hands the open segment to the folder.
+  // Commits what is left (to store.sqlite) and hands the open segment to the folder.
   void close() {
-    commit();
+    commit(Busy::wait);
+    close_segment();
+  }
+
+ private:
+  void close_segment() {
     if (!segment_) return;
     const std::string file = segment_->path();
     segment_.reset();
     in_segment_ = 0;
     folder_->hand(file);
   }
-
- private:
   // A commit rewrites its last, partly filled 64 KiB pages: at 20 columns
   // 4096-row transactions run as fast as 20 000-row ones, 1000-row ones at
   // 65-85% of it (bench_doe_store BM_Append/12/ROWS).
-  static constexpr std::size_t kBatchRows = 4096;
+  static constexpr std::size_t kBatchRows = 4096, kSpillRows = 4 * kBatchRows;
   Store& store_;
   Folder* folder_;
   int thread_;
