@@ -20,8 +20,8 @@
 namespace opt::doe {
 
 // A segment's name for thread `thread` of rank `rank` (thread -1: the
-// rank's own, under MPI, written by its main thread) and its `part`-th file, numbered so that the
-// names sort in the order of the ranges (the order the fold appends them in).
+// rank's own, under MPI, written by its main thread) and its `part`-th
+// file, numbered so that the names sort in the order of the ranges.
 inline std::string segment_name(int rank, int thread, int part = 0) {
   char name[48];
   if (thread < 0) std::snprintf(name, sizeof name, "r%05d-p%06d", rank, part);
@@ -31,13 +31,14 @@ inline std::string segment_name(int rank, int thread, int part = 0) {
 
 // store.sqlite's one writer at a time, and the segments waiting to be
 // folded into it (docs/doe.md, "Segments"). A thread's batch goes to
-// store.sqlite when no other thread is writing it, else to the thread's own
-// segment: with few threads and a cheap store most rows go straight in and
-// little is folded; with many, the threads never wait for each other. The
-// run's first thread folds the closed segments between its own commits
-// while the run goes, so that a run takes about the longer of its
-// evaluation and its fold rather than their sum; work stealing between the
-// ranges hands its samples to the others while it folds.
+// store.sqlite when no other thread is writing it; a thread that finds it
+// busy keeps its rows, and sends them to its own segment only when the
+// store has been busy long (RowWriter): with few threads most rows go
+// straight in, with many no thread waits for another. The run's first
+// thread folds the closed segments between its own commits while the run
+// goes, so that a run takes about the longer of its evaluation and its
+// fold rather than their sum; work stealing between the ranges hands its
+// samples to the others while it folds.
 class Folder {
  public:
   void append(Store& store, std::span<const Row> rows) {
@@ -77,11 +78,11 @@ class Folder {
 };
 
 // The rows of one worker thread, committed in batches (docs/doe.md,
-// "Segments"): to store.sqlite when no other thread writes it, else to the
-// thread's own segment, closed at `segment_rows` rows and handed to the
-// folder. A batch is due at kBatchRows rows or 0.25 s after the last commit
-// (a slow model's rows do not wait long: a kill loses at most what is
-// uncommitted), and at the end. The rows' vectors are evaluated into again
+// "Segments"): to store.sqlite when no other thread writes it, else kept,
+// and at kSpillRows to the thread's own segment, closed at `segment_rows`
+// rows and handed to the folder. A batch is due at kBatchRows rows or
+// 0.25 s after the last commit (a slow model's rows do not wait long: a
+// kill loses at most what is uncommitted), and at the end. The rows' vectors are evaluated into again
 // after their commit, so a sample costs no allocation and no thread frees
 // what another allocated.
 class RowWriter {
