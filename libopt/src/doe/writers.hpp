@@ -165,7 +165,7 @@ class RowWriter {
 // its own, and one whose range is spent steals the back half of the largest
 // range left. Each writer's rows are then few long runs of indices, so that
 // the fold appends them to the store's B-tree instead of inserting them
-// between another writer's: 1.4-1.6x faster (bench_doe_store, BM_Fold/0
+// between another writer's: 1.15-1.6x faster (bench_doe_store, BM_Fold/0
 // against BM_Fold/1, which interleaves two writers in chunks of 4096 as one
 // shared counter did).
 class Ranges {
