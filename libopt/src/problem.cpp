@@ -5,6 +5,23 @@
 #include <stdexcept>
 
 namespace opt {
+namespace {
+
+// Marks the AVX registers' upper halves clean (vzeroupper) when a model
+// hands back to code built without AVX: SQLite, NLopt, Ipopt, the C++
+// runtime. GCC 12 at -O3 -mavx2 can leave them in use: the conveyor's
+// Grashof sort packs four lengths into a ymm register and calls the sort's
+// out-of-line loop with no vzeroupper, then returns assuming the callee
+// cleaned. Until the next vzeroupper every SSE instruction of that code
+// waits on the upper halves: the conveyor DOE's row inserts took twice as
+// long after a failed design (docs/performance.md, "Writing the rows").
+void leave_avx() {
+#ifdef __AVX__
+  __builtin_ia32_vzeroupper();
+#endif
+}
+
+}  // namespace
 
 bool Evaluation::has(const std::string& name) const {
   if (!names) return false;
@@ -25,6 +42,7 @@ Evaluation Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, 
 
 void Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& e) const {
   evaluate_model_into(x, wanted, gradient, e);
+  leave_avx();
   if (e.names.get() != &metric_names()) e.names = shared_metric_names();  // no reference count churn per design
   for (MetricId i = 0; i < static_cast<MetricId>(e.values.size()); ++i) {
     if (!e.has(i)) continue;
