@@ -16,6 +16,7 @@
 #include "opt/doe/batch.hpp"
 #include "opt/doe/recover.hpp"
 #include "opt/doe/store.hpp"
+#include "opt/drivers/nlopt.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/study.hpp"
 #include "opt/units.hpp"

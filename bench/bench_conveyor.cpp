@@ -9,6 +9,7 @@
 #include "mech/conveyor_swing.hpp"
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/drivers/nlopt.hpp"
 #include "problems/conveyor_swing.hpp"
 
 namespace {

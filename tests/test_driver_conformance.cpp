@@ -13,6 +13,8 @@
 
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/drivers/ipopt.hpp"
+#include "opt/drivers/nlopt.hpp"
 #include "problems/registry.hpp"
 #include "test_problems.hpp"
 

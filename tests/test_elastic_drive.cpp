@@ -14,6 +14,7 @@
 #include "mech/drive_dynamics.hpp"
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/drivers/nlopt.hpp"
 #include "problems/registry.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// Ipopt's dense KKT solver (libopt/src/ipopt_dense_solver.cpp) and the
+// Ipopt's dense KKT solver (libopt/src/drivers/ipopt_dense_solver.cpp) and the
 // driver around it: the solver's inertia and solutions against Eigen's
 // symmetric eigendecomposition (an independent computation); the driver with
 // the dense solver against the same driver with MUMPS; Ipopt's timers on
@@ -13,9 +13,10 @@
 #include <random>
 #include <thread>
 
-#include "ipopt_dense_solver.hpp"
+#include "drivers/ipopt_dense_solver.hpp"
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/drivers/ipopt.hpp"
 #include "problems/registry.hpp"
 
 namespace {
@@ -155,7 +156,7 @@ TEST(IpoptDriver, DenseAndMumpsReachTheSameOptimum) {
   }
 }
 
-// Ipopt's timers read mechopt's clock (ipopt_driver.cpp), not getrusage:
+// Ipopt's timers read mechopt's clock (libopt/src/drivers/ipopt.cpp), not getrusage:
 // the definitions in the executable take the place of libipopt.so's.
 TEST(IpoptDriver, IpoptsTimersReadTheCheapClock) {
   const long before = opt::detail::ipopt_clock_reads.load();

@@ -12,6 +12,7 @@
 
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/drivers/line.hpp"
 #include "opt/interrupt.hpp"
 #include "problems/registry.hpp"
 #include "test_problems.hpp"

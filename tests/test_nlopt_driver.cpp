@@ -6,6 +6,10 @@
 #include <stdexcept>
 
 #include "opt/driver.hpp"
+#include "opt/drivers/ipopt.hpp"
+#include "opt/drivers/line.hpp"
+#include "opt/drivers/nlopt.hpp"
+#include "opt/stationarity.hpp"
 #include "test_problems.hpp"
 
 namespace {
@@ -40,7 +44,7 @@ INSTANTIATE_TEST_SUITE_P(Nlopt, TutorialByAlgorithm,
 TEST(NloptDriver, ExceptionInCallbackIsRethrownAfterTheSolverReturns) {
   Tutorial p = testing_problems::tutorial();
   p.throws = true;
-  EXPECT_THROW(opt::NloptDriver({}).minimize(p, {"f"}, kCons, p.initial_point()),
+  EXPECT_THROW(opt::NloptDriver(opt::DriverOptions{}).minimize(p, {"f"}, kCons, p.initial_point()),
                std::runtime_error);
 }
 
@@ -444,6 +448,30 @@ TEST(Capabilities, ChainsAreCheckedWhole) {
   EXPECT_EQ(capable_list(why), (std::set<std::string>{"LN_COBYLA", "LN_BOBYQA", "LN_NEWUOA_BOUND",
                                                        "LN_NELDERMEAD", "LN_SBPLX", "GN_DIRECT_L",
                                                        "GN_DIRECT", "GN_ISRES", "G_MLSL_LDS"}));
+}
+
+// Each driver answers for itself, naming itself first; a chain answers
+// stage by stage; driver_incompatibility adds who can.
+TEST(Capabilities, EachDriverDeclaresWhatItSolves) {
+  const Quadratic with(2, true), without(2, false), one(1, true);
+  const std::vector<opt::Constraint> ineq = {{"c", true, 1}};
+  opt::DriverOptions ipopt, line;
+  ipopt.library = "ipopt";
+  line.library = "line";
+  EXPECT_EQ(opt::IpoptDriver(ipopt).incompatibility(with, ineq), "");
+  EXPECT_EQ(opt::IpoptDriver(ipopt).incompatibility(without, {}).rfind("ipopt needs exact gradients", 0), 0u);
+  EXPECT_EQ(opt::LineDriver(line).incompatibility(one, {}), "");
+  EXPECT_EQ(opt::LineDriver(line).incompatibility(with, {}), "line takes one variable, and the problem has 2");
+  EXPECT_EQ(opt::LineDriver(line).incompatibility(one, ineq), "line takes no constraints (c <= 1)");
+  EXPECT_EQ(opt::NloptDriver(options_for("LD_LBFGS")).incompatibility(with, ineq),
+            "LD_LBFGS takes no inequality constraints (c <= 1)");
+  const opt::ChainDriver chain(std::make_unique<opt::NloptDriver>(options_for("GN_DIRECT_L")),
+                               std::make_unique<opt::LineDriver>(line));
+  EXPECT_EQ(chain.incompatibility(with, {}), "polish: line takes one variable, and the problem has 2");
+  // The public check is the driver's own reason, then the alternatives.
+  const std::string why = opt::driver_incompatibility(line, with, {"f"}, {});
+  EXPECT_EQ(why.rfind("line takes one variable, and the problem has 2; algorithms that can take this problem: ", 0),
+            0u) << why;
 }
 
 // No algorithm given: the problem decides (docs/drivers.md).

@@ -10,6 +10,7 @@
 #include "mech/twin_slider_crank.hpp"
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/drivers/nlopt.hpp"
 #include "problems/recuperative_drive.hpp"
 
 namespace {

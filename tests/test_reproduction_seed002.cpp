@@ -8,6 +8,8 @@
 
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
+#include "opt/drivers/ipopt.hpp"
+#include "opt/drivers/nlopt.hpp"
 #include "problems/conveyor_swing.hpp"
 
 namespace {

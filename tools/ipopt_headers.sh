@@ -2,7 +2,7 @@
 # Puts Ipopt's internal headers (IpAlgBuilder.hpp, IpTSymLinearSolver.hpp ...)
 # into DIR: Debian's coinor-libipopt-dev installs only the application-level
 # ones, and mechopt's dense KKT solver plugs into Ipopt below that level
-# (libopt/src/ipopt_dense_solver.cpp). They come from Debian's source package
+# (libopt/src/drivers/ipopt_dense_solver.cpp). They come from Debian's source package
 # of the installed version, so they declare exactly the library's classes;
 # only headers the -dev package lacks are copied (its own, configured ones
 # stay in charge). Debian's patches change no header but in comments.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace opt {
@@ -22,6 +23,12 @@ void leave_avx() {
 }
 
 }  // namespace
+
+std::string Constraint::text() const {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", bound);
+  return metric + relation() + b;
+}
 
 bool Evaluation::has(const std::string& name) const {
   if (!names) return false;

@@ -2,12 +2,13 @@
 // only a kink the optimiser stopped on? Is the objective flat around a
 // design a derivative-free optimiser stopped at? (docs/drivers.md, "Kinks"
 // and "Plateaus")
+#include "opt/stationarity.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "opt/driver.hpp"
 
 namespace opt {
 

@@ -1,6 +1,8 @@
 // One driver interface for every optimisation library: minimise an objective
 // metric of a Problem under metric constraints, and report a Result with an
-// enum status, never an exception for an optimiser outcome.
+// enum status, never an exception for an optimiser outcome; what every
+// driver shares (driver.cpp). The drivers: opt/drivers/nlopt.hpp,
+// ipopt.hpp, line.hpp; the checks of a converged run: opt/stationarity.hpp.
 #pragma once
 #include <Eigen/Core>
 #include <chrono>
@@ -45,9 +47,9 @@ struct DriverOptions {
   double tol = 1e-10;         // KKT tolerance
   int max_iterations = 3000;
   int print_level = 0;        // 0 silent .. 12
-  bool epigraph = true;       // maxima over the cycle as smooth rows (see ipopt_driver.cpp)
+  bool epigraph = true;       // maxima over the cycle as smooth rows (see drivers/ipopt.cpp)
   // The KKT systems' solver: "dense" (Bunch-Kaufman on the assembled
-  // matrix, for mechopt's few-variable problems; ipopt_dense_solver.cpp) or
+  // matrix, for mechopt's few-variable problems; drivers/ipopt_dense_solver.cpp) or
   // "mumps" (Ipopt's own).
   std::string linear_solver = "dense";
   // NLopt's random algorithms (GN_ISRES) draw from this seed: runs repeat.
@@ -93,93 +95,23 @@ class Driver {
   virtual Result minimize(const Problem& problem, const Objective& objective,
                           const std::vector<Constraint>& constraints,
                           const Eigen::VectorXd& x0) const = 0;
+  // Why this driver, as configured, cannot solve the problem under these
+  // constraints (derivatives, number of variables, bounds, kinds of
+  // constraint), naming itself first; "" when it can. Each driver declares
+  // its own (Drake's ProgramAttributesSatisfied); any objective metric is
+  // accepted by every driver.
+  virtual std::string incompatibility(const Problem& problem,
+                                      const std::vector<Constraint>& constraints) const = 0;
 };
 
-// Where the objective, a maximum over the crank cycle (Problem::local_maxima),
-// has two or more peaks within 1e-6 (relative) of each other at x: how far x
-// is from first-order (Clarke) stationarity. `measure` is the distance from
-// 0 to the convex hull of the peaks' gradients plus the cone of the active
-// bounds' and constraints' gradients (variables scaled by their ranges),
-// over the largest peak gradient: 0 at an optimum, of order 1 where the
-// optimiser stopped on the kink with a descent direction left. None where
-// the objective has fewer equal peaks, is maximised, or cannot be checked.
-struct KinkCheck {
-  int peaks = 0;
-  double measure = 0;
+// A library's driver, configured by DriverOptions (opt/drivers/).
+class ConfiguredDriver : public Driver {
+ public:
+  explicit ConfiguredDriver(DriverOptions options) : options_(std::move(options)) {}
+
+ protected:
+  DriverOptions options_;
 };
-std::optional<KinkCheck> check_kink(const Problem& problem, const Objective& objective,
-                                    const std::vector<Constraint>& constraints, const Eigen::VectorXd& x);
-// A converged run whose check_kink measure exceeds this ends as stopped_on_kink.
-inline constexpr double kKinkTolerance = 1e-3;
-
-// The same measure for any objective at a design x that meets every
-// constraint (the pieces: the equal peaks of a minimised maximum over the
-// cycle, else the objective's gradient): 0 at a KKT point. None where x
-// breaks a constraint, cannot be evaluated, or the problem has no
-// gradients. NLopt's local gradient algorithms that stop with
-// ROUNDOFF_LIMITED where it is at most kKktTolerance have converged.
-std::optional<double> kkt_measure(const Problem& problem, const Objective& objective,
-                                  const std::vector<Constraint>& constraints, const Eigen::VectorXd& x);
-inline constexpr double kKktTolerance = 1e-6;
-
-// Around x, each variable moved by kPlateauStep of its range (or of its
-// size where unbounded) either way, inside its bounds, with the others
-// held: the variables along which the objective f (its value at x) does not
-// change by more than kPlateauChange of its size. An optimiser without
-// derivatives reads a plateau as convergence: its steps shrink because
-// nothing they try is better, not because it stands at an optimum (a model
-// whose level of detail ignores the variables, an objective clipped to a
-// constant). At a smooth optimum each move changes f by about
-// f'' (range kPlateauStep)^2 / 2, far above kPlateauChange unless f varies
-// by less than ~1e-6 over a variable's whole range. Probes the model cannot
-// evaluate do not count as flat.
-inline constexpr double kPlateauStep = 1e-3, kPlateauChange = 1e-12;
-std::vector<int> flat_variables(const Problem& problem, const Objective& objective, const Eigen::VectorXd& x,
-                                double f);
-
-// Where a local run met its tolerance at x (objective value f): is x a
-// first-order (KKT) point, or does the objective still fall along a
-// direction the bounds and constraints allow? From the gradients at x
-// (at_x, when it holds them at x, saves the evaluation): r, the objective's
-// gradient less the nearest combination of the active bounds' and
-// constraints' gradients (variables scaled by their ranges), is 0 at a KKT
-// point. For a maximum over the cycle the objective's gradient is the
-// nearest point of the hull of the gradients of the peaks the step could
-// lift to the top (a kink where no direction lowers them all has r = 0).
-// The step: kSlopeStep of the ranges, or less where that would change f by
-// more than kSlopeReach |f| to first order. Where r promises a fall of more
-// than kSlopeChange |f|, the step (and a tenth of it) along -r is
-// evaluated, pulled back onto the equalities and onto the active
-// inequalities it overran (Gauss-Newton with their Jacobian at x); a
-// constraint the probe breaks is held from then on and r recomputed. A
-// probe that meets every constraint and is lower by more than
-// kSlopeChange |f| is returned (its step and value). An optimiser that
-// converged to its tolerance at a local optimum is within ~step / 2 of it,
-// so the step cannot improve on it; one that stalled (LD_MMA on a maximum
-// over the cycle that barely moves one variable) is caught. None where x
-// passes, the problem has no gradients, or more than 12 pieces and held
-// bounds and constraints would need checking.
-struct SlopeCheck {
-  double step = 0;   // fraction of the variables' ranges
-  double value = 0;  // the objective at the step
-};
-inline constexpr double kSlopeStep = 1e-2, kSlopeReach = 1e-2, kSlopeChange = 1e-4;
-std::optional<SlopeCheck> check_slope(const Problem& problem, const Objective& objective,
-                                      const std::vector<Constraint>& constraints, const Eigen::VectorXd& x,
-                                      double f, const Evaluation* at_x = nullptr);
-
-// The algorithms a library offers, for help text and config checks, and
-// what each takes (NLopt's algorithm documentation, doc/docs/NLopt_Algorithms.md).
-std::vector<std::string> nlopt_algorithms();
-bool algorithm_uses_gradient(const std::string& algorithm);
-bool algorithm_is_global(const std::string& algorithm);
-bool algorithm_supports_constraints(const std::string& algorithm);  // nonlinear inequalities
-bool algorithm_supports_equalities(const std::string& algorithm);
-
-// The NLopt algorithm used when options.algorithm is empty: LD_SLSQP for a
-// problem with exact gradients (constraints of both kinds, curvature model),
-// LN_COBYLA without (derivative-free, constraints of both kinds).
-std::string default_algorithm(const Problem& problem);
 
 // Can the driver of `options` (and its polish and local algorithm) take this
 // problem? "" if so; otherwise one message naming the algorithm, why it
@@ -188,42 +120,6 @@ std::string default_algorithm(const Problem& problem);
 std::string driver_incompatibility(const DriverOptions& options, const Problem& problem,
                                    const Objective& objective,
                                    const std::vector<Constraint>& constraints);
-
-class NloptDriver : public Driver {
- public:
-  explicit NloptDriver(DriverOptions options) : options_(std::move(options)) {}
-  Result minimize(const Problem& problem, const Objective& objective,
-                  const std::vector<Constraint>& constraints,
-                  const Eigen::VectorXd& x0) const override;
-
- private:
-  DriverOptions options_;
-};
-
-class IpoptDriver : public Driver {
- public:
-  explicit IpoptDriver(DriverOptions options) : options_(std::move(options)) {}
-  Result minimize(const Problem& problem, const Objective& objective,
-                  const std::vector<Constraint>& constraints,
-                  const Eigen::VectorXd& x0) const override;
-
- private:
-  DriverOptions options_;
-};
-
-// One variable within finite bounds, no constraints of the user's, an exact
-// derivative (`library: line`): downhill from the start to the bound or to
-// the derivative's sign change, refined by Brent's method (line_driver.cpp).
-class LineDriver : public Driver {
- public:
-  explicit LineDriver(DriverOptions options) : options_(std::move(options)) {}
-  Result minimize(const Problem& problem, const Objective& objective,
-                  const std::vector<Constraint>& constraints,
-                  const Eigen::VectorXd& x0) const override;
-
- private:
-  DriverOptions options_;
-};
 
 // Runs `first`, then `then` from first's answer: a global search handing
 // over to a local one. Evaluations and time add up; the status is then's.
@@ -237,6 +133,8 @@ class ChainDriver : public Driver {
   Result minimize(const Problem& problem, const Objective& objective,
                   const std::vector<Constraint>& constraints,
                   const Eigen::VectorXd& x0) const override;
+  // The first stage's reason, else the second's after "polish: ".
+  std::string incompatibility(const Problem& problem, const std::vector<Constraint>& constraints) const override;
 
  private:
   std::unique_ptr<Driver> first_, then_;
@@ -315,6 +213,12 @@ Result no_work(DriverStatus status, std::string message, const Eigen::VectorXd& 
 // The message of a run that stopped before converging: which limit, and that
 // x is the best design so far rather than an optimum.
 std::string stop_message(DriverStatus s, const DriverOptions& options);
+
+// Phase 1 (prepare_start): moves x into the region of the problem's implicit
+// constraints by SLSQP on their squared violation, each pushed inside by a
+// margin of 1e-3 of its bound's scale, within the bounds; returns the
+// evaluations it took (drivers/nlopt.cpp).
+int restore_feasibility(const Problem& problem, Eigen::VectorXd& x, StopCheck& stop);
 }  // namespace detail
 
 }  // namespace opt

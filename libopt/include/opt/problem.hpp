@@ -106,6 +106,7 @@ struct Constraint {
   // An equality, or an inequality at its bound (within tolerance()) or past it.
   bool active(double v) const { return equal || !(g(v) < -tolerance()); }
   const char* relation() const { return equal ? " = " : upper ? " <= " : " >= "; }
+  std::string text() const;  // "metric <= bound", the bound as %g
 };
 
 struct Objective {

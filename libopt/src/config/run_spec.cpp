@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "opt/doe/batch.hpp"
+#include "opt/drivers/nlopt.hpp"
 #include "opt/study.hpp"
 #include "report/report.hpp"
 

@@ -3,11 +3,12 @@
 // Brent's method then refines to xtol_rel. A handful of evaluations where a
 // general method spends dozens; a local method, like the others: of several
 // minima it finds the one downhill from the start.
+#include "opt/drivers/line.hpp"
+
 #include <cmath>
 #include <limits>
 
 #include "mech/cycle.hpp"
-#include "opt/driver.hpp"
 
 namespace opt {
 namespace {
@@ -22,6 +23,16 @@ struct Ended {
 };
 
 }  // namespace
+
+std::string LineDriver::incompatibility(const Problem& p, const std::vector<Constraint>& constraints) const {
+  if (p.variables().size() != 1)
+    return "line takes one variable, and the problem has " + std::to_string(p.variables().size());
+  if (!p.provides_gradients()) return "line needs an exact derivative, and " + p.name() + " has none";
+  if (!std::isfinite(p.variables()[0].lower) || !std::isfinite(p.variables()[0].upper))
+    return "line needs finite bounds, and " + p.variables()[0].name + " has none";
+  if (!constraints.empty()) return "line takes no constraints (" + constraints[0].text() + ")";
+  return "";
+}
 
 Result LineDriver::minimize(const Problem& problem, const Objective& objective,
                             const std::vector<Constraint>& constraints, const Eigen::VectorXd& x0) const {

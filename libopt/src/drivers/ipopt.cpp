@@ -30,8 +30,8 @@
 #include <sstream>
 #include <time.h>
 
-#include "ipopt_dense_solver.hpp"
-#include "opt/driver.hpp"
+#include "drivers/ipopt_dense_solver.hpp"
+#include "opt/drivers/ipopt.hpp"
 
 // Ipopt times each part of an iteration (its TimedTask start and stop) with
 // CpuTime() and SysTime(), two getrusage system calls each: on the
@@ -375,6 +375,12 @@ Ipopt::IpoptApplication& application() {
 }
 
 }  // namespace
+
+std::string IpoptDriver::incompatibility(const Problem& p, const std::vector<Constraint>&) const {
+  return p.provides_gradients()
+             ? ""
+             : "ipopt needs exact gradients, and " + p.name() + " has none: it takes derivative-free algorithms only";
+}
 
 Result IpoptDriver::minimize(const Problem& problem, const Objective& objective,
                              const std::vector<Constraint>& constraints,

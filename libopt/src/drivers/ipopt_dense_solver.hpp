@@ -43,7 +43,7 @@ class DenseSymSolver : public Ipopt::SparseSymLinearSolverInterface {
   bool singular_ = false;
 };
 
-// Calls of Ipopt's CpuTime() that reached mechopt's cheap clock (ipopt_driver.cpp).
+// Calls of Ipopt's CpuTime() that reached mechopt's cheap clock (ipopt.cpp).
 inline std::atomic<long> ipopt_clock_reads{0};
 
 // A new augmented-system solver over a DenseSymSolver, for AlgorithmBuilder
