@@ -1,7 +1,8 @@
-// The cycle helpers of libmech/include/mech/cycle.hpp: Brent's root finder,
-// the sign-change scan and the batched maxima search, against closed forms;
-// and the twin drive's peaks searched together in lanes against the same
-// search evaluated one angle at a time with scalar (Dual) evaluations.
+// The cycle helpers of libmech/include/mech/cycle.hpp: Brent's root finder
+// and the sign-change scan (roots.hpp) and the batched maxima search
+// (cycle_maxima.hpp), against closed forms; and the twin drive's peaks
+// searched together in lanes against the same search evaluated one angle
+// at a time with scalar (Dual) evaluations.
 #include <gtest/gtest.h>
 
 #include <cmath>
