@@ -5,59 +5,12 @@
 // history.csv, pareto.csv and SVG charts in the output directory.
 #pragma once
 #include <iosfwd>
-#include <map>
 #include <nlohmann/json.hpp>
-#include <string>
-#include <vector>
 
-#include "opt/config.hpp"
-#include "opt/driver.hpp"
-#include "opt/parameters.hpp"
 #include "opt/problem.hpp"
+#include "opt/run_spec.hpp"
 
 namespace opt {
-
-// Reads `variables: {NAME: {min: .., max: .., initial: ..}}` for the
-// parameters that may be freed (Parameter::variable); bounds and the initial
-// value (default: the model value) must lie in the parameter's domain.
-std::vector<Variable> parse_variables(const ConfigNode& root, const std::vector<Parameter>& parameters);
-
-struct GridAxis {
-  std::string variable;
-  int index = 0;               // of the variable in Problem::variables()
-  std::vector<double> values;  // SI
-};
-
-// Values printed by a paper next to a sweep, for the chart and the printed table.
-struct Reference {
-  std::string source;
-  std::map<std::string, std::vector<double>> columns;  // variable or metric -> values (SI)
-};
-
-struct RunSpec {
-  std::string type = "optimize";  // optimize | sweep | pareto | evaluate (the model values)
-  Objective objective;
-  std::vector<Constraint> constraints;
-  bool optimize = true;           // sweeps: also run the driver
-  DriverOptions driver;
-  std::vector<GridAxis> grid;     // sweeps
-  std::vector<std::string> columns;  // metrics printed and charted
-  std::vector<std::string> objectives;  // pareto: the two metrics traded, both minimised
-  int points = 11;                   // pareto: points on the front
-  Reference reference;
-  std::string output_directory = "results";
-  int threads = 0;     // sweeps: --threads (0: every core)
-  bool force = false;  // sweeps: --force
-  bool chart = true;
-};
-
-// Reads a `driver:` map (library, algorithm, tolerances, limits, polish).
-DriverOptions parse_driver(const ConfigNode& n);
-
-// Reads objective, constraints, study, output and reference (keys checked
-// against the problem's variables and metrics).
-// `force`: a sweep may have more than doe::kMaxSamples points in all.
-RunSpec parse_run(const ConfigNode& root, const Problem& problem, bool force = false);
 
 // Runs the study, prints a readable summary to `out`, writes the files, and
 // returns result.json's content.

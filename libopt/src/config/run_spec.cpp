@@ -1,11 +1,12 @@
 // Reading a run from a config: variables, objective, constraints, study,
 // driver, grid, output and reference, each key checked against the problem.
+#include "opt/run_spec.hpp"
+
 #include <cmath>
 #include <iostream>
 
 #include "opt/doe/batch.hpp"
 #include "opt/drivers/nlopt.hpp"
-#include "opt/study.hpp"
 #include "report/report.hpp"
 
 namespace opt {
