@@ -2,8 +2,9 @@
 // "Segments"): rows/s of append() in 20 000-row batches, 4 factors and 4 to
 // 60 metrics (BM_Append/METRICS/ROWS: rows/s against the column count, and at
 // 12 metrics against the rows a transaction); N producer threads, each
-// appending to a file of its own as a run's threads do (BM_Producers/N: the
-// rows/s of all together, against BM_Producers/1); the fold of segments
+// appending to a file of its own as a run's threads do (BM_Producers/N/0: the
+// rows/s of all together, against BM_Producers/1/0; BM_Producers/2/1, two
+// processes, the control); the fold of segments
 // into the store (BM_Fold/INTERLEAVED: the segments' indices after the
 // store's, or interleaved with them in chunks as a run's threads take them);
 // `merge` of shard stores (BM_Merge); and the resume bitmap finished() over
@@ -11,12 +12,14 @@
 // producer's rate up to the cores, merge at no less than half of BM_Append,
 // finished(10^6) < 0.3 s.
 #include <benchmark/benchmark.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -88,40 +91,81 @@ BENCHMARK(BM_Append)
     ->Args({12, 100})->Args({12, 1000})->Args({12, 4096})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// BM_Producers/N: N threads, each appending 4096-row batches of its own
-// indices to a file of its own (the first to store.sqlite, the others to
-// segments: a run's threads when store.sqlite is busy), for 0.2 s a round.
+// Producer p's 4096-row batches of its own indices, appended for 0.2 s;
+// returns its rows.
+template <class Append>
+std::int64_t produce(int p, std::int64_t& at, Append&& append) {
+  constexpr std::int64_t kRows = 4096, kStride = std::int64_t(1) << 40;  // producer p: indices from p kStride
+  auto b = batch(0, 12, kRows);
+  std::int64_t made = 0;
+  for (const auto t0 = std::chrono::steady_clock::now();
+       std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(200); made += kRows, at += kRows) {
+    for (std::int64_t k = 0; k < kRows; ++k) b[std::size_t(k)].index = p * kStride + at + k;
+    append(b);
+  }
+  return made;
+}
+
+// BM_Producers/N/0: N threads of one process, each appending to a file of
+// its own (the first to store.sqlite, the others to segments: a run's
+// threads when store.sqlite is busy). BM_Producers/N/1, the control: N
+// forked processes, each with a store of its own, which share nothing in a
+// process: what the machine's cores give this work.
 void BM_Producers(benchmark::State& state) {
   const int producers = int(state.range(0));
-  constexpr std::int64_t kRows = 4096, kStride = std::int64_t(1) << 40;  // producer p: indices from p kStride
+  const bool processes = state.range(1) != 0;
   BenchDir dir("producers");
-  auto s = store(dir.path);
-  std::vector<opt::doe::Segment> segments;
-  for (int p = 1; p < producers; ++p) segments.push_back(s.segment("bench-" + std::to_string(p)));
+  fs::create_directories(dir.path);
   std::vector<std::int64_t> first(std::size_t(producers), 0);
   std::int64_t rows = 0;
-  for (auto _ : state) {
-    std::vector<std::thread> threads;
-    std::vector<std::int64_t> made(std::size_t(producers), 0);
-    for (int p = 0; p < producers; ++p)
-      threads.emplace_back([&, p] {
-        auto b = batch(0, 12, kRows);
-        const auto t0 = std::chrono::steady_clock::now();
-        while (std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(200)) {
-          auto& at = first[std::size_t(p)];
-          for (std::int64_t k = 0; k < kRows; ++k) b[std::size_t(k)].index = p * kStride + at + k;
-          p == 0 ? s.append(b) : segments[std::size_t(p - 1)].append(b);
-          at += kRows;
-          made[std::size_t(p)] += kRows;
+  if (processes) {
+    for (auto _ : state) {
+      std::vector<std::pair<pid_t, int>> children;  // pid, the read end of its pipe
+      for (int p = 0; p < producers; ++p) {
+        int fds[2];
+        if (pipe(fds) != 0) throw std::runtime_error("pipe");
+        const pid_t pid = fork();
+        if (pid == 0) {
+          close(fds[0]);
+          fs::create_directories(dir.path + "/p" + std::to_string(p));
+          auto s = store(dir.path + "/p" + std::to_string(p));
+          const std::int64_t made = produce(p, first[std::size_t(p)], [&](const auto& b) { s.append(b); });
+          _exit(write(fds[1], &made, sizeof made) == sizeof made ? 0 : 1);
         }
-      });
-    for (auto& t : threads) t.join();
-    for (const auto m : made) rows += m;
+        close(fds[1]);
+        children.push_back({pid, fds[0]});
+      }
+      for (const auto& [pid, fd] : children) {
+        std::int64_t made = 0;
+        if (read(fd, &made, sizeof made) == sizeof made) rows += made;
+        close(fd);
+        waitpid(pid, nullptr, 0);
+      }
+      // A child's indices went on in its own memory: the next round starts past them.
+      for (auto& at : first) at += std::int64_t(1) << 30;
+    }
+  } else {
+    auto s = store(dir.path);
+    std::vector<opt::doe::Segment> segments;
+    for (int p = 1; p < producers; ++p) segments.push_back(s.segment("bench-" + std::to_string(p)));
+    for (auto _ : state) {
+      std::vector<std::int64_t> made(std::size_t(producers), 0);
+      std::vector<std::thread> threads;
+      for (int p = 0; p < producers; ++p)
+        threads.emplace_back([&, p] {
+          made[std::size_t(p)] = produce(p, first[std::size_t(p)], [&](const auto& b) {
+            p == 0 ? s.append(b) : segments[std::size_t(p - 1)].append(b);
+          });
+        });
+      for (auto& t : threads) t.join();
+      for (const auto m : made) rows += m;
+    }
   }
   state.counters["rows_per_second"] = benchmark::Counter(double(rows), benchmark::Counter::kIsRate);
   state.counters["producers"] = producers;
 }
-BENCHMARK(BM_Producers)->DenseRange(1, 4)->Iterations(5)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Producers)
+    ->ArgsProduct({{1, 2, 3, 4}, {0}})->Args({2, 1})->Iterations(5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // BM_Fold/INTERLEAVED: 5*10^5 rows in the store and 5*10^5 in a segment,
 // folded: INTERLEAVED 0, the segment's indices after the store's; 1, the

@@ -232,10 +232,13 @@ def block(rows):
     if rate:
         lines += ["", "| store write path (20 columns) | rows/s | against | target |", "|---|---|---|---|"]
         for n in (1, 2, 3, 4):
-            if f"Producers_{n}" in rate:
-                lines.append(f"| {n} producer{'s' if n > 1 else ''}, a file each | {fmt_rate(rate[f'Producers_{n}'])} | "
-                             f"{rate[f'Producers_{n}'] / rate['Producers_1']:.2f}x one | "
+            if f"Producers_{n}_0" in rate:
+                lines.append(f"| {n} producer{'s' if n > 1 else ''}, a file each | {fmt_rate(rate[f'Producers_{n}_0'])} | "
+                             f"{rate[f'Producers_{n}_0'] / rate['Producers_1_0']:.2f}x one | "
                              f"{'>= 1.8x with 2' if n == 2 else ''} |")
+        if "Producers_2_1" in rate:
+            lines.append(f"| control: 2 processes, a store each | {fmt_rate(rate['Producers_2_1'])} | "
+                         f"{rate['Producers_2_1'] / rate['Producers_1_0']:.2f}x one | |")
         lines += [f"| fold, runs of indices appended | {fmt_rate(rate['Fold_0'])} | "
                   f"{rate['Fold_0'] / rate['Fold_1']:.2f}x interleaved | |",
                   f"| fold, two writers interleaved in 4096-row chunks | {fmt_rate(rate['Fold_1'])} | | |",
