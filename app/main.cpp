@@ -489,12 +489,9 @@ int run(const Args& a) {
 // thread's heap, blocks under 32 MB from the heap) instead of going back to
 // the kernel on every free past glibc's default 128 KiB: a model that builds
 // buffers per evaluation (the elastic drive's trajectories) had each sample
-// return them and fault them back in, ~35 page faults a sample (11 100 ->
-// 1 200 for the elastic DOE), and with two threads the shootdowns of one
-// address space. Measured (interleaved A/B, medians; docs/performance.md):
-// designs/s of the elastic DOE +3-6% on 1 and 2 threads, the recuperative
-// +2-4%, the conveyor's +6% on 1 thread (its 2 are the store's); peak RSS
-// +7 MB (the 10^6 recuperative DOE: 28.6 -> 36.2 MB).
+// return them and fault them back in, ~35 page faults a sample, and with
+// two threads the shootdowns of one address space. The DOEs run 2-6%
+// faster so, for some 7 MB more peak memory (docs/performance.md).
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_TRIM_THRESHOLD, 64 << 20);

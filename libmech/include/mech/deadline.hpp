@@ -29,8 +29,8 @@ inline void set_deadline(double seconds) {
 }
 
 // Reads the clock every 64th call: a right-hand side costs ~0.1 us and the
-// clock ~20 ns, which was 8% of a limited elastic DOE's time when read on
-// every call; 64 calls are microseconds past the limit at most.
+// clock ~20 ns, 8% of a limited elastic DOE's time if read on every call;
+// 64 calls are microseconds past the limit at most.
 inline void check_deadline() {
   if (has_deadline && (++deadline_calls & 63) == 0 && Clock::now() > deadline) throw TimedOut();
 }

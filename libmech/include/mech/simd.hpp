@@ -157,10 +157,10 @@ struct LaneDual {
   std::array<Lanes, N> d{};
   LaneDual() = default;
   // Constants convert. Always inlined for N = 1 (the angle slopes of the
-  // maxima searches: left out of line in the recuperative problem's
-  // translation unit, a DOE design cost 4.5 us instead of 3.0); not for
-  // N > 1, where inlining them too made GCC spill in the two-variable
-  // gradient loop (0.27 -> 0.75 us, bench_recuperative).
+  // maxima searches: out of line in the recuperative problem's translation
+  // unit, a DOE design costs half as much again); not for N > 1, where
+  // inlining them too makes GCC spill in the two-variable gradient loop
+  // (2.8 times slower, bench_recuperative).
   MECH_FORCE_INLINE LaneDual(double x) requires(N == 1) : v(x) {}        // NOLINT
   MECH_FORCE_INLINE LaneDual(const Lanes& x) requires(N == 1) : v(x) {}  // NOLINT
   LaneDual(double x) requires(N != 1) : v(x) {}                                 // NOLINT

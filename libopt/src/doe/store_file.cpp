@@ -122,8 +122,9 @@ Db open_to_write(const std::string& file) {
   Db db(file, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   // 64 KiB pages (a new file only; the page size is fixed once a table
   // exists): rows are appended and read in whole scans, and big pages cut
-  // the page writes per batch and the pages finished() walks. Measured:
-  // append 270k -> 360k rows/s, finished(10^6) 150 -> 80 ms.
+  // the page writes per batch and the pages finished() walks: appends run
+  // a third faster than at SQLite's default 4 KiB, finished(10^6) in about
+  // half the time.
   db.exec("PRAGMA page_size=65536");
   {
     // WAL: a commit appends to the log, readers never block the writer, and

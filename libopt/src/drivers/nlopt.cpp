@@ -430,8 +430,8 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   // algorithm's own work between evaluations (DIRECT's rectangles, MLSL's
   // local searches) can be long, so NLopt's clock watches it as well; a local
   // one's is a few small dense solves, and NLopt's check, a gettimeofday at
-  // each of its stop tests (14 a run of the rod length's L-BFGS), was 6% of
-  // that run.
+  // each of its stop tests (14 a run of the rod length's L-BFGS), would be
+  // 6% of that run.
   if (alg.global)
     nlopt_set_maxtime(opt, std::max(options_.max_seconds - stop.seconds(), 1e-9));
   if (alg.id == NLOPT_G_MLSL_LDS) {  // multistart: local searches from a low-discrepancy sequence
