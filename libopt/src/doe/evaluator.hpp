@@ -64,7 +64,7 @@ class Evaluator {
   bool model_factors_ = false;
 };
 
-// `where` of SQL for a feasible sample: status ok, the constraints met (summary.cpp).
+// `where` of SQL for a feasible sample: status ok, the constraints met (summary_reads.cpp).
 std::string feasible_where(const DoeSpec& spec);
 
 // `refine`: a local optimisation from each of the best feasible samples of
