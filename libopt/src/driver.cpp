@@ -76,7 +76,11 @@ StopCheck::StopCheck(double max_seconds)
 
 bool StopCheck::operator()() {
   if (!reason && stop_requested()) reason = DriverStatus::interrupted;
-  if (!reason && coarse_seconds() - coarse_start_ >= max_seconds_) reason = DriverStatus::max_time;
+  // The coarse clock's elapsed time can run up to a tick ahead of the true
+  // one (its start read just before a tick): the limit it reports is
+  // confirmed on the precise clock, so a run never stops before it.
+  if (!reason && coarse_seconds() - coarse_start_ >= max_seconds_ && seconds() >= max_seconds_)
+    reason = DriverStatus::max_time;
   return reason.has_value();
 }
 

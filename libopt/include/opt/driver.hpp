@@ -154,7 +154,8 @@ class StopCheck {
  public:
   explicit StopCheck(double max_seconds);
   // True when the run must stop now; sets reason (max_time or interrupted).
-  // The time limit is read from a coarse clock (a few ms a tick).
+  // The time limit is read from a coarse clock (a few ms a tick) and
+  // confirmed on the precise one: a run never stops before max_seconds.
   bool operator()();
   double seconds() const;  // since the start, precise
   std::optional<DriverStatus> reason;
