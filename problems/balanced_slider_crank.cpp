@@ -18,65 +18,71 @@
 namespace problems {
 namespace {
 
-struct Model {
-  double cam_offset = 0.0365 * 0.6;  // a = 0.0365 S
-  double rod_length = 0;             // 0 (auto): l2 + a
-  double spring_rate = 0;            // 0 (auto): m3 w^2
-  double spring_neutral = 0;         // s0 - S/2
-  double crank_length = 0.3, original_rod_length = 2.0;
-  double crank_speed = 320 * std::numbers::pi / 30;
-  double rod_mass = 150, rod_inertia = 0.5, rod_centre = 0.5, slider_mass = 600;
-  int gravity = 0;  // mech::Gravity
-  int springs_carry_weight = 0;
-  int cycle_points = 72;
+// The model values: the rows of kTable.
+struct R {
+  enum Id : int { cam_offset, rod_length, spring_rate, spring_neutral, crank_length, original_rod_length, crank_speed, rod_mass, rod_inertia, rod_centre_of_mass, slider_mass, gravity, springs_carry_weight, cycle_points };
 };
 
-enum Row { kCamOffset, kRodLength, kSpringRate, kSpringNeutral };  // the variables' rows of kTable
-
-// The variables first, in the order of Row.
-const opt::ParameterTable<Model> kTable = {
-    {variable("cam_offset", Dimension::length, kNonNegative,
+const std::vector<opt::Parameter> kTable = opt::table(
+    "balanced_slider_crank",
+    {
+     {R::cam_offset,
+      variable("cam_offset", Dimension::length, kNonNegative,
               "a: the cam centre from the crank axis, away from the slider (paper: 0.0365 S)",
               "seed 004 eq. (1)"),
-     MECHOPT_STORED_AT(m.cam_offset)},
-    {variable("rod_length", Dimension::length, kPositive,
+      0.0365 * 0.6}, // a = 0.0365 S
+     {R::rod_length,
+      variable("rod_length", Dimension::length, kPositive,
               "L = l2s, the improved rod (> l1 + a); auto: original_rod_length + cam_offset, keeping s(0) = 0",
               "seed 004 eq. (2)").or_auto(),
-     MECHOPT_STORED_AT(m.rod_length)},
-    {variable("spring_rate", Dimension::linear_stiffness, kPositive,
+      0},
+     {R::spring_rate,
+      variable("spring_rate", Dimension::linear_stiffness, kPositive,
               "c of the springs parallel to the stroke; auto: m3 w^2, the slider fully balanced", "seed 004 (text)")
          .or_auto(),
-     MECHOPT_STORED_AT(m.spring_rate)},
-    {variable("spring_neutral", Dimension::length, kAnyValue,
+      0},
+     {R::spring_neutral,
+      variable("spring_neutral", Dimension::length, kAnyValue,
               "where the springs are free: slider travel s0 minus mid-stroke S/2", ""),
-     MECHOPT_STORED_AT(m.spring_neutral)},
-    {quantity("crank_length", Dimension::length, kPositive, "l1: the original crank and the cam's radius; S = 2 l1",
+      0},
+     {R::crank_length,
+      quantity("crank_length", Dimension::length, kPositive, "l1: the original crank and the cam's radius; S = 2 l1",
               "seed 004 eq. (1)"),
-     MECHOPT_STORED_AT(m.crank_length)},
-    {quantity("original_rod_length", Dimension::length, kPositive, "l2, the original rod (> l1)", "seed 004 eq. (2)"),
-     MECHOPT_STORED_AT(m.original_rod_length)},
-    {quantity("crank_speed", Dimension::angular_speed, kPositive, "n, constant (kinetostatics)", "seed 004 (2R63)"),
-     MECHOPT_STORED_AT(m.crank_speed)},
-    {quantity("rod_mass", Dimension::mass, kNonNegative, "m2", "seed 004 eq. (3)"), MECHOPT_STORED_AT(m.rod_mass)},
-    {quantity("rod_inertia", Dimension::inertia, kNonNegative,
+      0.3},
+     {R::original_rod_length,
+      quantity("original_rod_length", Dimension::length, kPositive, "l2, the original rod (> l1)", "seed 004 eq. (2)"),
+      2.0},
+     {R::crank_speed,
+      quantity("crank_speed", Dimension::angular_speed, kPositive, "n, constant (kinetostatics)", "seed 004 (2R63)"),
+      320 * std::numbers::pi / 30},
+     {R::rod_mass,
+      quantity("rod_mass", Dimension::mass, kNonNegative, "m2", "seed 004 eq. (3)"),
+      150},
+     {R::rod_inertia,
+      quantity("rod_inertia", Dimension::inertia, kNonNegative,
               "I_S2 about the rod's centre of mass; 0.5 as printed is 1% of a uniform 2 m bar's 51.1 (flagged)",
               "seed 004 eq. (3)"),
-     MECHOPT_STORED_AT(m.rod_inertia)},
-    {quantity("rod_centre_of_mass", Dimension::dimensionless, {0, 1, false, false},
+      0.5},
+     {R::rod_centre_of_mass,
+      quantity("rod_centre_of_mass", Dimension::dimensionless, {0, 1, false, false},
               "|A S2| / L, from the crank pin (not printed: mid-length)", ""),
-     MECHOPT_STORED_AT(m.rod_centre)},
-    {quantity("slider_mass", Dimension::mass, kNonNegative, "m3, the saw frame", "seed 004 eq. (3)"),
-     MECHOPT_STORED_AT(m.slider_mass)},
-    {choice("gravity", {"perpendicular", "none", "along_stroke"},
+      0.5},
+     {R::slider_mass,
+      quantity("slider_mass", Dimension::mass, kNonNegative, "m3, the saw frame", "seed 004 eq. (3)"),
+      600},
+     {R::gravity,
+      choice("gravity", {"perpendicular", "none", "along_stroke"},
             "across the stroke (the paper's eq. 3), none, or along it toward the crank (a vertical frame)",
             "seed 004 eq. (3)"),
-     MECHOPT_STORED_AT(m.gravity)},
-    {choice("springs_carry_weight", {"no", "yes"}, "along_stroke: shift s0 by m3 g / c so the springs hold the frame",
+      0},
+     {R::springs_carry_weight,
+      choice("springs_carry_weight", {"no", "yes"}, "along_stroke: shift s0 by m3 g / c so the springs hold the frame",
             ""),
-     MECHOPT_STORED_AT(m.springs_carry_weight)},
-    {whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""),
-     MECHOPT_STORED_AT(m.cycle_points)},
-};
+      0},
+     {R::cycle_points,
+      whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""),
+      72}
+    });
 
 // The metrics, in the order of kMetrics (their MetricIds).
 struct M {
@@ -206,58 +212,52 @@ struct CycleGrid {
 
 class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProblem> {
  public:
-  BalancedSliderCrankProblem(Model m, bool rod_auto, std::vector<opt::Variable> vars)
-      : ModelProblem("balanced_slider_crank", kMetrics, std::move(vars)), m_(std::move(m)), rod_auto_(rod_auto),
-        slots_(opt::variable_rows(kTable, variables())) {
-    for (int row : slots_) rod_auto_ = rod_auto_ && row != kRodLength;
+  BalancedSliderCrankProblem(opt::Values<double> values, bool rod_auto, std::vector<opt::Variable> vars)
+      : ModelProblem("balanced_slider_crank", kMetrics, kTable, std::move(values), std::move(vars)),
+        rod_auto_(rod_auto) {
+    for (const auto& v : variables()) rod_auto_ = rod_auto_ && v.name != kTable[R::rod_length].name;
   }
 
   nlohmann::json settings() const override {
-    return {{"model", opt::parameters_json(opt::parameters(kTable, m_))},
+    return {{"model", model_json()},
             {"assumptions",
              {"crank turns at constant speed (kinetostatics); crank and sliding block massless",
               "cam: circle of radius l1 centred at (-a, 0); frictionless slot and roller",
               "original: the plain slider-crank l1, l2, no cam, no springs"}},
             {"numerics",
-             {{"cycle_points", m_.cycle_points},
+             {{"cycle_points", static_cast<int>(values()[R::cycle_points])},
               {"extrema", "grid bracket + Brent root of the angle derivative; Danskin gradients"}}},
             {"units", "SI (m, rad, rad/s, kg, N, N m, J)"}};
   }
 
   // The improved mechanism at design x.
   template <class S>
-  Mechanism<S> improved(const std::vector<S>& x) const {
-    S a(m_.cam_offset), rod(m_.rod_length), rate(m_.spring_rate), neutral(m_.spring_neutral);
-    for (size_t i = 0; i < x.size(); ++i) {
-      switch (slots_[i]) {
-        case kCamOffset: a = x[i]; break;
-        case kRodLength: rod = x[i]; break;
-        case kSpringRate: rate = x[i]; break;
-        default: neutral = x[i];
-      }
-    }
-    if (rod_auto_) rod = m_.original_rod_length + a;
-    S s0 = m_.crank_length + neutral;
-    if (m_.springs_carry_weight == 1 && static_cast<mech::Gravity>(m_.gravity) == mech::Gravity::along_stroke &&
-        mech::value(rate) > 0)
-      s0 = s0 - m_.slider_mass * mech::kStandardGravity / rate;
-    return {S(m_.crank_length), a, rod, S(m_.crank_length + m_.original_rod_length), S(m_.rod_mass),
-            S(m_.rod_inertia), S(m_.rod_centre), S(m_.slider_mass), rate, s0, S(m_.crank_speed),
-            static_cast<mech::Gravity>(m_.gravity), true};
+  Mechanism<S> improved(const opt::Values<S>& v) const {
+    const opt::Values<double>& c = values();
+    const S& a = v[R::cam_offset];
+    const S& rate = v[R::spring_rate];
+    const S rod = rod_auto_ ? S(c[R::original_rod_length] + a) : v[R::rod_length];
+    S s0 = c[R::crank_length] + v[R::spring_neutral];
+    if (c[R::springs_carry_weight] == 1 && gravity() == mech::Gravity::along_stroke && mech::value(rate) > 0)
+      s0 = s0 - c[R::slider_mass] * mech::kStandardGravity / rate;
+    return {v[R::crank_length], a, rod, S(c[R::crank_length] + c[R::original_rod_length]), v[R::rod_mass],
+            v[R::rod_inertia], v[R::rod_centre_of_mass], v[R::slider_mass], rate, s0, v[R::crank_speed],
+            gravity(), true};
   }
 
   // The original mechanism: no cam, no springs.
   template <class S>
   Mechanism<S> original() const {
-    const S l1(m_.crank_length);
-    return {l1, S(0.0), S(m_.original_rod_length), S(m_.crank_length + m_.original_rod_length), S(m_.rod_mass),
-            S(m_.rod_inertia), S(m_.rod_centre), S(m_.slider_mass), S(0.0), l1, S(m_.crank_speed),
-            static_cast<mech::Gravity>(m_.gravity), false};
+    const opt::Values<double>& c = values();
+    const S l1(c[R::crank_length]);
+    return {l1, S(0.0), S(c[R::original_rod_length]), S(c[R::crank_length] + c[R::original_rod_length]),
+            S(c[R::rod_mass]), S(c[R::rod_inertia]), S(c[R::rod_centre_of_mass]), S(c[R::slider_mass]), S(0.0), l1,
+            S(c[R::crank_speed]), gravity(), false};
   }
 
   template <class S>
-  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
-    const Mechanism<S> imp = improved(x), orig = original<S>();
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
+    const Mechanism<S> imp = improved(v), orig = original<S>();
     out.put(M::rod_length, imp.rod_length);
     for (const auto* m : {&imp, &orig}) {
       if (const mech::Status st = mech::check(*m); st != mech::Status::ok) {
@@ -265,7 +265,7 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
         return;
       }
     }
-    const int n = m_.cycle_points;
+    const int n = static_cast<int>(values()[R::cycle_points]);
     const CycleGrid<S> gi(imp, n);
     std::optional<CycleGrid<S>> go;  // the original's, when a metric needs it
     auto of = [&](const Mechanism<S>& m) -> const CycleGrid<S>& {
@@ -318,7 +318,7 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    const auto imp = improved(std::vector<double>(x.data(), x.data() + x.size()));
+    const auto imp = improved(values_at(x));
     const auto orig = original<double>();
     if (mech::check(imp) != mech::Status::ok || mech::check(orig) != mech::Status::ok) return {};
     opt::CycleCurves c{{"crank_angle", "balancing_torque", "original_balancing_torque", "support_reaction",
@@ -334,9 +334,9 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
   }
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
-    if (mech::check(improved(std::vector<double>(x.data(), x.data() + x.size()))) != mech::Status::ok) return {};
-    auto model_at = [&](const auto& xs) { return improved(xs); };
-    const int n = m_.cycle_points;
+    if (mech::check(improved(values_at(x))) != mech::Status::ok) return {};
+    auto model_at = [&](const auto& v) { return improved(v); };
+    const int n = static_cast<int>(values()[R::cycle_points]);
     if (metric == M::peak_balancing_torque) return cycle_local_maxima(x, n, model_at, at_angle(absolute(torque)));
     if (metric == M::peak_support_reaction) return cycle_local_maxima(x, n, model_at, at_angle(support));
     if (metric == M::peak_cam_force) return cycle_local_maxima(x, n, model_at, at_angle(absolute(cam)));
@@ -344,25 +344,24 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
   }
 
  private:
-  Model m_;
-  bool rod_auto_;           // L = l2 + a (tracks a variable cam offset)
-  std::vector<int> slots_;  // table row of each variable
+  mech::Gravity gravity() const { return static_cast<mech::Gravity>(values()[R::gravity]); }
+
+  bool rod_auto_;  // L = l2 + a (tracks a variable cam offset)
 };
 
 std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  Model m;
-  opt::read_parameters(root, kTable, m);
-  const bool rod_auto = m.rod_length == 0;
-  if (rod_auto) m.rod_length = m.original_rod_length + m.cam_offset;
-  if (m.spring_rate == 0) m.spring_rate = m.slider_mass * m.crank_speed * m.crank_speed;
-  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
-  return std::make_unique<BalancedSliderCrankProblem>(std::move(m), rod_auto, std::move(vars));
+  opt::Values<double> v = opt::read_values(root, kTable);
+  const bool rod_auto = v[R::rod_length] == 0;
+  if (rod_auto) v[R::rod_length] = v[R::original_rod_length] + v[R::cam_offset];
+  if (v[R::spring_rate] == 0) v[R::spring_rate] = v[R::slider_mass] * v[R::crank_speed] * v[R::crank_speed];
+  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
+  return std::make_unique<BalancedSliderCrankProblem>(std::move(v), rod_auto, std::move(vars));
 }
 
 const Registration kRegistration{
     {"balanced_slider_crank",
      "sawmill-frame slider-crank balanced by a fixed circular cam and springs, against the original (seed 004)",
-     opt::parameters(kTable, Model{}), make}};
+     kTable, make}};
 
 }  // namespace
 }  // namespace problems

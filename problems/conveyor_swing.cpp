@@ -52,117 +52,155 @@ const std::vector<MetricSpec> kMetrics = {
     {M::synthesis_margin, "synthesis_margin", "m"},      // > 0: B', B'' on one side of O1O (synthesis mode)
 };
 
-// The config's values (SI); `mech` is derived from them by derive().
-struct Model {
-  int design = 0;                    // 0 synthesis, 1 free_links
-  double gx = 1.0, gy = 2.2;         // a, b
-  double swing_angle = 32 * std::numbers::pi / 180;  // 2 theta
-  double axis_angle = 0;             // mid-swing axis O1C direction
-  double coupler_offset = 1.0;       // l_CB
-  double l_co1 = 1.2;
-  double crank = 0, coupler = 0, rocker = 0;  // 0 (auto): from the synthesis at l_co1
-  int branch = 0;                    // 0 (auto): from the synthesis; 1: +1; 2: -1
-  double crank_speed = 12, rod_mass_per_length = 200, platform_mass = 3200;
-  double cg_along = 1.2, cg_across = 1.0;
-  double platform_inertia = 0;       // 0 (auto): eq. (11), m3 d^2
-  double friction = 0.01, bearing_diameter = 0.3, platform_weight = 32000;
-  int cycle_points = 48;
-  mech::SwingMechanism<double> mech;
-  bool synthesis() const { return design == 0; }
-  double half_swing() const { return swing_angle / 2; }
+// The model values: the rows of kTable. Link lengths and the branch at 0
+// (auto) come from the synthesis at l_co1 (eqs 2-3).
+struct R {
+  enum Id : int {
+    l_co1,
+    crank_length,
+    coupler_length,
+    rocker_length,
+    design,
+    frame_x,
+    frame_y,
+    swing_angle,
+    axis_angle,
+    coupler_offset,
+    branch,
+    crank_speed,
+    rod_mass_per_length,
+    platform_mass,
+    platform_cg_along,
+    platform_cg_across,
+    platform_inertia,
+    friction_coefficient,
+    bearing_diameter,
+    platform_weight,
+    cycle_points
+  };
 };
 
-
-// The variables first, in the order of the switch in design().
-const opt::ParameterTable<Model> kTable = {
-    {variable("l_co1", Dimension::length, kPositive, "l_CO1, distance of C from O1 along the axis (design: synthesis)",
+const std::vector<opt::Parameter> kTable = opt::table(
+    "conveyor_swing",
+    {
+     {R::l_co1,
+      variable("l_co1", Dimension::length, kPositive, "l_CO1, distance of C from O1 along the axis (design: synthesis)",
               "seed 002 eq. (3)"),
-     MECHOPT_STORED_AT(m.l_co1)},
-    {variable("crank_length", Dimension::length, kPositive, "l1 (design: free_links); auto: the synthesis at l_co1",
+      1.2},
+     {R::crank_length,
+      variable("crank_length", Dimension::length, kPositive, "l1 (design: free_links); auto: the synthesis at l_co1",
               "seed 002 eq. (2)").or_auto(),
-     MECHOPT_STORED_AT(m.crank)},
-    {variable("coupler_length", Dimension::length, kPositive, "l2 (design: free_links); auto: the synthesis at l_co1",
+      0},
+     {R::coupler_length,
+      variable("coupler_length", Dimension::length, kPositive, "l2 (design: free_links); auto: the synthesis at l_co1",
               "seed 002 eq. (2)").or_auto(),
-     MECHOPT_STORED_AT(m.coupler)},
-    {variable("rocker_length", Dimension::length, kPositive, "l3 (design: free_links); auto: hypot(l_co1, coupler_offset)",
+      0},
+     {R::rocker_length,
+      variable("rocker_length", Dimension::length, kPositive, "l3 (design: free_links); auto: hypot(l_co1, coupler_offset)",
               "seed 002 eq. (3)").or_auto(),
-     MECHOPT_STORED_AT(m.rocker)},
-    {choice("design", {"synthesis", "free_links"}, "the paper's family (l1, l2, l3 from l_co1) or free link lengths",
+      0},
+     {R::design,
+      choice("design", {"synthesis", "free_links"}, "the paper's family (l1, l2, l3 from l_co1) or free link lengths",
             "seed 002 eqs (2)-(3)"),
-     MECHOPT_STORED_AT(m.design)},
-    {quantity("frame_x", Dimension::length, kAnyValue, "a: the crank pivot O from O1 (l4 = hypot(a, b); not both 0)",
+      0},
+     {R::frame_x,
+      quantity("frame_x", Dimension::length, kAnyValue, "a: the crank pivot O from O1 (l4 = hypot(a, b); not both 0)",
               "seed 002 eq. (1)"),
-     MECHOPT_STORED_AT(m.gx)},
-    {quantity("frame_y", Dimension::length, kAnyValue, "b: the crank pivot O from O1", "seed 002 eq. (1)"),
-     MECHOPT_STORED_AT(m.gy)},
-    {quantity("swing_angle", Dimension::angle, {0, std::numbers::pi, true, true}, "2 theta, the rocker's swing (synthesis)",
+      1.0},
+     {R::frame_y,
+      quantity("frame_y", Dimension::length, kAnyValue, "b: the crank pivot O from O1", "seed 002 eq. (1)"),
+      2.2},
+     {R::swing_angle,
+      quantity("swing_angle", Dimension::angle, {0, std::numbers::pi, true, true}, "2 theta, the rocker's swing (synthesis)",
               "seed 002 eq. (2)"),
-     MECHOPT_STORED_AT(m.swing_angle)},
-    {quantity("axis_angle", Dimension::angle, kAnyValue, "direction of the mid-swing axis O1C (parallel to a)", ""),
-     MECHOPT_STORED_AT(m.axis_angle)},
-    {quantity("coupler_offset", Dimension::length, kAnyValue, "l_CB: B off the axis toward O; l3 = hypot(l_CO1, l_CB)",
+      32 * std::numbers::pi / 180},
+     {R::axis_angle,
+      quantity("axis_angle", Dimension::angle, kAnyValue, "direction of the mid-swing axis O1C (parallel to a)", ""),
+      0},
+     {R::coupler_offset,
+      quantity("coupler_offset", Dimension::length, kAnyValue, "l_CB: B off the axis toward O; l3 = hypot(l_CO1, l_CB)",
               "seed 002 eq. (3)"),
-     MECHOPT_STORED_AT(m.coupler_offset)},
-    {choice("branch", {"auto", "1", "-1"}, "assembly branch: B left or right of the line O1-A; auto: the synthesis'", ""),
-     MECHOPT_STORED_AT(m.branch)},
-    {quantity("crank_speed", Dimension::angular_speed, kPositive, "w1, constant", "seed 002 (w1 = 12 rad/s)"),
-     MECHOPT_STORED_AT(m.crank_speed)},
-    {quantity("rod_mass_per_length", Dimension::linear_density, kNonNegative, "m_n of crank and coupler", "seed 002 eq. (10)"),
-     MECHOPT_STORED_AT(m.rod_mass_per_length)},
-    {quantity("platform_mass", Dimension::mass, kNonNegative, "m3", "seed 002 eq. (11)"),
-     MECHOPT_STORED_AT(m.platform_mass)},
-    {quantity("platform_cg_along", Dimension::length, kAnyValue, "d: the platform's centre of mass from O1, along the axis",
+      1.0},
+     {R::branch,
+      choice("branch", {"auto", "1", "-1"}, "assembly branch: B left or right of the line O1-A; auto: the synthesis'", ""),
+      0},
+     {R::crank_speed,
+      quantity("crank_speed", Dimension::angular_speed, kPositive, "w1, constant", "seed 002 (w1 = 12 rad/s)"),
+      12},
+     {R::rod_mass_per_length,
+      quantity("rod_mass_per_length", Dimension::linear_density, kNonNegative, "m_n of crank and coupler", "seed 002 eq. (10)"),
+      200},
+     {R::platform_mass,
+      quantity("platform_mass", Dimension::mass, kNonNegative, "m3", "seed 002 eq. (11)"),
+      3200},
+     {R::platform_cg_along,
+      quantity("platform_cg_along", Dimension::length, kAnyValue, "d: the platform's centre of mass from O1, along the axis",
               "seed 002 eq. (11)"),
-     MECHOPT_STORED_AT(m.cg_along)},
-    {quantity("platform_cg_across", Dimension::length, kAnyValue, "c: the platform's centre of mass, across the axis",
+      1.2},
+     {R::platform_cg_across,
+      quantity("platform_cg_across", Dimension::length, kAnyValue, "c: the platform's centre of mass, across the axis",
               "seed 002 eq. (11)"),
-     MECHOPT_STORED_AT(m.cg_across)},
-    {quantity("platform_inertia", Dimension::inertia, kPositive, "J_s3 about the centre of mass; auto: m3 d^2",
+      1.0},
+     {R::platform_inertia,
+      quantity("platform_inertia", Dimension::inertia, kPositive, "J_s3 about the centre of mass; auto: m3 d^2",
               "seed 002 eq. (11)").or_auto(),
-     MECHOPT_STORED_AT(m.platform_inertia)},
-    {quantity("friction_coefficient", Dimension::dimensionless, kNonNegative, "f of M_c = f G D / 2", "seed 002 eq. (7)"),
-     MECHOPT_STORED_AT(m.friction)},
-    {quantity("bearing_diameter", Dimension::length, kNonNegative, "D of M_c = f G D / 2", "seed 002 eq. (7)"),
-     MECHOPT_STORED_AT(m.bearing_diameter)},
-    {quantity("platform_weight", Dimension::force, kNonNegative, "G of M_c = f G D / 2", "seed 002 eq. (7)"),
-     MECHOPT_STORED_AT(m.platform_weight)},
-    {whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for maxima and kinks", ""),
-     MECHOPT_STORED_AT(m.cycle_points)},
+      0},
+     {R::friction_coefficient,
+      quantity("friction_coefficient", Dimension::dimensionless, kNonNegative, "f of M_c = f G D / 2", "seed 002 eq. (7)"),
+      0.01},
+     {R::bearing_diameter,
+      quantity("bearing_diameter", Dimension::length, kNonNegative, "D of M_c = f G D / 2", "seed 002 eq. (7)"),
+      0.3},
+     {R::platform_weight,
+      quantity("platform_weight", Dimension::force, kNonNegative, "G of M_c = f G D / 2", "seed 002 eq. (7)"),
+      32000},
+     {R::cycle_points,
+      whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for maxima and kinks", ""),
+      48}
+    });
+
+bool synthesis(const opt::Values<double>& v) { return v[R::design] == 0; }
+
+// The synthesis at l_co1 (eqs 2-3) from the values v, any scalar.
+template <class S>
+mech::Synthesis<S> synthesized(const opt::Values<double>& c, const opt::Values<S>& v) {
+  return mech::synthesize_crank_rocker<S>(v[R::frame_x], v[R::frame_y], v[R::l_co1], v[R::coupler_offset],
+                                          c[R::axis_angle], S(c[R::swing_angle] / 2));
+}
+
+// What the config's values fix beyond the lengths: the assembly branch (the
+// synthesis' when auto), the platform's inertia (11) and centre-of-mass
+// radius, and the friction moment (7).
+struct Fixed {
+  int branch;
+  double platform_inertia, platform_cg_radius, friction_moment;
 };
 
-// The mechanism from the config's values: the synthesis at l_co1 gives the
-// link lengths and branch left at auto (eqs 2-3); inertia (11) and the
-// friction moment (7).
-void derive(Model& m) {
-  const auto syn = mech::synthesize_crank_rocker<double>(m.gx, m.gy, m.l_co1, m.coupler_offset,
-                                                         m.axis_angle, m.half_swing());
-  mech::FourBar<double> k = syn.linkage;
-  if (m.crank > 0) k.crank = m.crank;
-  if (m.coupler > 0) k.coupler = m.coupler;
-  if (m.rocker > 0) k.rocker = m.rocker;
-  if (m.branch != 0) k.branch = m.branch == 1 ? 1 : -1;
-  m.crank = k.crank, m.coupler = k.coupler, m.rocker = k.rocker;
-  const double inertia = m.platform_inertia > 0 ? m.platform_inertia : m.platform_mass * m.cg_along * m.cg_along;
-  m.mech = {k, m.crank_speed, m.rod_mass_per_length, m.platform_mass, inertia,
-            std::hypot(m.cg_along, m.cg_across), m.friction * m.platform_weight * m.bearing_diameter / 2};
+Fixed fixed(const opt::Values<double>& v) {
+  const int auto_branch = synthesized(v, v).linkage.branch;
+  const double d = v[R::platform_cg_along];
+  return {v[R::branch] == 0 ? auto_branch : v[R::branch] == 1 ? 1 : -1,
+          v[R::platform_inertia] > 0 ? v[R::platform_inertia] : v[R::platform_mass] * d * d,
+          std::hypot(d, v[R::platform_cg_across]),
+          v[R::friction_coefficient] * v[R::platform_weight] * v[R::bearing_diameter] / 2};
 }
 
 class ConveyorSwing : public ModelProblem<ConveyorSwing> {
  public:
-  ConveyorSwing(Model model, std::vector<opt::Variable> vars)
-      : ModelProblem("conveyor_swing", kMetrics, std::move(vars)), model_(std::move(model)),
-        slots_(opt::variable_rows(kTable, variables())) {}
+  ConveyorSwing(opt::Values<double> values, std::vector<opt::Variable> vars)
+      : ModelProblem("conveyor_swing", kMetrics, kTable, std::move(values), std::move(vars)),
+        fixed_(fixed(this->values())) {}
 
   std::vector<opt::Constraint> implicit_constraints() const override {
     std::vector<opt::Constraint> c = {{"rotation_margin", false, kMinMargin}};
-    if (model_.synthesis()) c.push_back({"synthesis_margin", false, kMinMargin});
+    if (synthesis(values())) c.push_back({"synthesis_margin", false, kMinMargin});
     return c;
   }
 
   nlohmann::json settings() const override {
-    const auto& m = model_.mech;
-    nlohmann::json model = opt::parameters_json(opt::parameters(kTable, model_));
-    model["derived"] = {{"branch", m.linkage.branch}, {"platform_inertia", m.platform_inertia},
+    const Fixed& m = fixed_;
+    nlohmann::json model = model_json();
+    model["derived"] = {{"branch", m.branch}, {"platform_inertia", m.platform_inertia},
                         {"platform_cg_radius", m.platform_cg_radius}, {"friction_moment", m.friction_moment}};
     return {{"model", model},
             {"assumptions",
@@ -170,7 +208,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
               "crank turns at constant speed: its own inertia costs no moment",
               "platform inertia about O1 = J_s3 + m3 |O1S3|^2 (parallel axes)"}},
             {"numerics",
-             {{"cycle_points", model_.cycle_points},
+             {{"cycle_points", cycle_points()},
               {"means", "Gauss-Legendre between kinks (zeros of M, rocker reversals)"},
               {"maximum", "every grid local maximum refined by Brent on the autodiff angle derivative"},
               {"max_gradient", "Danskin: gradient at the maximising angle"}}},
@@ -178,11 +216,11 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   template <class S>
-  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
     using std::abs;
-    const Design<S> d = design(x);
+    const Design<S> d = design(v);
     const auto& k = d.mech.linkage;
-    if (model_.synthesis()) out.put(M::synthesis_margin, d.synthesis_margin);
+    if (synthesis(values())) out.put(M::synthesis_margin, d.synthesis_margin);
     out.put(M::crank_length, k.crank);
     out.put(M::coupler_length, k.coupler);
     out.put(M::rocker_length, k.rocker);
@@ -198,7 +236,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     out.put(M::time_ratio, mech::time_ratio(dc));
     if (!out.want_any(M::peak_crank_torque, M::mean_abs_crank_torque, M::rms_crank_torque, M::max_pressure_angle)) return;
     const bool means = out.want_any(M::mean_abs_crank_torque, M::rms_crank_torque);
-    const auto r = mech::swing_metrics(d.mech, model_.cycle_points, means);
+    const auto r = mech::swing_metrics(d.mech, cycle_points(), means);
     out.put(M::peak_crank_torque, r.peak_moment);
     if (means) {
       out.put(M::mean_abs_crank_torque, r.mean_abs_moment);
@@ -208,7 +246,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    const Design<double> d = design(std::vector<double>(x.data(), x.data() + x.size()));
+    const Design<double> d = design(values_at(x));
     if (d.status() != mech::Status::ok) return {};
     opt::CycleCurves c{{"crank_angle", "balancing_moment", "inertia_moment", "friction_moment",
                         "pressure_angle", "rocker_angle"},
@@ -223,10 +261,10 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   }
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
-    const Design<double> d = design(std::vector<double>(x.data(), x.data() + x.size()));
+    const Design<double> d = design(values_at(x));
     if (d.status() != mech::Status::ok) return {};
-    auto model_at = [&](const auto& xs) { return design(xs).mech; };
-    const int n = mech::swing_grid_points(mech::toggle_poles(d.mech.linkage), model_.cycle_points);  // swing_metrics' grid
+    auto model_at = [&](const auto& v) { return design(v).mech; };
+    const int n = mech::swing_grid_points(mech::toggle_poles(d.mech.linkage), cycle_points());  // swing_metrics' grid
     if (metric == M::peak_crank_torque)
       return cycle_local_maxima(x, n, model_at, [](const auto& m, const auto& phi) {
         using std::abs;
@@ -254,21 +292,18 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
   };
 
   template <class S>
-  Design<S> design(const std::vector<S>& x) const {
-    Design<S> d{model_.mech.template cast<S>()};
-    S l_co1(model_.l_co1);
-    for (size_t i = 0; i < x.size(); ++i) {
-      switch (slots_[i]) {  // rows of kTable
-        case 0: l_co1 = x[i]; break;
-        case 1: d.mech.linkage.crank = x[i]; break;
-        case 2: d.mech.linkage.coupler = x[i]; break;
-        default: d.mech.linkage.rocker = x[i];
-      }
-    }
-    if (model_.synthesis()) {
-      const auto syn = mech::synthesize_crank_rocker<S>(S(model_.gx), S(model_.gy), l_co1,
-                                                        S(model_.coupler_offset), model_.axis_angle,
-                                                        S(model_.half_swing()));
+  Design<S> design(const opt::Values<S>& v) const {
+    const Fixed& m = fixed_;
+    Design<S> d{{{v[R::crank_length], v[R::coupler_length], v[R::rocker_length], v[R::frame_x], v[R::frame_y],
+                  m.branch},
+                 v[R::crank_speed],
+                 v[R::rod_mass_per_length],
+                 v[R::platform_mass],
+                 S(m.platform_inertia),
+                 S(m.platform_cg_radius),
+                 S(m.friction_moment)}};
+    if (synthesis(values())) {
+      const auto syn = synthesized(values(), v);
       d.mech.linkage = syn.linkage;
       d.synthesis_ok = syn.ok;
       d.synthesis_margin = syn.side_margin;
@@ -283,32 +318,36 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     return (l[1] + l[2]) - (l[0] + l[3]);
   }
 
-  Model model_;
-  std::vector<int> slots_;  // table row of each variable
+  int cycle_points() const { return static_cast<int>(values()[R::cycle_points]); }
+
+  Fixed fixed_;
 };
 
 }  // namespace
 
 std::unique_ptr<opt::Problem> make_conveyor_swing(const opt::ConfigNode& root) {
-  Model m;
-  opt::read_parameters(root, kTable, m);
-  if (!(std::hypot(m.gx, m.gy) > 0))
+  opt::Values<double> v = opt::read_values(root, kTable);
+  if (!(std::hypot(v[R::frame_x], v[R::frame_y]) > 0))
     root.at("model").fail("frame_x and frame_y place the crank pivot on the rocker pivot");
-  derive(m);
-  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
-  for (const auto& v : vars) {
-    const bool synthesis_var = v.name == "l_co1";
-    if (synthesis_var != m.synthesis())
-      root.at("variables").at(v.name).fail(
-          std::string("variable '") + v.name + "' belongs to design: " +
+  // The link lengths left at auto: the synthesis'.
+  const mech::FourBar<double> syn = synthesized(v, v).linkage;
+  for (auto [row, length] : {std::pair{R::crank_length, syn.crank}, {R::coupler_length, syn.coupler},
+                             {R::rocker_length, syn.rocker}})
+    if (!(v[row] > 0)) v[row] = length;
+  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
+  for (const auto& var : vars) {
+    const bool synthesis_var = var.name == "l_co1";
+    if (synthesis_var != synthesis(v))
+      root.at("variables").at(var.name).fail(
+          std::string("variable '") + var.name + "' belongs to design: " +
           (synthesis_var ? "synthesis" : "free_links") + ", but the model has design: " +
-          (m.synthesis() ? "synthesis" : "free_links"));
+          (synthesis(v) ? "synthesis" : "free_links"));
   }
-  return std::make_unique<ConveyorSwing>(std::move(m), std::move(vars));
+  return std::make_unique<ConveyorSwing>(std::move(v), std::move(vars));
 }
 
 const Registration kRegistration{
     {"conveyor_swing", "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)",
-     opt::parameters(kTable, Model{}), make_conveyor_swing}};
+     kTable, make_conveyor_swing}};
 
 }  // namespace problems

@@ -21,92 +21,109 @@ struct Preset {
 };
 constexpr Preset kPresets[] = {{0.200, 0.500, 0.290, 1.156}, {0.200, 0.550, 0.275, 1.050}};
 
-struct Model {
-  double r = 0, l_sh = 0, l = 0, l_p = 0;  // 0 (auto): the press's (Table 7.1)
-  double stroke = 0;                       // 0 (auto): the pusher arm is free; else l = S l_p / (2 r)
-  int press = 0;                           // SM-816, MS-152
-  double depth = 0.020, pressure_factor = 0.035e6, brick_area = 0.03, exponent = 1.4;
-  int bricks = 4;
-  int depth_unit = 0;  // cm, mm
-  int euler = 0;       // exact, 2.72
-  double tabulated_angle = 120 * std::numbers::pi / 180, crank_speed = 20.7;
-  double efficiency = 0.8, overload_factor = 1.5, overload_factor_max = 1.8;
-  int pressing_end = 0, lever = 0, lever_pivot = 0, force = 1;
-  int stroke_points = 64;
-
-  // b [1/m]: 1.4 per depth unit, and e^(b d) as 2.72^(b d) with `euler: 2.72`.
-  double exponent_per_m() const {
-    return exponent / (depth_unit == 0 ? 0.01 : 0.001) * (euler == 0 ? 1.0 : std::log(2.72));
-  }
+// The model values: the rows of kTable. Lengths at 0 (auto) are the press's
+// (Table 7.1); a stroke held (not 0) makes the pusher arm follow it.
+struct R {
+  enum Id : int { crank_radius, rod_length, pusher_arm, lever_arm, stroke, press, depth, pressure_factor, pressure_exponent, depth_unit, euler, bricks, brick_area, tabulated_angle, crank_speed, efficiency, overload_factor, overload_factor_max, pressing_end, lever, lever_pivot, force, stroke_points };
 };
 
-// The variables first, in the order of the lengths in press() below.
-const opt::ParameterTable<Model> kTable = {
-    {variable("crank_radius", Dimension::length, kPositive, "r; auto: the press's", "seed 003 Table 7.1").or_auto(),
-     MECHOPT_STORED_AT(m.r)},
-    {variable("rod_length", Dimension::length, kPositive, "l_sh, connecting rod; auto: the press's",
+const std::vector<opt::Parameter> kTable = opt::table(
+    "crank_press",
+    {
+    {R::crank_radius,
+     variable("crank_radius", Dimension::length, kPositive, "r; auto: the press's", "seed 003 Table 7.1").or_auto(),
+     0},
+    {R::rod_length,
+     variable("rod_length", Dimension::length, kPositive, "l_sh, connecting rod; auto: the press's",
               "seed 003 eq. (7.5)").or_auto(),
-     MECHOPT_STORED_AT(m.l_sh)},
-    {variable("pusher_arm", Dimension::length, kPositive,
+     0},
+    {R::pusher_arm,
+     variable("pusher_arm", Dimension::length, kPositive,
               "l, lever pivot to the piston pusher; auto: the press's, or S l_p / (2 r) with a stroke",
               "seed 003 eq. (7.3)").or_auto(),
-     MECHOPT_STORED_AT(m.l)},
-    {variable("lever_arm", Dimension::length, kPositive, "l_p, lever pivot to the rod joint; auto: the press's",
+     0},
+    {R::lever_arm,
+     variable("lever_arm", Dimension::length, kPositive, "l_p, lever pivot to the rod joint; auto: the press's",
               "seed 003 eq. (7.3)").or_auto(),
-     MECHOPT_STORED_AT(m.l_p)},
-    {quantity("stroke", Dimension::length, kPositive,
+     0},
+    {R::stroke,
+     quantity("stroke", Dimension::length, kPositive,
               "piston stroke held: the pusher arm follows, l = S l_p / (2 r); auto: not held", "S = 2 r l / l_p")
          .or_auto(),
-     MECHOPT_STORED_AT(m.stroke)},
-    {choice("press", {"SM-816", "MS-152"}, "the press of Table 7.1 giving the lengths left at auto", "seed 003 Table 7.1"),
-     MECHOPT_STORED_AT(m.press)},
-    {quantity("depth", Dimension::length, kPositive, "h, compaction depth at the end of the stroke",
+     0},
+    {R::press,
+     choice("press", {"SM-816", "MS-152"}, "the press of Table 7.1 giving the lengths left at auto", "seed 003 Table 7.1"),
+     0},
+    {R::depth,
+     quantity("depth", Dimension::length, kPositive, "h, compaction depth at the end of the stroke",
               "seed 003 eq. (7.2), Table 7.2"),
-     MECHOPT_STORED_AT(m.depth)},
-    {quantity("pressure_factor", Dimension::pressure, kPositive, "a of p = a e^(b h)", "seed 003 eq. (7.2), Table 7.2"),
-     MECHOPT_STORED_AT(m.pressure_factor)},
-    {quantity("pressure_exponent", Dimension::dimensionless, kNonNegative, "b of p = a e^(b h), per depth_unit",
+     0.020},
+    {R::pressure_factor,
+     quantity("pressure_factor", Dimension::pressure, kPositive, "a of p = a e^(b h)", "seed 003 eq. (7.2), Table 7.2"),
+     0.035e6},
+    {R::pressure_exponent,
+     quantity("pressure_exponent", Dimension::dimensionless, kNonNegative, "b of p = a e^(b h), per depth_unit",
               "seed 003 eq. (7.2)"),
-     MECHOPT_STORED_AT(m.exponent)},
-    {choice("depth_unit", {"cm", "mm"}, "unit of h in e^(b h); mm as printed gives 1e10-1e28 MPa",
+     1.4},
+    {R::depth_unit,
+     choice("depth_unit", {"cm", "mm"}, "unit of h in e^(b h); mm as printed gives 1e10-1e28 MPa",
             "seed 003 eq. (7.2)"),
-     MECHOPT_STORED_AT(m.depth_unit)},
-    {choice("euler", {"exact", "2.72"}, "the base of e^(b h): e, or the guide's 2.72", "seed 003 eq. (7.2)"),
-     MECHOPT_STORED_AT(m.euler)},
-    {whole("bricks", {1, 1000, false, false}, "m, bricks pressed at once", "seed 003 eq. (7.1), Table 7.2"),
-     MECHOPT_STORED_AT(m.bricks)},
-    {quantity("brick_area", Dimension::dimensionless, kPositive, "F, pressed face of one brick, in m^2 (a plain number)",
+     0},
+    {R::euler,
+     choice("euler", {"exact", "2.72"}, "the base of e^(b h): e, or the guide's 2.72", "seed 003 eq. (7.2)"),
+     0},
+    {R::bricks,
+     whole("bricks", {1, 1000, false, false}, "m, bricks pressed at once", "seed 003 eq. (7.1), Table 7.2"),
+     4},
+    {R::brick_area,
+     quantity("brick_area", Dimension::dimensionless, kPositive, "F, pressed face of one brick, in m^2 (a plain number)",
               "seed 003 eq. (7.1)"),
-     MECHOPT_STORED_AT(m.brick_area)},
-    {quantity("tabulated_angle", Dimension::angle, {0, std::numbers::pi, true, true},
+     0.03},
+    {R::tabulated_angle,
+     quantity("tabulated_angle", Dimension::angle, {0, std::numbers::pi, true, true},
               "phi of Table 7.2, where the guide takes the torque", "seed 003 eq. (7.5), Table 7.2"),
-     MECHOPT_STORED_AT(m.tabulated_angle)},
-    {quantity("crank_speed", Dimension::angular_speed, kPositive, "omega", "seed 003 eq. (7.8), Table 7.2"),
-     MECHOPT_STORED_AT(m.crank_speed)},
-    {quantity("efficiency", Dimension::dimensionless, {0, 1, true, false}, "eta of the drive", "seed 003 eq. (7.8)"),
-     MECHOPT_STORED_AT(m.efficiency)},
-    {quantity("overload_factor", Dimension::dimensionless, kPositive,
+     120 * std::numbers::pi / 180},
+    {R::crank_speed,
+     quantity("crank_speed", Dimension::angular_speed, kPositive, "omega", "seed 003 eq. (7.8), Table 7.2"),
+     20.7},
+    {R::efficiency,
+     quantity("efficiency", Dimension::dimensionless, {0, 1, true, false}, "eta of the drive", "seed 003 eq. (7.8)"),
+     0.8},
+    {R::overload_factor,
+     quantity("overload_factor", Dimension::dimensionless, kPositive,
               "motor overload factor (\"b\" of 7.8), low end of 1.5-1.8: the larger motor", "seed 003 eq. (7.8)"),
-     MECHOPT_STORED_AT(m.overload_factor)},
-    {quantity("overload_factor_max", Dimension::dimensionless, kPositive, "motor overload factor, high end",
+     1.5},
+    {R::overload_factor_max,
+     quantity("overload_factor_max", Dimension::dimensionless, kPositive, "motor overload factor, high end",
               "seed 003 eq. (7.8)"),
-     MECHOPT_STORED_AT(m.overload_factor_max)},
-    {choice("pressing_end", {"inner", "outer"},
+     1.8},
+    {R::pressing_end,
+     choice("pressing_end", {"inner", "outer"},
             "dead centre ending the pressing: inner (the rod pulls, the sign of 7.6) or outer", "seed 003 eq. (7.6)"),
-     MECHOPT_STORED_AT(m.pressing_end)},
-    {choice("lever", {"slider", "four_bar"}, "rod end on a line (7.3)-(7.6), or on the lever's arc", "seed 003 eq. (7.3)"),
-     MECHOPT_STORED_AT(m.lever)},
-    {choice("lever_pivot", {"none", "same_side", "opposite_side"},
+     0},
+    {R::lever,
+     choice("lever", {"slider", "four_bar"}, "rod end on a line (7.3)-(7.6), or on the lever's arc", "seed 003 eq. (7.3)"),
+     0},
+    {R::lever_pivot,
+     choice("lever_pivot", {"none", "same_side", "opposite_side"},
             "four_bar (required): the lever pivot on the crank pin's side of the dead-centre line, or opposite", ""),
-     MECHOPT_STORED_AT(m.lever_pivot)},
-    {choice("force", {"constant", "pressure_law"},
+     0},
+    {R::force,
+     choice("force", {"constant", "pressure_law"},
             "the final pressure over the whole compaction (the guide), or (7.2) at the current depth",
             "seed 003 eqs (7.1)-(7.2)")
          .fidelity({"constant", "pressure_law"}),
-     MECHOPT_STORED_AT(m.force)},
-    {whole("stroke_points", {4, 100000, false, false}, "grid cells over the pressing stroke for the peak torque", ""),
-     MECHOPT_STORED_AT(m.stroke_points)},
-};
+     1},
+    {R::stroke_points,
+     whole("stroke_points", {4, 100000, false, false}, "grid cells over the pressing stroke for the peak torque", ""),
+     64}
+    });
+
+// b [1/m]: 1.4 per depth unit, and e^(b d) as 2.72^(b d) with `euler: 2.72`.
+double exponent_per_m(const opt::Values<double>& v) {
+  return v[R::pressure_exponent] / (v[R::depth_unit] == 0 ? 0.01 : 0.001) *
+         (v[R::euler] == 0 ? 1.0 : std::log(2.72));
+}
 
 // The metrics, in the order of kMetrics (their MetricIds).
 struct M {
@@ -149,14 +166,14 @@ const std::vector<MetricSpec> kMetrics = {
 
 class CrankPressProblem : public ModelProblem<CrankPressProblem> {
  public:
-  CrankPressProblem(Model m, std::vector<opt::Variable> vars)
-      : ModelProblem("crank_press", kMetrics, std::move(vars)), m_(std::move(m)),
-        slots_(opt::variable_rows(kTable, variables())) {}
+  CrankPressProblem(opt::Values<double> values, std::vector<opt::Variable> vars)
+      : ModelProblem("crank_press", kMetrics, kTable, std::move(values), std::move(vars)) {}
 
   nlohmann::json settings() const override {
-    nlohmann::json model = opt::parameters_json(opt::parameters(kTable, m_));
-    const double p = m_.pressure_factor * std::exp(m_.exponent_per_m() * m_.depth);
-    model["derived"] = {{"pressure_exponent_per_m", m_.exponent_per_m()}, {"max_pressure", p}};
+    const opt::Values<double>& v = values();
+    nlohmann::json model = model_json();
+    const double p = v[R::pressure_factor] * std::exp(exponent_per_m(v) * v[R::depth]);
+    model["derived"] = {{"pressure_exponent_per_m", exponent_per_m(v)}, {"max_pressure", p}};
     nlohmann::json warnings = nlohmann::json::array();
     if (!(p >= 6e6 && p <= 40e6))
       warnings.push_back("p_out_of_law_range: p = " + std::to_string(p / 1e6) +
@@ -173,10 +190,10 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
   }
 
   template <class S>
-  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
     using std::asin;
     using std::exp;
-    const mech::CrankPress<S> k = press(x);
+    const mech::CrankPress<S> k = press(v);
     if (const mech::Status st = mech::check(k); st != mech::Status::ok) {
       out.result.status = st;
       if (st == mech::Status::invalid_parameter && mech::value(k.h) >= mech::value(mech::press_stroke(k)))
@@ -191,16 +208,17 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
     const S q = k.area * k.a * exp(k.b * k.h);  // (7.1)-(7.2) at h
     out.put(M::max_pressure, S(k.a * exp(k.b * k.h)));
     out.put(M::max_pressing_force, q);
-    const double drive = m_.crank_speed / m_.efficiency;  // (7.8) N = M w / (eta k)
-    const S guide = q * mech::piston_motion(k, S(m_.tabulated_angle)).ds;
+    const opt::Values<double>& c = values();
+    const double drive = c[R::crank_speed] / c[R::efficiency];  // (7.8) N = M w / (eta k)
+    const S guide = q * mech::piston_motion(k, S(c[R::tabulated_angle])).ds;
     out.put(M::tabulated_crank_torque, guide);
-    out.put(M::tabulated_drive_power, S(guide * (drive / m_.overload_factor)));
+    out.put(M::tabulated_drive_power, S(guide * (drive / c[R::overload_factor])));
     if (!out.want_any(M::peak_crank_torque, M::peak_torque_angle, M::compaction_start_angle, M::mean_pressing_torque,
                       M::peak_drive_power, M::peak_drive_power_max_overload))
       return;
     const auto kd = k.template cast<double>();
     const double phi_c = mech::compaction_start(kd);
-    const double phi_peak = mech::peak_torque_angle(kd, phi_c, m_.stroke_points);
+    const double phi_peak = mech::peak_torque_angle(kd, phi_c, static_cast<int>(c[R::stroke_points]));
     const S phi_cs = mech::compaction_start(k, phi_c);
     // Danskin: the peak's gradient at its fixed angle, or with phi_c's motion
     // when the peak is at the compaction start.
@@ -210,15 +228,15 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
       out.put(M::peak_torque_angle, phi_peak == phi_c ? phi_cs : mech::peak_angle(k, phi_peak));
     out.put(M::compaction_start_angle, phi_cs);
     if (out.want(M::mean_pressing_torque)) out.put(M::mean_pressing_torque, mech::mean_pressing_torque(k, phi_cs));
-    out.put(M::peak_drive_power, S(peak * (drive / m_.overload_factor)));
-    out.put(M::peak_drive_power_max_overload, S(peak * (drive / m_.overload_factor_max)));
+    out.put(M::peak_drive_power, S(peak * (drive / c[R::overload_factor])));
+    out.put(M::peak_drive_power_max_overload, S(peak * (drive / c[R::overload_factor_max])));
   }
 
   // The crankshaft torque over the working half-turn [0, pi] under both
   // force laws (zero while the piston is free, phi < phi_c), the configured
   // one the chart's primary, and the piston travel.
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    mech::CrankPress<double> k = press(std::vector<double>(x.data(), x.data() + x.size()));
+    mech::CrankPress<double> k = press(values_at(x));
     if (mech::check(k) != mech::Status::ok) return {};
     const double phi_c = mech::compaction_start(k);
     opt::CycleCurves c{{"crank_angle", "torque_constant_force", "torque_pressure_law", "piston_travel"},
@@ -238,43 +256,40 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
 
  private:
   template <class S>
-  mech::CrankPress<S> press(const std::vector<S>& x) const {
-    S len[4] = {S(m_.r), S(m_.l_sh), S(m_.l), S(m_.l_p)};  // rows 0-3 of kTable
-    for (size_t i = 0; i < x.size(); ++i) len[slots_[i]] = x[i];
-    if (m_.stroke > 0) len[2] = m_.stroke * len[3] / (2.0 * len[0]);
-    return {len[0], len[1], len[2], len[3], S(m_.depth), S(m_.pressure_factor), S(m_.exponent_per_m()),
-            S(m_.bricks * m_.brick_area), static_cast<mech::PressingEnd>(m_.pressing_end),
-            static_cast<mech::PressLever>(m_.lever),
-            m_.lever_pivot == 2 ? mech::LeverPivot::opposite_side : mech::LeverPivot::same_side,
-            static_cast<mech::PressForce>(m_.force)};
+  mech::CrankPress<S> press(const opt::Values<S>& v) const {
+    const opt::Values<double>& c = values();
+    const S l = c[R::stroke] > 0 ? S(c[R::stroke] * v[R::lever_arm] / (2.0 * v[R::crank_radius])) : v[R::pusher_arm];
+    return {v[R::crank_radius], v[R::rod_length], l, v[R::lever_arm], v[R::depth], v[R::pressure_factor],
+            S(exponent_per_m(c)), S(c[R::bricks] * c[R::brick_area]),
+            static_cast<mech::PressingEnd>(c[R::pressing_end]), static_cast<mech::PressLever>(c[R::lever]),
+            c[R::lever_pivot] == 2 ? mech::LeverPivot::opposite_side : mech::LeverPivot::same_side,
+            static_cast<mech::PressForce>(c[R::force])};
   }
-
-  Model m_;
-  std::vector<int> slots_;  // table row of each variable
 };
 
 std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  Model m;
-  opt::read_parameters(root, kTable, m);
+  opt::Values<double> v = opt::read_values(root, kTable);
   const opt::ConfigNode model = root.has("model") ? root.at("model") : root;
-  if ((m.lever == 1) != (m.lever_pivot != 0))
-    model.fail(m.lever == 1 ? "lever: four_bar needs lever_pivot: same_side or opposite_side"
-                            : "lever_pivot goes with lever: four_bar");
-  if (m.stroke > 0 && m.l > 0) model.fail("pusher_arm follows the stroke held (l = S l_p / (2 r)): give one of them");
-  const Preset& p = kPresets[m.press];
-  for (auto [v, preset] : {std::pair{&m.r, p.r}, {&m.l_sh, p.l_sh}, {&m.l_p, p.l_p}, {&m.l, p.l}})
-    if (*v == 0) *v = preset;
-  if (m.stroke > 0) m.l = m.stroke * m.l_p / (2 * m.r);
-  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
-  for (const auto& v : vars)
-    if (v.name == "pusher_arm" && m.stroke > 0)
-      root.at("variables").at(v.name).fail("the pusher arm follows the stroke held (l = S l_p / (2 r))");
-  return std::make_unique<CrankPressProblem>(std::move(m), std::move(vars));
+  if ((v[R::lever] == 1) != (v[R::lever_pivot] != 0))
+    model.fail(v[R::lever] == 1 ? "lever: four_bar needs lever_pivot: same_side or opposite_side"
+                                : "lever_pivot goes with lever: four_bar");
+  if (v[R::stroke] > 0 && v[R::pusher_arm] > 0)
+    model.fail("pusher_arm follows the stroke held (l = S l_p / (2 r)): give one of them");
+  const Preset& p = kPresets[static_cast<int>(v[R::press])];
+  for (auto [row, preset] : {std::pair{R::crank_radius, p.r}, {R::rod_length, p.l_sh}, {R::lever_arm, p.l_p},
+                             {R::pusher_arm, p.l}})
+    if (v[row] == 0) v[row] = preset;
+  if (v[R::stroke] > 0) v[R::pusher_arm] = v[R::stroke] * v[R::lever_arm] / (2 * v[R::crank_radius]);
+  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
+  for (const auto& var : vars)
+    if (var.name == "pusher_arm" && v[R::stroke] > 0)
+      root.at("variables").at(var.name).fail("the pusher arm follows the stroke held (l = S l_p / (2 r))");
+  return std::make_unique<CrankPressProblem>(std::move(v), std::move(vars));
 }
 
 const Registration kRegistration{
     {"crank_press", "crank-lever brick press: pressing force, crankshaft torque and drive power (seed 003)",
-     opt::parameters(kTable, Model{}), make}};
+     kTable, make}};
 
 }  // namespace
 }  // namespace problems

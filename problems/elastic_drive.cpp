@@ -56,131 +56,247 @@ const std::vector<MetricSpec> kMetrics = {
     {M::time_to_steady, "time_to_steady", "s"},          // start-up: every revolution's peak within 1% after it
 };
 
-struct Model {
-  mech::ElasticDrive drive;
-  mech::OdeOptions ode;
-  bool motor_side = false;   // report coupling torques on the motor shaft (crank / (u eta))
-  double start_speed = 0;    // crank speed at the start [rad/s]; 0: from rest
-  double warmup = 0;         // start-up seconds whose end is the first guess (0: rigid estimate)
-  double startup_time = 5.0; // start-up transient length [s]
-  bool startup_curves = false;
-  double nominal_slip = 0.025, overload_ratio = 2.0;  // eq. (27a), when critical_slip is not given
+// The model values: the rows of kTable. The defaults are libmech's seed 001
+// drive with the assumptions its text leaves open (docs/reproduction.md):
+// the printed roller loads (2 x 7962 N per cart) stall the 11 kW motor, so
+// the carts take seed 000's F_B = 3562 N with the vertical forces balanced,
+// the resistance opposes the motion, and a start-up begins at the motor's
+// synchronous speed (Kloss's starting torque cannot start the load).
+struct R {
+  enum Id : int {
+    stiffness,
+    damping,
+    rod_length,
+    phase_shift,
+    motor_synchronous_speed,
+    motor_critical_torque,
+    motor_critical_slip,
+    motor_nominal_slip,
+    motor_overload_ratio,
+    motor_rotor_inertia,
+    coupling_inertia,
+    gear_ratio,
+    gearbox_factor,
+    drive_efficiency,
+    crank_radius,
+    layout,
+    kinematics,
+    cart_mass,
+    rod_mass,
+    crank_inertia,
+    roller_horizontal,
+    roller_vertical,
+    cart_weight,
+    guide_friction,
+    resistance,
+    fidelity,
+    coupling_side,
+    start_speed,
+    warmup,
+    startup_time,
+    curves,
+    ode_method,
+    ode_rtol,
+    ode_atol,
+    ode_max_steps
+  };
 };
 
+const mech::ElasticDrive kDrive{};
+const mech::OdeOptions kOde{};
 const opt::Domain kFraction{0, 1, true, false};
 
-// The variables first, in the order of the switch in drive().
-const opt::ParameterTable<Model> kTable = {
-    {variable("stiffness", Dimension::rotational_stiffness, kPositive, "c, coupling stiffness at the crank axis",
+const std::vector<opt::Parameter> kTable = opt::table(
+    "elastic_drive",
+    {
+     {R::stiffness,
+      variable("stiffness", Dimension::rotational_stiffness, kPositive, "c, coupling stiffness at the crank axis",
               "seed 001 eq. (29)"),
-     MECHOPT_STORED_AT(m.drive.stiffness)},
-    {variable("damping", Dimension::rotational_damping, kNonNegative, "k, coupling damping at the crank axis",
+      kDrive.stiffness},
+     {R::damping,
+      variable("damping", Dimension::rotational_damping, kNonNegative, "k, coupling damping at the crank axis",
               "seed 001 eq. (40)"),
-     MECHOPT_STORED_AT(m.drive.damping)},
-    {variable("rod_length", Dimension::length, kPositive, "l (l <= r: cannot_assemble)", "seed 001 eq. (36)"),
-     MECHOPT_STORED_AT(m.drive.rod_length)},
-    {variable("phase_shift", Dimension::angle, kAnyValue, "crank 2 leads crank 1 by this angle", "seed 001 eq. (37)"),
-     MECHOPT_STORED_AT(m.drive.phase_shift)},
-    {quantity("motor.synchronous_speed", Dimension::angular_speed, kPositive, "w0, motor shaft (4A160S6U3)",
+      kDrive.damping},
+     {R::rod_length,
+      variable("rod_length", Dimension::length, kPositive, "l (l <= r: cannot_assemble)", "seed 001 eq. (36)"),
+      kDrive.rod_length},
+     {R::phase_shift,
+      variable("phase_shift", Dimension::angle, kAnyValue, "crank 2 leads crank 1 by this angle", "seed 001 eq. (37)"),
+      kDrive.phase_shift},
+     {R::motor_synchronous_speed,
+      quantity("motor.synchronous_speed", Dimension::angular_speed, kPositive, "w0, motor shaft (4A160S6U3)",
               "seed 001 eq. (27)"),
-     MECHOPT_STORED_AT(m.drive.motor.synchronous_speed)},
-    {quantity("motor.critical_torque", Dimension::torque, kPositive, "M_kr, motor shaft", "seed 001 eq. (27)"),
-     MECHOPT_STORED_AT(m.drive.motor.critical_torque)},
-    {quantity("motor.critical_slip", Dimension::dimensionless, kFraction,
+      kDrive.motor.synchronous_speed},
+     {R::motor_critical_torque,
+      quantity("motor.critical_torque", Dimension::torque, kPositive, "M_kr, motor shaft", "seed 001 eq. (27)"),
+      kDrive.motor.critical_torque},
+     {R::motor_critical_slip,
+      quantity("motor.critical_slip", Dimension::dimensionless, kFraction,
               "s_kr (default: from nominal_slip and overload_ratio; give one or the other)", "seed 001 eq. (27a)"),
-     MECHOPT_STORED_AT(m.drive.motor.critical_slip)},
-    {quantity("motor.nominal_slip", Dimension::dimensionless, {0, 1, true, true}, "s_n, for s_kr", "seed 001 eq. (27a)"),
-     MECHOPT_STORED_AT(m.nominal_slip)},
-    {quantity("motor.overload_ratio", Dimension::dimensionless, {1, HUGE_VAL, true, false}, "lambda, for s_kr",
+      mech::InductionMotor::critical_slip_from(0.025, 2.0)},
+     {R::motor_nominal_slip,
+      quantity("motor.nominal_slip", Dimension::dimensionless, {0, 1, true, true}, "s_n, for s_kr", "seed 001 eq. (27a)"),
+      0.025},
+     {R::motor_overload_ratio,
+      quantity("motor.overload_ratio", Dimension::dimensionless, {1, HUGE_VAL, true, false}, "lambda, for s_kr",
               "seed 001 eq. (27a)"),
-     MECHOPT_STORED_AT(m.overload_ratio)},
-    {quantity("motor.rotor_inertia", Dimension::inertia, kNonNegative, "J_p, motor shaft", "seed 001 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.motor.rotor_inertia)},
-    {quantity("coupling_inertia", Dimension::inertia, kNonNegative, "J_m, motor shaft", "seed 001 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.coupling_inertia)},
-    {quantity("gear_ratio", Dimension::dimensionless, kPositive, "u", "seed 001 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.gear_ratio)},
-    {quantity("gearbox_factor", Dimension::dimensionless, {1, HUGE_VAL, false, false},
+      2.0},
+     {R::motor_rotor_inertia,
+      quantity("motor.rotor_inertia", Dimension::inertia, kNonNegative, "J_p, motor shaft", "seed 001 eq. (1)"),
+      kDrive.motor.rotor_inertia},
+     {R::coupling_inertia,
+      quantity("coupling_inertia", Dimension::inertia, kNonNegative, "J_m, motor shaft", "seed 001 eq. (1)"),
+      kDrive.coupling_inertia},
+     {R::gear_ratio,
+      quantity("gear_ratio", Dimension::dimensionless, kPositive, "u", "seed 001 eq. (1)"),
+      kDrive.gear_ratio},
+     {R::gearbox_factor,
+      quantity("gearbox_factor", Dimension::dimensionless, {1, HUGE_VAL, false, false},
               "delta: gearbox inertia reduced to the motor shaft (unstated in the paper)", "seed 001 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.gearbox_factor)},
-    {quantity("drive_efficiency", Dimension::dimensionless, kFraction, "eta_n (unstated in the paper)", "seed 001 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.drive_efficiency)},
-    {quantity("crank_radius", Dimension::length, kPositive, "r", "seed 001 eq. (36)"),
-     MECHOPT_STORED_AT(m.drive.crank_radius)},
-    {choice("layout", {"opposed", "same_side"}, "second slider mirrored, or on the same side as the first",
+      kDrive.gearbox_factor},
+     {R::drive_efficiency,
+      quantity("drive_efficiency", Dimension::dimensionless, kFraction, "eta_n (unstated in the paper)", "seed 001 eq. (1)"),
+      kDrive.drive_efficiency},
+     {R::crank_radius,
+      quantity("crank_radius", Dimension::length, kPositive, "r", "seed 001 eq. (36)"),
+      kDrive.crank_radius},
+     {R::layout,
+      choice("layout", {"opposed", "same_side"}, "second slider mirrored, or on the same side as the first",
             "seed 001 eq. (37)"),
-     MECHOPT_STORED_AT(m.drive.same_side)},
-    {choice("kinematics", {"exact", "binomial"}, "exact slider-crank, or the binomial series", "seed 001 eqs (36)-(39)"),
-     MECHOPT_STORED_AT(m.drive.kinematics)},
-    {quantity("cart_mass", Dimension::mass, kNonNegative, "m'_B, each cart", "seed 001 eq. (3)"),
-     MECHOPT_STORED_AT(m.drive.cart_mass)},
-    {quantity("rod_mass", Dimension::mass, kNonNegative, "m_sh, each rod: half at the pin, half at the cart",
+      static_cast<int>(kDrive.same_side)},
+     {R::kinematics,
+      choice("kinematics", {"exact", "binomial"}, "exact slider-crank, or the binomial series", "seed 001 eqs (36)-(39)"),
+      static_cast<int>(kDrive.kinematics)},
+     {R::cart_mass,
+      quantity("cart_mass", Dimension::mass, kNonNegative, "m'_B, each cart", "seed 001 eq. (3)"),
+      kDrive.cart_mass},
+     {R::rod_mass,
+      quantity("rod_mass", Dimension::mass, kNonNegative, "m_sh, each rod: half at the pin, half at the cart",
               "seed 001 eqs (2)-(3)"),
-     MECHOPT_STORED_AT(m.drive.rod_mass)},
-    {quantity("crank_inertia", Dimension::inertia, kNonNegative, "J'_k, each crank about its axis (unstated: 0)",
+      kDrive.rod_mass},
+     {R::crank_inertia,
+      quantity("crank_inertia", Dimension::inertia, kNonNegative, "J'_k, each crank about its axis (unstated: 0)",
               "seed 001 eq. (2)"),
-     MECHOPT_STORED_AT(m.drive.crank_inertia)},
-    {quantity("roller_horizontal", Dimension::force, kNonNegative,
+      kDrive.crank_inertia},
+     {R::roller_horizontal,
+      quantity("roller_horizontal", Dimension::force, kNonNegative,
               "F_01 + F_02 per cart (seed 000's F_B; the printed 2 x 7962 N stall the motor)", "seed 001 eq. (12)"),
-     MECHOPT_STORED_AT(m.drive.roller_horizontal)},
-    {quantity("roller_vertical", Dimension::force, kNonNegative, "R_01 + R_02 per cart", "seed 001 eq. (13)"),
-     MECHOPT_STORED_AT(m.drive.roller_vertical)},
-    {quantity("cart_weight", Dimension::force, kNonNegative, "G per cart", "seed 001 eq. (13)"),
-     MECHOPT_STORED_AT(m.drive.cart_weight)},
-    {quantity("guide_friction", Dimension::dimensionless, kNonNegative, "f_np of the cart guides", "seed 001 eq. (12)"),
-     MECHOPT_STORED_AT(m.drive.guide_friction)},
-    {choice("resistance", {"signed", "opposes_motion"},
+      3562},
+     {R::roller_vertical,
+      quantity("roller_vertical", Dimension::force, kNonNegative, "R_01 + R_02 per cart", "seed 001 eq. (13)"),
+      10124.9},
+     {R::cart_weight,
+      quantity("cart_weight", Dimension::force, kNonNegative, "G per cart", "seed 001 eq. (13)"),
+      kDrive.cart_weight},
+     {R::guide_friction,
+      quantity("guide_friction", Dimension::dimensionless, kNonNegative, "f_np of the cart guides", "seed 001 eq. (12)"),
+      kDrive.guide_friction},
+     {R::resistance,
+      choice("resistance", {"signed", "opposes_motion"},
             "as printed (signed), or opposing the crank's motion (regularised over 1e-3 rad/s)",
             "seed 001 eqs (18)-(20)"),
-     MECHOPT_STORED_AT(m.drive.resistance_opposes_motion)},
-    {choice("fidelity", {"rigid", "elastic"}, "one rigid mass, or two masses joined by the coupling", "seed 001 eq. (29)")
+      1},
+     {R::fidelity,
+      choice("fidelity", {"rigid", "elastic"}, "one rigid mass, or two masses joined by the coupling", "seed 001 eq. (29)")
          .fidelity({"rigid", "elastic"}),
-     MECHOPT_STORED_AT(m.drive.fidelity)},
-    {choice("coupling_side", {"crank", "motor"},
+      static_cast<int>(kDrive.fidelity)},
+     {R::coupling_side,
+      choice("coupling_side", {"crank", "motor"},
             "coupling torques reported at the crank, or on the motor shaft (divided by u eta)", ""),
-     MECHOPT_STORED_AT(m.motor_side)},
-    {quantity("start_speed", Dimension::angular_speed, kNonNegative, "crank speed at the start of a start-up (0: rest)", ""),
-     MECHOPT_STORED_AT(m.start_speed)},
-    {quantity("warmup", Dimension::time, kNonNegative,
+      0},
+     {R::start_speed,
+      quantity("start_speed", Dimension::angular_speed, kNonNegative, "crank speed at the start of a start-up (0: rest)", ""),
+      10.686},
+     {R::warmup,
+      quantity("warmup", Dimension::time, kNonNegative,
               "start-up seconds whose last revolution is the steady state's first guess (0: the rigid estimate)", ""),
-     MECHOPT_STORED_AT(m.warmup)},
-    {quantity("startup_time", Dimension::time, kPositive, "length of the start-up transient", ""),
-     MECHOPT_STORED_AT(m.startup_time)},
-    {choice("curves", {"steady", "startup"}, "what cycle.svg and cycle.csv show", ""),
-     MECHOPT_STORED_AT(m.startup_curves)},
-    {choice("ode.method", {"bdf", "adams", "erk"},
+      0},
+     {R::startup_time,
+      quantity("startup_time", Dimension::time, kPositive, "length of the start-up transient", ""),
+      5.0},
+     {R::curves,
+      choice("curves", {"steady", "startup"}, "what cycle.svg and cycle.csv show", ""),
+      0},
+     {R::ode_method,
+      choice("ode.method", {"bdf", "adams", "erk"},
             "CVODE BDF (stiff), CVODE Adams (functional iteration) or ARKODE Dormand-Prince 5(4)", ""),
-     MECHOPT_STORED_AT(m.ode.method)},
-    {quantity("ode.rtol", Dimension::dimensionless, {0, 1, true, true}, "relative tolerance", ""),
-     MECHOPT_STORED_AT(m.ode.rtol)},
-    {quantity("ode.atol", Dimension::dimensionless, kPositive,
+      kOde.method},
+     {R::ode_rtol,
+      quantity("ode.rtol", Dimension::dimensionless, {0, 1, true, true}, "relative tolerance", ""),
+      kOde.rtol},
+     {R::ode_atol,
+      quantity("ode.atol", Dimension::dimensionless, kPositive,
               "absolute tolerance (steady state: relative to each state's scale)", ""),
-     MECHOPT_STORED_AT(m.ode.atol)},
-    {whole("ode.max_steps", {10, 100000000, false, false}, "step budget of one whole integration", ""),
-     MECHOPT_STORED_AT(m.ode.max_steps)},
-};
+      kOde.atol},
+     {R::ode_max_steps,
+      whole("ode.max_steps", {10, 100000000, false, false}, "step budget of one whole integration", ""),
+      kOde.max_steps}
+    });
 
+// libmech's drive from the model values.
+mech::ElasticDrive drive_of(const opt::Values<double>& v) {
+  mech::ElasticDrive d;
+  d.stiffness = v[R::stiffness];
+  d.damping = v[R::damping];
+  d.rod_length = v[R::rod_length];
+  d.phase_shift = v[R::phase_shift];
+  d.motor.synchronous_speed = v[R::motor_synchronous_speed];
+  d.motor.critical_torque = v[R::motor_critical_torque];
+  d.motor.critical_slip = v[R::motor_critical_slip];
+  d.motor.rotor_inertia = v[R::motor_rotor_inertia];
+  d.coupling_inertia = v[R::coupling_inertia];
+  d.gear_ratio = v[R::gear_ratio];
+  d.gearbox_factor = v[R::gearbox_factor];
+  d.drive_efficiency = v[R::drive_efficiency];
+  d.crank_radius = v[R::crank_radius];
+  d.same_side = v[R::layout] != 0;
+  d.kinematics = static_cast<mech::Kinematics>(v[R::kinematics]);
+  d.cart_mass = v[R::cart_mass];
+  d.rod_mass = v[R::rod_mass];
+  d.crank_inertia = v[R::crank_inertia];
+  d.roller_horizontal = v[R::roller_horizontal];
+  d.roller_vertical = v[R::roller_vertical];
+  d.cart_weight = v[R::cart_weight];
+  d.guide_friction = v[R::guide_friction];
+  d.resistance_opposes_motion = v[R::resistance] != 0;
+  d.fidelity = static_cast<mech::DriveFidelity>(v[R::fidelity]);
+  return d;
+}
+
+mech::OdeOptions ode_of(const opt::Values<double>& v) {
+  mech::OdeOptions o;
+  o.method = static_cast<mech::OdeMethod>(v[R::ode_method]);
+  o.rtol = v[R::ode_rtol];
+  o.atol = v[R::ode_atol];
+  o.max_steps = static_cast<long>(v[R::ode_max_steps]);
+  return o;
+}
+
+// On double only (no autodiff through SUNDIALS): a TabledProblem with its
+// own evaluate_model_at.
 class ElasticDriveProblem : public TabledProblem {
  public:
-  ElasticDriveProblem(Model m, std::vector<opt::Variable> vars)
-      : TabledProblem("elastic_drive", kMetrics, std::move(vars)), m_(std::move(m)),
-        slots_(opt::variable_rows(kTable, variables())) {}
+  ElasticDriveProblem(opt::Values<double> values, std::vector<opt::Variable> vars)
+      : TabledProblem("elastic_drive", kMetrics, kTable, std::move(values), std::move(vars)),
+        ode_(ode_of(this->values())), motor_side_(this->values()[R::coupling_side] != 0),
+        startup_curves_(this->values()[R::curves] != 0), start_speed_(this->values()[R::start_speed]),
+        warmup_(this->values()[R::warmup]), startup_time_(this->values()[R::startup_time]) {}
 
   bool provides_gradients() const override { return false; }
 
   opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
                                     bool) const override {
-    const mech::ElasticDrive d = drive(x);
+    const mech::ElasticDrive d = drive_of(values_at(x));
     opt::Evaluation e;
     MetricSink<double> out(wanted, e);
     auto put = [&](M::Id id, double v) { out.put(id, v); };
-    const auto s = mech::steady_by_shooting(d, m_.ode, 0, m_.warmup, m_.start_speed);
+    const auto s = mech::steady_by_shooting(d, ode_, 0, warmup_, start_speed_);
     if (s.status != mech::Status::ok) {
       e.status = s.status;
       e.message = s.message;
       return e;
     }
-    const double side = m_.motor_side ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
+    const double side = motor_side_ ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
     put(M::peak_coupling_torque, s.coupling_peak * side);
     put(M::rms_coupling_torque, s.coupling_rms * side);
     put(M::min_coupling_torque, s.coupling_min * side);
@@ -199,7 +315,7 @@ class ElasticDriveProblem : public TabledProblem {
             std::max(std::abs(s.mean_motor_power), 1e-12));
     put(M::largest_multiplier, s.largest_multiplier);
     if (out.want_any(M::peak_startup_coupling_torque, M::time_to_steady)) {
-      const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 1e-3, &s, m_.start_speed);
+      const auto st = mech::simulate_startup(d, ode_, startup_time_, 1e-3, &s, start_speed_);
       if (st.status != mech::Status::ok) {  // e.g. too_many_steps: no partial start-up figures
         e.status = st.status;
         e.message = st.message;
@@ -212,16 +328,16 @@ class ElasticDriveProblem : public TabledProblem {
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int) const override {
-    const mech::ElasticDrive d = drive(x);
-    const double side = m_.motor_side ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
+    const mech::ElasticDrive d = drive_of(values_at(x));
+    const double side = motor_side_ ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
     opt::CycleCurves c{{"time", "coupling_torque", "crank_speed", "motor_speed"}, {"s", "N m", "rad/s", "rad/s"}};
     mech::Trajectory tr;
-    if (m_.startup_curves) {
-      const auto st = mech::simulate_startup(d, m_.ode, m_.startup_time, 2e-3, nullptr, m_.start_speed);
+    if (startup_curves_) {
+      const auto st = mech::simulate_startup(d, ode_, startup_time_, 2e-3, nullptr, start_speed_);
       if (st.status != mech::Status::ok) return {};
       tr = st.trajectory;
     } else {
-      const auto s = mech::steady_by_shooting(d, m_.ode, 720, m_.warmup, m_.start_speed);
+      const auto s = mech::steady_by_shooting(d, ode_, 720, warmup_, start_speed_);
       if (s.status != mech::Status::ok) return {};
       tr = s.cycle;
     }
@@ -231,8 +347,8 @@ class ElasticDriveProblem : public TabledProblem {
   }
 
   nlohmann::json settings() const override {
-    nlohmann::json model = opt::parameters_json(opt::parameters(kTable, m_));
-    model["derived"] = {{"motor_side_inertia", m_.drive.motor_side_inertia()}};
+    nlohmann::json model = model_json();
+    model["derived"] = {{"motor_side_inertia", drive_of(values()).motor_side_inertia()}};
     return {{"model", model},
             {"numerics",
              {              {"steady_state", "shooting over one revolution in the crank angle: one revolution from "
@@ -243,54 +359,30 @@ class ElasticDriveProblem : public TabledProblem {
   }
 
  private:
-  mech::ElasticDrive drive(const Eigen::VectorXd& x) const {
-    mech::ElasticDrive d = m_.drive;
-    for (size_t i = 0; i < slots_.size(); ++i) {
-      switch (slots_[i]) {  // rows of kTable
-        case 0: d.stiffness = x[i]; break;
-        case 1: d.damping = x[i]; break;
-        case 2: d.rod_length = x[i]; break;
-        default: d.phase_shift = x[i];
-      }
-    }
-    return d;
-  }
-
-  Model m_;
-  std::vector<int> slots_;  // table row of each variable
+  mech::OdeOptions ode_;
+  bool motor_side_;      // coupling torques on the motor shaft (crank / (u eta))
+  bool startup_curves_;  // cycle.csv shows the start-up
+  double start_speed_;   // crank speed at the start [rad/s]; 0: from rest
+  double warmup_;        // start-up seconds whose end is the first guess (0: rigid estimate)
+  double startup_time_;  // start-up transient length [s]
 };
 
 }  // namespace
 
-// Seed 001's drive with the assumptions its text leaves open (docs/reproduction.md):
-// the printed roller loads (2 x 7962 N per cart) stall the 11 kW motor, so the
-// carts take seed 000's F_B = 3562 N with the vertical forces balanced, the
-// resistance opposes the motion, and a start-up begins at the motor's
-// synchronous speed (Kloss's starting torque cannot start the load).
-Model default_model() {
-  Model m;
-  m.drive.roller_horizontal = 3562;
-  m.drive.roller_vertical = 10124.9;
-  m.drive.resistance_opposes_motion = true;
-  m.start_speed = 10.686;
-  m.drive.motor.critical_slip = mech::InductionMotor::critical_slip_from(m.nominal_slip, m.overload_ratio);
-  return m;
-}
-
 std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
-  Model m = default_model();
-  const auto given = opt::read_parameters(root, kTable, m);
-  auto has = [&](const char* k) { return std::find(given.begin(), given.end(), k) != given.end(); };
-  if (has("motor.critical_slip") && (has("motor.nominal_slip") || has("motor.overload_ratio")))
+  opt::Values<double> v = opt::read_values(root, kTable);
+  const bool motor = root.has("model") && root.at("model").has("motor");
+  auto has = [&](const char* k) { return motor && root.at("model").at("motor").has(k); };
+  if (has("critical_slip") && (has("nominal_slip") || has("overload_ratio")))
     root.at("model").at("motor").fail("give critical_slip, or nominal_slip with overload_ratio (eq. 27a), not both");
-  if (!has("motor.critical_slip"))
-    m.drive.motor.critical_slip = mech::InductionMotor::critical_slip_from(m.nominal_slip, m.overload_ratio);
-  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
-  return std::make_unique<ElasticDriveProblem>(std::move(m), std::move(vars));
+  if (!has("critical_slip"))
+    v[R::motor_critical_slip] = mech::InductionMotor::critical_slip_from(v[R::motor_nominal_slip], v[R::motor_overload_ratio]);
+  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
+  return std::make_unique<ElasticDriveProblem>(std::move(v), std::move(vars));
 }
 
 const Registration kRegistration{
     {"elastic_drive", "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)",
-     opt::parameters(kTable, default_model()), make_elastic_drive}};
+     kTable, make_elastic_drive}};
 
 }  // namespace problems

@@ -65,9 +65,20 @@ struct MetricSpec {
       : id(static_cast<int>(i)), name(std::move(n)), unit(std::move(u)), formerly(std::move(f)) {}
 };
 
-// A problem's name, its table of metrics with units, and its variables.
+// A problem's name, its table of metrics with units, its table of model
+// values (opt/parameters.hpp) with the values a config gave, and its
+// variables: rows of the table.
 class TabledProblem : public opt::Problem {
  public:
+  // `values` as read from the config, any derived (auto) values resolved.
+  TabledProblem(std::string name, std::vector<MetricSpec> metrics, std::vector<opt::Parameter> table,
+                opt::Values<double> values, std::vector<opt::Variable> vars)
+      : TabledProblem(std::move(name), std::move(metrics), std::move(vars)) {
+    table_ = std::move(table);
+    values_ = std::move(values);
+    rows_ = opt::variable_rows(table_, variables());
+  }
+  // Without a table: the values are the variables.
   TabledProblem(std::string name, std::vector<MetricSpec> metrics, std::vector<opt::Variable> vars)
       : name_(std::move(name)), metrics_(std::move(metrics)), vars_(std::move(vars)) {
     if (metrics_.size() > static_cast<size_t>(opt::MetricSet::kMax))
@@ -96,16 +107,51 @@ class TabledProblem : public opt::Problem {
     return "";
   }
 
+  // The model values as the config gave them (derived values resolved).
+  const opt::Values<double>& values() const { return values_; }
+  // The model values at design x.
+  opt::Values<double> values_at(const Eigen::VectorXd& x) const { return seeded<double>(x); }
+  // {name: value} of the model values, for result files.
+  nlohmann::json model_json() const { return opt::parameters_json(opt::with_values(table_, values_)); }
+
+ protected:
+  template <class S>
+  opt::Values<S> seeded(const Eigen::VectorXd& x) const {
+    opt::Values<S> v;
+    fill(x, v);
+    return v;
+  }
+  // v = the values with each variable's row set to it, seeded as variable i
+  // of x.size() when S carries derivatives.
+  template <class S>
+  void fill(const Eigen::VectorXd& x, opt::Values<S>& v) const {
+    const int n = static_cast<int>(x.size());
+    if (table_.empty()) v.resize(n);
+    else v.assign(values_.begin(), values_.end());
+    for (int i = 0; i < n; ++i) {
+      S& s = v[table_.empty() ? i : rows_[i]];
+      if constexpr (std::is_same_v<S, mech::Dual>) s = mech::seed(x[i]);
+      else if constexpr (mech::is_dual<S>) s = S(x[i], n, i);
+      else s = x[i];
+    }
+  }
+
  private:
+  std::vector<opt::Parameter> table_;  // empty without a table
+  opt::Values<double> values_;
+  std::vector<int> rows_;  // the table row of each variable
   std::string name_;
   std::vector<MetricSpec> metrics_;
   std::shared_ptr<const std::vector<std::string>> names_;  // shared with the evaluations
   std::vector<opt::Variable> vars_;
 };
 
-// Derived implements:
-//   template <class S> void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const;
-// setting out.result.status for an infeasible design.
+// Derived implements
+//   template <class S> void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const;
+// setting out.result.status for an infeasible design. v holds the model
+// values of the problem's table at the design (each variable's row set to
+// the variable, with its derivative when S carries them); a problem built
+// without a table has its variables as its values.
 template <class Derived>
 class ModelProblem : public TabledProblem {
  public:
@@ -119,16 +165,17 @@ class ModelProblem : public TabledProblem {
   }
   void evaluate_model_into(const Eigen::VectorXd& x, const opt::MetricSet& wanted, bool gradient,
                            opt::Evaluation& out) const override {
-    with_scalar(x, gradient, [&](const auto& xs) {
-      MetricSink<typename std::decay_t<decltype(xs)>::value_type> sink(wanted, out);
-      static_cast<const Derived&>(*this).evaluate_model(xs, sink);
+    with_scalar(x, gradient, [&](const auto& v) {
+      MetricSink<typename std::decay_t<decltype(v)>::value_type> sink(wanted, out);
+      static_cast<const Derived&>(*this).evaluate_model(v, sink);
     });
   }
 
  protected:
-  // Calls f(xs) with the variables as double, or as an autodiff type with one
-  // derivative per variable (each seeded) when a gradient is wanted: fixed
-  // size up to 4 variables, sized at run time beyond.
+  // Calls f(v) with the model values at x as double, or as an autodiff type
+  // with one derivative per variable (each variable's row seeded) when a
+  // gradient is wanted: fixed size up to 4 variables, sized at run time
+  // beyond.
   template <class F>
   auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
     if (!gradient) return with_doubles(x, f);
@@ -142,19 +189,20 @@ class ModelProblem : public TabledProblem {
   }
 
   // The local maxima of a cycle integrand g(model, phi) of the model at x
-  // (see opt::Problem::local_maxima); model_at(xs) builds the model.
+  // (see opt::Problem::local_maxima); model_at(v) builds the model from the
+  // values v.
   template <class ModelAt, class G>
   std::vector<opt::MetricValue> cycle_local_maxima(const Eigen::VectorXd& x, int n,
                                                    ModelAt&& model_at, G&& g) const {
     const auto angles = mech::cycle_max_angles(model_at(seeded<double>(x)), n, g);
-    return with_scalar(x, true, [&](const auto& xs) {
-      using S = typename std::decay_t<decltype(xs)>::value_type;
-      const auto model = model_at(xs);
+    return with_scalar(x, true, [&](const auto& v) {
+      using S = typename std::decay_t<decltype(v)>::value_type;
+      const auto model = model_at(v);
       std::vector<opt::MetricValue> out;
       for (double phi : angles) {
-        const S v = g(model, S(phi));
-        opt::MetricValue mv{mech::value(v), {}};
-        if constexpr (mech::is_dual<S>) mv.gradient = mech::gradient(v);
+        const S g_phi = g(model, S(phi));
+        opt::MetricValue mv{mech::value(g_phi), {}};
+        if constexpr (mech::is_dual<S>) mv.gradient = mech::gradient(g_phi);
         out.push_back(mv);
       }
       return out;
@@ -162,30 +210,21 @@ class ModelProblem : public TabledProblem {
   }
 
  private:
-  // f(x as doubles) from a vector kept by the thread: a batch evaluates
-  // millions of designs, and an allocation each cost a DOE sample ~3%. A
-  // call inside f (a model evaluating another design) gets its own vector.
+  // f(the values at x as doubles) in a vector kept by the thread: a batch
+  // evaluates millions of designs, and an allocation each cost a DOE sample
+  // ~3%. A call inside f (a model evaluating another design) gets its own
+  // vector.
   template <class F>
-  static auto with_doubles(const Eigen::VectorXd& x, F& f) {
-    thread_local std::vector<double> kept;
+  auto with_doubles(const Eigen::VectorXd& x, F& f) const {
+    thread_local opt::Values<double> kept;
     thread_local bool busy = false;
     if (busy) return f(seeded<double>(x));
     busy = true;
     struct Release {
       ~Release() { busy = false; }
     } release;
-    kept.assign(x.data(), x.data() + x.size());
+    fill(x, kept);
     return f(kept);
-  }
-  template <class S>
-  static std::vector<S> seeded(const Eigen::VectorXd& x) {
-    std::vector<S> xs(x.size());
-    for (int i = 0; i < x.size(); ++i) {
-      if constexpr (std::is_same_v<S, mech::Dual>) xs[i] = mech::seed(x[i]);
-      else if constexpr (mech::is_dual<S>) xs[i] = S(x[i], static_cast<int>(x.size()), i);
-      else xs[i] = x[i];
-    }
-    return xs;
   }
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "mech/twin_slider_crank.hpp"
 #include "opt/parameters.hpp"
 #include "opt/study.hpp"
 #include "problems/model_problem.hpp"
@@ -16,67 +17,70 @@ namespace {
 // the rod can no longer reach the slider and velocities become unbounded.
 constexpr double kMaxCrankRodRatio = 0.99;
 
-using Model = RecuperativeDriveModel;
-
-// Seed 000 data at 100 rpm (the speed Table 1 was computed at; docs/reproduction.md).
-Model default_model() {
-  return {{0.2, 0.8, std::numbers::pi / 2, 0.0, 100 * std::numbers::pi / 30, 1000, 80, 0.9, 3562}, 0};
-}
-
-// The variables first, in the order of `slot` below.
-const opt::ParameterTable<Model> kTable = {
-    {variable("rod_length", Dimension::length, kPositive,
-              "connecting-rod length l (l <= r + |e|: cannot_assemble)", "seed 000 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.rod_length)},
-    {variable("phase_shift", Dimension::angle, kAnyValue, "crank 2 leads crank 1 by this angle", "seed 000 eq. (9)"),
-     MECHOPT_STORED_AT(m.drive.phase_shift)},
-    {variable("crank_radius", Dimension::length, kPositive, "crank radius r", "seed 000 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.crank_radius)},
-    {variable("offset", Dimension::length, kAnyValue, "offset e of both slider axes (seed 000: 0)", ""),
-     MECHOPT_STORED_AT(m.drive.offset)},
-    {quantity("crank_speed", Dimension::angular_speed, kPositive,
-              "crank speed w (Table 1 needs 100 rpm, not the printed 10.5 rad/s)", "seed 000 eq. (1)"),
-     MECHOPT_STORED_AT(m.drive.crank_speed)},
-    {quantity("cart_mass", Dimension::mass, kPositive, "m, each cart (> 0: T_min = 4 m r^2 w^2 / pi^2 divides k2, k3)",
-              "seed 000 eqs (9), (14)"),
-     MECHOPT_STORED_AT(m.drive.cart_mass)},
-    {quantity("rod_mass_per_length", Dimension::linear_density, kNonNegative, "q", "seed 000 eq. (10)"),
-     MECHOPT_STORED_AT(m.drive.rod_mass_per_length)},
-    {quantity("efficiency", Dimension::dimensionless, {0, 1, true, false}, "eta of the crank-to-cart transmission",
-              "seed 000 eq. (16)"),
-     MECHOPT_STORED_AT(m.drive.efficiency)},
-    {quantity("cart_resistance", Dimension::force, kNonNegative, "F_B, the force to move one cart", "seed 000 eq. (16)"),
-     MECHOPT_STORED_AT(m.drive.cart_resistance)},
-    {choice("layout", {"opposed", "same_side"},
-            "second slider mirrored (seed 000 eq. 2) or on the same side (seed 001 eq. 38)", "seed 000 eq. (2)"),
-     MECHOPT_STORED_AT(m.drive.layout)},
-    {choice("resistance", {"signed", "opposes_motion"},
-            "F_B with the sign of the cart velocity (as printed), or always opposing the cart's motion",
-            "seed 000 eq. (16)"),
-     MECHOPT_STORED_AT(m.drive.resistance)},
-    {choice("fidelity.kinematics", {"exact", "binomial"},
-            "exact slider-crank, or the binomial series of seed 001 eqs (36)-(39)", "seed 000 eqs (1)-(8)"),
-     MECHOPT_STORED_AT(m.drive.kinematics)},
-    {choice("fidelity.rod", {"point_masses", "full"},
-            "rod as its mass at its centre, or with its rotational inertia q l^3/12 added", "seed 000 eq. (10)")
-         .fidelity({"point_masses", "full"}),
-     MECHOPT_STORED_AT(m.drive.rod)},
-    {whole("cycle_points", {4, 100000, false, false},
-                "grid points per revolution; auto: 45/acosh(l/(r+|e|)), at least 16 (~1e-13 relative)", "")
-         .or_auto(),
-     MECHOPT_STORED_AT(m.cycle_points)},
+// The model values: the rows of kTable; the defaults are seed 000's data at
+// 100 rpm (the speed Table 1 was computed at; docs/reproduction.md).
+struct R {
+  enum Id : int { rod_length, phase_shift, crank_radius, offset, crank_speed, cart_mass, rod_mass_per_length, efficiency, cart_resistance, layout, resistance, kinematics, rod, cycle_points };
 };
 
-// Where variable i (row i of the table) sits in the drive, for any scalar.
-template <class S>
-S& slot(mech::TwinDrive<S>& d, int i) {
-  switch (i) {
-    case 0: return d.rod_length;
-    case 1: return d.phase_shift;
-    case 2: return d.crank_radius;
-    default: return d.offset;
-  }
-}
+const std::vector<opt::Parameter> kTable = opt::table(
+    "recuperative_drive",
+    {
+     {R::rod_length,
+      variable("rod_length", Dimension::length, kPositive,
+              "connecting-rod length l (l <= r + |e|: cannot_assemble)", "seed 000 eq. (1)"),
+      0.8},
+     {R::phase_shift,
+      variable("phase_shift", Dimension::angle, kAnyValue, "crank 2 leads crank 1 by this angle", "seed 000 eq. (9)"),
+      std::numbers::pi / 2},
+     {R::crank_radius,
+      variable("crank_radius", Dimension::length, kPositive, "crank radius r", "seed 000 eq. (1)"),
+      0.2},
+     {R::offset,
+      variable("offset", Dimension::length, kAnyValue, "offset e of both slider axes (seed 000: 0)", ""),
+      0.0},
+     {R::crank_speed,
+      quantity("crank_speed", Dimension::angular_speed, kPositive,
+              "crank speed w (Table 1 needs 100 rpm, not the printed 10.5 rad/s)", "seed 000 eq. (1)"),
+      100 * std::numbers::pi / 30},
+     {R::cart_mass,
+      quantity("cart_mass", Dimension::mass, kPositive, "m, each cart (> 0: T_min = 4 m r^2 w^2 / pi^2 divides k2, k3)",
+              "seed 000 eqs (9), (14)"),
+      1000},
+     {R::rod_mass_per_length,
+      quantity("rod_mass_per_length", Dimension::linear_density, kNonNegative, "q", "seed 000 eq. (10)"),
+      80},
+     {R::efficiency,
+      quantity("efficiency", Dimension::dimensionless, {0, 1, true, false}, "eta of the crank-to-cart transmission",
+              "seed 000 eq. (16)"),
+      0.9},
+     {R::cart_resistance,
+      quantity("cart_resistance", Dimension::force, kNonNegative, "F_B, the force to move one cart", "seed 000 eq. (16)"),
+      3562},
+     {R::layout,
+      choice("layout", {"opposed", "same_side"},
+            "second slider mirrored (seed 000 eq. 2) or on the same side (seed 001 eq. 38)", "seed 000 eq. (2)"),
+      0},
+     {R::resistance,
+      choice("resistance", {"signed", "opposes_motion"},
+            "F_B with the sign of the cart velocity (as printed), or always opposing the cart's motion",
+            "seed 000 eq. (16)"),
+      0},
+     {R::kinematics,
+      choice("fidelity.kinematics", {"exact", "binomial"},
+            "exact slider-crank, or the binomial series of seed 001 eqs (36)-(39)", "seed 000 eqs (1)-(8)"),
+      0},
+     {R::rod,
+      choice("fidelity.rod", {"point_masses", "full"},
+            "rod as its mass at its centre, or with its rotational inertia q l^3/12 added", "seed 000 eq. (10)")
+         .fidelity({"point_masses", "full"}),
+      0},
+     {R::cycle_points,
+      whole("cycle_points", {4, 100000, false, false},
+                "grid points per revolution; auto: 45/acosh(l/(r+|e|)), at least 16 (~1e-13 relative)", "")
+         .or_auto(),
+      0}
+    });
 
 // The metrics, in the order of kMetrics (their MetricIds).
 struct M {
@@ -109,18 +113,18 @@ const std::vector<MetricSpec> kMetrics = {
 
 class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
  public:
-  RecuperativeDrive(RecuperativeDriveModel model, std::vector<opt::Variable> vars)
-      : ModelProblem("recuperative_drive", kMetrics, std::move(vars)), model_(std::move(model)),
-        slots_(opt::variable_rows(kTable, variables())) {}
+  RecuperativeDrive(opt::Values<double> values, std::vector<opt::Variable> vars)
+      : ModelProblem("recuperative_drive", kMetrics, kTable, std::move(values), std::move(vars)),
+        cycle_points_(static_cast<int>(this->values()[R::cycle_points])) {}
 
   std::vector<opt::Constraint> implicit_constraints() const override {
     return {{"crank_rod_ratio", true, kMaxCrankRodRatio}};
   }
 
   nlohmann::json settings() const override {
-    return {{"model", opt::parameters_json(opt::parameters(kTable, model_))},
+    return {{"model", model_json()},
             {"numerics",
-             {{"cycle_points", model_.cycle_points ? nlohmann::json(model_.cycle_points)
+             {{"cycle_points", cycle_points_ ? nlohmann::json(cycle_points_)
                                                    : nlohmann::json("auto: 45/acosh(l/(r+|e|)), >= 16")},
               {"maximum", "grid bracket + Brent root of the angle derivative (autodiff)"},
               {"max_gradient", "Danskin: gradient at the maximising angle"}}},
@@ -128,7 +132,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   }
 
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
+    const auto d = drive(values_at(x));
     if (mech::check(d) != mech::Status::ok) return {};
     // The chart: the crank moments (the energy stays in cycle.csv).
     opt::CycleCurves c{{"crank_angle", "kinetic_energy", "total_moment", "inertia_moment", "static_moment"},
@@ -144,9 +148,9 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
 
   std::vector<opt::MetricValue> local_maxima(const Eigen::VectorXd& x, opt::MetricId metric) const override {
     if (metric != M::peak_kinetic_energy && metric != M::peak_crank_torque) return {};
-    const auto d = drive(std::vector<double>(x.data(), x.data() + x.size()));
+    const auto d = drive(values_at(x));
     if (mech::check(d) != mech::Status::ok) return {};
-    auto model_at = [&](const auto& xs) { return drive(xs); };
+    auto model_at = [&](const auto& v) { return drive(v); };
     const int n = points(d);
     if (metric == M::peak_kinetic_energy)
       return cycle_local_maxima(x, n, model_at, [](const auto& dr, const auto& phi) {
@@ -160,19 +164,21 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
 
   template <class S>
   int points(const mech::TwinDrive<S>& d) const {
-    return model_.cycle_points ? model_.cycle_points : mech::auto_cycle_points(d);
+    return cycle_points_ ? cycle_points_ : mech::auto_cycle_points(d);
   }
 
   template <class S>
-  mech::TwinDrive<S> drive(const std::vector<S>& x) const {
-    mech::TwinDrive<S> d = model_.drive.template cast<S>();
-    for (size_t i = 0; i < x.size(); ++i) slot(d, slots_[i]) = x[i];
-    return d;
+  mech::TwinDrive<S> drive(const opt::Values<S>& v) const {
+    const opt::Values<double>& c = values();
+    return {v[R::crank_radius], v[R::rod_length], v[R::phase_shift], v[R::offset], v[R::crank_speed],
+            v[R::cart_mass], v[R::rod_mass_per_length], v[R::efficiency], v[R::cart_resistance],
+            static_cast<mech::Layout>(c[R::layout]), static_cast<mech::Kinematics>(c[R::kinematics]),
+            static_cast<mech::RodModel>(c[R::rod]), static_cast<mech::Resistance>(c[R::resistance])};
   }
 
   template <class S>
-  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
-    const mech::TwinDrive<S> d = drive(x);
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
+    const mech::TwinDrive<S> d = drive(v);
     using std::abs;
     out.put(M::crank_rod_ratio, (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
     if (const mech::Status st = mech::check(d); st != mech::Status::ok) {
@@ -214,26 +220,19 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
   }
 
  private:
-  RecuperativeDriveModel model_;
-  std::vector<int> slots_;  // table row of each variable
+  int cycle_points_;  // 0: auto
 };
 
 }  // namespace
 
-RecuperativeDriveModel parse_recuperative_drive_model(const opt::ConfigNode& root) {
-  Model m = default_model();
-  opt::read_parameters(root, kTable, m);
-  return m;
-}
-
 std::unique_ptr<opt::Problem> make_recuperative_drive(const opt::ConfigNode& root) {
-  Model m = parse_recuperative_drive_model(root);
-  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
-  return std::make_unique<RecuperativeDrive>(std::move(m), std::move(vars));
+  opt::Values<double> v = opt::read_values(root, kTable);
+  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
+  return std::make_unique<RecuperativeDrive>(std::move(v), std::move(vars));
 }
 
 const Registration kRegistration{
     {"recuperative_drive", "twin slider-crank recuperative drive of a roller forming installation (seed 000)",
-     opt::parameters(kTable, default_model()), make_recuperative_drive}};
+     kTable, make_recuperative_drive}};
 
 }  // namespace problems

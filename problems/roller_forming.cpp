@@ -33,102 +33,151 @@ constexpr Variant kTable61[] = {
 };
 constexpr int kVariants = static_cast<int>(std::size(kTable61));
 
-struct Model {
-  double roller_ratio = 1.1, gap = 0.015;  // the design values, rows 0-1 of kTable
-  int variant = 1;                         // 0: none, the product values are required
-  mech::RollerForming c;                   // the product values 0 (auto): the variant's
-  int feed_exponent = 0, remaining_length = 0;
+// The model values: the rows of kTable. The product values at 0 (auto) are
+// the variant's; the other defaults are libmech's.
+struct R {
+  enum Id : int { roller_ratio, gap, variant, product_length, width, thickness, forming_speed, cart_speed, passes, friction, mix_friction, stage_factor, pass_time, feed_time, outlet_safety, internal_friction_angle, initial_shear_stress, mix_density, gravity, initial_factor, initial_share, setup_time, sleeve_flow, rollers, stop_time, contact_factor, elastic_modulus, poisson_ratio, feed_exponent, remaining_length };
 };
 
+const mech::RollerForming kDefault{};
+
 // Quantities without a dimension of their own are plain SI numbers, their unit in the doc line.
-const opt::ParameterTable<Model> kTable = {
-    {variable("roller_ratio", Dimension::dimensionless, {1.1, HUGE_VAL, false, false},
+const std::vector<opt::Parameter> kTable = opt::table(
+    "roller_forming",
+    {
+    {R::roller_ratio,
+     variable("roller_ratio", Dimension::dimensionless, {1.1, HUGE_VAL, false, false},
               "R_p / H, roller radius over product thickness; the guide's rule R/H >= 1.1", "seed 003 ex. 6, step 1"),
-     MECHOPT_STORED_AT(m.roller_ratio)},
-    {variable("gap", Dimension::length, kPositive, "delta, between a hopper sleeve and a roller (printed 0.01...0.2)",
+     1.1},
+    {R::gap,
+     variable("gap", Dimension::length, kPositive, "delta, between a hopper sleeve and a roller (printed 0.01...0.2)",
               "seed 003 eq. (6.4)"),
-     MECHOPT_STORED_AT(m.gap)},
-    {whole("variant", {0, kVariants, false, false}, "Table 6.1 row giving the product values left at auto; 0: none",
+     0.015},
+    {R::variant,
+     whole("variant", {0, kVariants, false, false}, "Table 6.1 row giving the product values left at auto; 0: none",
            "seed 003 Table 6.1"),
-     MECHOPT_STORED_AT(m.variant)},
-    {quantity("product_length", Dimension::length, kPositive, "L; auto: the variant's", "seed 003 Table 6.1").or_auto(),
-     MECHOPT_STORED_AT(m.c.L)},
-    {quantity("width", Dimension::length, kPositive, "B, product width; auto: the variant's", "seed 003 Table 6.1")
+     1},
+    {R::product_length,
+     quantity("product_length", Dimension::length, kPositive, "L; auto: the variant's", "seed 003 Table 6.1").or_auto(),
+     kDefault.L},
+    {R::width,
+     quantity("width", Dimension::length, kPositive, "B, product width; auto: the variant's", "seed 003 Table 6.1")
          .or_auto(),
-     MECHOPT_STORED_AT(m.c.B)},
-    {quantity("thickness", Dimension::length, kPositive, "H (h of 6.2, 6.6, 6.7); auto: the variant's",
+     kDefault.B},
+    {R::thickness,
+     quantity("thickness", Dimension::length, kPositive, "H (h of 6.2, 6.6, 6.7); auto: the variant's",
               "seed 003 Table 6.1")
          .or_auto(),
-     MECHOPT_STORED_AT(m.c.H)},
-    {quantity("forming_speed", Dimension::dimensionless, kPositive, "v_f, form speed, in m/s; auto: the variant's",
+     kDefault.H},
+    {R::forming_speed,
+     quantity("forming_speed", Dimension::dimensionless, kPositive, "v_f, form speed, in m/s; auto: the variant's",
               "seed 003 eqs (6.2), (6.9), Table 6.1")
          .or_auto(),
-     MECHOPT_STORED_AT(m.c.v_f)},
-    {quantity("cart_speed", Dimension::dimensionless, kPositive, "v_p, roller cart speed, in m/s; auto: the variant's",
+     kDefault.v_f},
+    {R::cart_speed,
+     quantity("cart_speed", Dimension::dimensionless, kPositive, "v_p, roller cart speed, in m/s; auto: the variant's",
               "seed 003 eqs (6.8), (6.10), Table 6.1")
          .or_auto(),
-     MECHOPT_STORED_AT(m.c.v_p)},
-    {whole("passes", {1, 1000, false, false}, "N, roller passes (n_P of 6.8); auto: the variant's",
+     kDefault.v_p},
+    {R::passes,
+     whole("passes", {1, 1000, false, false}, "N, roller passes (n_P of 6.8); auto: the variant's",
            "seed 003 eqs (6.1), (6.8), Table 6.1")
          .or_auto(),
-     MECHOPT_STORED_AT(m.c.passes)},
-    {quantity("friction", Dimension::dimensionless, kPositive, "f, steel on concrete", "seed 003 eqs (6.1), (6.10)"),
-     MECHOPT_STORED_AT(m.c.f)},
-    {quantity("mix_friction", Dimension::dimensionless, kPositive, "f1, mix on mix", "seed 003 eq. (6.1)"),
-     MECHOPT_STORED_AT(m.c.f1)},
-    {quantity("stage_factor", Dimension::dimensionless, kPositive, "k1 of (6.1), processing stage; N > 3: 0.3-0.45",
+     kDefault.passes},
+    {R::friction,
+     quantity("friction", Dimension::dimensionless, kPositive, "f, steel on concrete", "seed 003 eqs (6.1), (6.10)"),
+     kDefault.f},
+    {R::mix_friction,
+     quantity("mix_friction", Dimension::dimensionless, kPositive, "f1, mix on mix", "seed 003 eq. (6.1)"),
+     kDefault.f1},
+    {R::stage_factor,
+     quantity("stage_factor", Dimension::dimensionless, kPositive, "k1 of (6.1), processing stage; N > 3: 0.3-0.45",
               "seed 003 eq. (6.1)"),
-     MECHOPT_STORED_AT(m.c.k1)},
-    {quantity("pass_time", Dimension::time, kPositive, "t_pr, one pass of the rollers (5-8 s)", "seed 003 eq. (6.3)"),
-     MECHOPT_STORED_AT(m.c.t_pass)},
-    {quantity("feed_time", Dimension::time, kNonNegative, "t_zas, mix feed from the sleeves per pass (0.5-1 s)",
+     kDefault.k1},
+    {R::pass_time,
+     quantity("pass_time", Dimension::time, kPositive, "t_pr, one pass of the rollers (5-8 s)", "seed 003 eq. (6.3)"),
+     kDefault.t_pass},
+    {R::feed_time,
+     quantity("feed_time", Dimension::time, kNonNegative, "t_zas, mix feed from the sleeves per pass (0.5-1 s)",
               "seed 003 eq. (6.3)"),
-     MECHOPT_STORED_AT(m.c.t_feed)},
-    {quantity("outlet_safety", Dimension::dimensionless, kPositive, "k1 of (6.5), uncertain mix properties (1-1.6)",
+     kDefault.t_feed},
+    {R::outlet_safety,
+     quantity("outlet_safety", Dimension::dimensionless, kPositive, "k1 of (6.5), uncertain mix properties (1-1.6)",
               "seed 003 eq. (6.5)"),
-     MECHOPT_STORED_AT(m.c.k1_safety)},
-    {quantity("internal_friction_angle", Dimension::angle, {0, std::numbers::pi / 2, false, false},
+     kDefault.k1_safety},
+    {R::internal_friction_angle,
+     quantity("internal_friction_angle", Dimension::angle, {0, std::numbers::pi / 2, false, false},
               "alpha1, internal friction in the hopper", "seed 003 eq. (6.5)"),
-     MECHOPT_STORED_AT(m.c.alpha1)},
-    {quantity("initial_shear_stress", Dimension::pressure, kPositive, "tau0 of the mix", "seed 003 eq. (6.5)"),
-     MECHOPT_STORED_AT(m.c.tau0)},
-    {quantity("mix_density", Dimension::dimensionless, kPositive, "rho0, mix in the hopper, in kg/m^3",
+     kDefault.alpha1},
+    {R::initial_shear_stress,
+     quantity("initial_shear_stress", Dimension::pressure, kPositive, "tau0 of the mix", "seed 003 eq. (6.5)"),
+     kDefault.tau0},
+    {R::mix_density,
+     quantity("mix_density", Dimension::dimensionless, kPositive, "rho0, mix in the hopper, in kg/m^3",
               "seed 003 eq. (6.5)"),
-     MECHOPT_STORED_AT(m.c.rho0)},
-    {quantity("gravity", Dimension::dimensionless, kPositive, "g, in m/s^2", "seed 003 eq. (6.5)"),
-     MECHOPT_STORED_AT(m.c.g)},
-    {quantity("initial_factor", Dimension::dimensionless, kPositive,
+     kDefault.rho0},
+    {R::gravity,
+     quantity("gravity", Dimension::dimensionless, kPositive, "g, in m/s^2", "seed 003 eq. (6.5)"),
+     kDefault.g},
+    {R::initial_factor,
+     quantity("initial_factor", Dimension::dimensionless, kPositive,
               "(1.4-1.6) of (6.6): the initial length's volume with the sleeve core", "seed 003 eq. (6.6)"),
-     MECHOPT_STORED_AT(m.c.initial_factor)},
-    {quantity("initial_share", Dimension::dimensionless, kNonNegative,
+     kDefault.initial_factor},
+    {R::initial_share,
+     quantity("initial_share", Dimension::dimensionless, kNonNegative,
               "(0.4-0.6) of (6.6): the sleeve core over the initial length's volume", "seed 003 eq. (6.6)"),
-     MECHOPT_STORED_AT(m.c.initial_share)},
-    {quantity("setup_time", Dimension::time, kNonNegative, "t1, setting the machine over an empty form (60-80 s)",
+     kDefault.initial_share},
+    {R::setup_time,
+     quantity("setup_time", Dimension::time, kNonNegative, "t1, setting the machine over an empty form (60-80 s)",
               "seed 003 eq. (6.6)"),
-     MECHOPT_STORED_AT(m.c.t1)},
-    {quantity("sleeve_flow", Dimension::dimensionless, kPositive, "V_C, mix flow from one sleeve, in m^3/s",
+     kDefault.t1},
+    {R::sleeve_flow,
+     quantity("sleeve_flow", Dimension::dimensionless, kPositive, "V_C, mix flow from one sleeve, in m^3/s",
               "seed 003 eq. (6.7)"),
-     MECHOPT_STORED_AT(m.c.V_C)},
-    {whole("rollers", {1, 100, false, false}, "n_p, rollers on the cart; n_p + 1 sleeves",
+     kDefault.V_C},
+    {R::rollers,
+     whole("rollers", {1, 100, false, false}, "n_p, rollers on the cart; n_p + 1 sleeves",
            "seed 003 eqs (6.7), (6.10)"),
-     MECHOPT_STORED_AT(m.c.rollers)},
-    {quantity("stop_time", Dimension::time, kNonNegative, "t_ost, stop at each end of the stroke", "seed 003 eq. (6.8)"),
-     MECHOPT_STORED_AT(m.c.t_stop)},
-    {quantity("contact_factor", Dimension::dimensionless, {0, 0.5, true, false},
+     kDefault.rollers},
+    {R::stop_time,
+     quantity("stop_time", Dimension::time, kNonNegative, "t_ost, stop at each end of the stroke", "seed 003 eq. (6.8)"),
+     kDefault.t_stop},
+    {R::contact_factor,
+     quantity("contact_factor", Dimension::dimensionless, {0, 0.5, true, false},
               "theta, roller-mix interaction (0.1-0.5)", "seed 003 eqs (6.10)-(6.12)"),
-     MECHOPT_STORED_AT(m.c.theta)},
-    {quantity("elastic_modulus", Dimension::pressure, kPositive, "E of the mix (2-3e6 Pa)", "seed 003 eq. (6.12)"),
-     MECHOPT_STORED_AT(m.c.E)},
-    {quantity("poisson_ratio", Dimension::dimensionless, {0, 0.5, false, true}, "nu of the mix (0.25-0.35)",
+     kDefault.theta},
+    {R::elastic_modulus,
+     quantity("elastic_modulus", Dimension::pressure, kPositive, "E of the mix (2-3e6 Pa)", "seed 003 eq. (6.12)"),
+     kDefault.E},
+    {R::poisson_ratio,
+     quantity("poisson_ratio", Dimension::dimensionless, {0, 0.5, false, true}, "nu of the mix (0.25-0.35)",
               "seed 003 eq. (6.12)"),
-     MECHOPT_STORED_AT(m.c.nu)},
-    {choice("feed_exponent", {"negative", "as_printed"},
+     kDefault.nu},
+    {R::feed_exponent,
+     choice("feed_exponent", {"negative", "as_printed"},
             "sign of (6.1)'s exponent; as printed the layer exceeds H and (6.5) has no solution", "seed 003 eq. (6.1)"),
-     MECHOPT_STORED_AT(m.feed_exponent)},
-    {choice("remaining_length", {"product_minus_roller", "printed"},
+     0},
+    {R::remaining_length,
+     choice("remaining_length", {"product_minus_roller", "printed"},
             "L_ost of (6.6), (6.9): L - L_p, or the guide's 0.2-0.5 m at 0.35 m", "seed 003 eqs (6.6), (6.9)"),
-     MECHOPT_STORED_AT(m.remaining_length)},
-};
+     0}
+    });
+
+// libmech's inputs from the model values (the variant's product values filled in).
+mech::RollerForming inputs(const opt::Values<double>& v) {
+  mech::RollerForming c;
+  c.L = v[R::product_length], c.B = v[R::width], c.H = v[R::thickness];
+  c.v_f = v[R::forming_speed], c.v_p = v[R::cart_speed], c.passes = static_cast<int>(v[R::passes]);
+  c.f = v[R::friction], c.f1 = v[R::mix_friction], c.k1 = v[R::stage_factor];
+  c.t_pass = v[R::pass_time], c.t_feed = v[R::feed_time], c.k1_safety = v[R::outlet_safety];
+  c.alpha1 = v[R::internal_friction_angle], c.tau0 = v[R::initial_shear_stress], c.rho0 = v[R::mix_density];
+  c.g = v[R::gravity], c.initial_factor = v[R::initial_factor], c.initial_share = v[R::initial_share];
+  c.t1 = v[R::setup_time], c.V_C = v[R::sleeve_flow], c.rollers = static_cast<int>(v[R::rollers]);
+  c.t_stop = v[R::stop_time], c.theta = v[R::contact_factor], c.E = v[R::elastic_modulus], c.nu = v[R::poisson_ratio];
+  c.feed = static_cast<mech::FeedExponent>(v[R::feed_exponent]);
+  c.remaining = static_cast<mech::RemainingLength>(v[R::remaining_length]);
+  return c;
+}
 
 // The metrics, in the order of kMetrics (their MetricIds).
 struct M {
@@ -167,20 +216,19 @@ const std::vector<MetricSpec> kMetrics = {
 
 class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
  public:
-  RollerFormingProblem(Model m, std::vector<opt::Variable> vars)
-      : ModelProblem("roller_forming", kMetrics, std::move(vars)), m_(std::move(m)),
-        slots_(opt::variable_rows(kTable, variables())) {}
+  RollerFormingProblem(opt::Values<double> values, std::vector<opt::Variable> vars)
+      : ModelProblem("roller_forming", kMetrics, kTable, std::move(values), std::move(vars)), c_(inputs(this->values())) {}
 
   nlohmann::json settings() const override {
-    nlohmann::json model = opt::parameters_json(opt::parameters(kTable, m_));
-    const double bite = mech::bite_angle(m_.c.f, m_.c.f1);
+    nlohmann::json model = model_json();
+    const double bite = mech::bite_angle(c_.f, c_.f1);
     model["derived"] = {{"bite_angle_deg", bite * 180 / std::numbers::pi},
-                        {"forming_time_per_pass", m_.c.t_pass - m_.c.t_feed}};
+                        {"forming_time_per_pass", c_.t_pass - c_.t_feed}};
     nlohmann::json warnings = nlohmann::json::array();
     warnings.push_back(
         "compaction_power_per_length: (6.12) gives F = L_p E sin^2(phi)(1 - theta)/(14.14 (1 - nu^2) theta) "
         "in Pa m = N/m, so N of (6.10) comes out in W/m; its number is reported as printed");
-    if (m_.feed_exponent == 1)
+    if (c_.feed == mech::FeedExponent::as_printed)
       warnings.push_back("feed_exponent_as_printed: e^(+(N-1)/(k1 N)) makes the least layer exceed H and "
                          "(6.5)'s denominator negative: no outlet width exists");
     return {{"model", model},
@@ -196,10 +244,8 @@ class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
   }
 
   template <class S>
-  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
-    S design[2] = {S(m_.roller_ratio), S(m_.gap)};  // rows 0-1 of kTable
-    for (size_t i = 0; i < x.size(); ++i) design[slots_[i]] = x[i];
-    const auto r = mech::roller_forming(m_.c, design[0], design[1]);
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
+    const auto r = mech::roller_forming(c_, v[R::roller_ratio], v[R::gap]);
     out.put(M::roller_radius, r.R_p);
     out.put(M::min_layer, r.h_min);
     out.put(M::roller_length, r.L_p);
@@ -216,44 +262,38 @@ class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
     out.put(M::productivity, r.productivity);
     out.put(M::capture_angle, r.capture_angle);
     out.put(M::compaction_power, r.power);
-    out.put(M::crank_speed, S(std::numbers::pi * m_.c.v_p / r.L_X));
+    out.put(M::crank_speed, S(std::numbers::pi * c_.v_p / r.L_X));
   }
 
  private:
-  Model m_;
-  std::vector<int> slots_;  // table row of each variable
+  mech::RollerForming c_;  // libmech's inputs from the model values
 };
 
 std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  Model m;
-  opt::read_parameters(root, kTable, m);
+  opt::Values<double> v = opt::read_values(root, kTable);
   const opt::ConfigNode model = root.has("model") ? root.at("model") : root;
   // The product values left at auto (0) come from the variant's row.
-  mech::RollerForming& c = m.c;
-  const Variant v = m.variant > 0 ? kTable61[m.variant - 1] : Variant{};
-  auto fill = [&](auto& value, auto row_value, const char* key) {
-    if (value != 0) return;
-    if (m.variant == 0) model.fail(std::string(key) + ": required with variant 0 (no Table 6.1 row)");
-    value = row_value;
-  };
-  fill(c.L, v.L, "product_length");
-  fill(c.B, v.B, "width");
-  fill(c.H, v.H, "thickness");
-  fill(c.v_f, v.v_f, "forming_speed");
-  fill(c.v_p, v.v_p, "cart_speed");
-  fill(c.passes, v.passes, "passes");
-  if (!(c.f * c.f1 < 1)) model.fail("friction x mix_friction must be below 1 for the bite angle of (6.1)");
-  if (!(c.t_pass > c.t_feed)) model.fail("pass_time must exceed feed_time: (6.3) t_pf = t_pr - t_zas > 0");
-  c.feed = static_cast<mech::FeedExponent>(m.feed_exponent);
-  c.remaining = static_cast<mech::RemainingLength>(m.remaining_length);
-  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
-  return std::make_unique<RollerFormingProblem>(std::move(m), std::move(vars));
+  const int variant = static_cast<int>(v[R::variant]);
+  const Variant row = variant > 0 ? kTable61[variant - 1] : Variant{};
+  for (auto [r, row_value] : {std::pair{R::product_length, row.L}, {R::width, row.B}, {R::thickness, row.H},
+                              {R::forming_speed, row.v_f}, {R::cart_speed, row.v_p},
+                              {R::passes, static_cast<double>(row.passes)}}) {
+    if (v[r] != 0) continue;
+    if (variant == 0) model.fail(kTable[r].name + ": required with variant 0 (no Table 6.1 row)");
+    v[r] = row_value;
+  }
+  if (!(v[R::friction] * v[R::mix_friction] < 1))
+    model.fail("friction x mix_friction must be below 1 for the bite angle of (6.1)");
+  if (!(v[R::pass_time] > v[R::feed_time]))
+    model.fail("pass_time must exceed feed_time: (6.3) t_pf = t_pr - t_zas > 0");
+  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
+  return std::make_unique<RollerFormingProblem>(std::move(v), std::move(vars));
 }
 
 const Registration kRegistration{
     {"roller_forming",
      "roller-forming machine: roller, hopper outlet, cart stroke and crank radius, productivity (seed 003 ex. 6)",
-     opt::parameters(kTable, Model{}), make}};
+     kTable, make}};
 
 }  // namespace
 }  // namespace problems

@@ -15,37 +15,27 @@ namespace problems {
 namespace {
 
 
-struct Model {
-  mech::SliderCrank<double> mechanism{0.2, 0.8, 0.0, 1};
-  double crank_speed = 100 * std::numbers::pi / 30;
-  int cycle_points = 64;
+// The model values: the rows of kTable.
+struct R {
+  enum Id : int { crank_radius, rod_length, offset, crank_speed, kinematics, cycle_points };
 };
 
-// The variables first, in the order of slot() below.
-const opt::ParameterTable<Model> kTable = {
-    {variable("crank_radius", Dimension::length, opt::kPositive, "r", "seed 000 eq. (1)"),
-     MECHOPT_STORED_AT(m.mechanism.r)},
-    {variable("rod_length", Dimension::length, opt::kPositive, "l (l <= r + |e|: cannot_assemble)",
-                   "seed 000 eq. (1)"),
-     MECHOPT_STORED_AT(m.mechanism.l)},
-    {variable("offset", Dimension::length, opt::kAnyValue, "e, the slider axis off the crank axis", ""),
-     MECHOPT_STORED_AT(m.mechanism.e)},
-    {quantity("crank_speed", Dimension::angular_speed, opt::kPositive, "w, constant", "seed 000 eq. (5)"),
-     MECHOPT_STORED_AT(m.crank_speed)},
-    {choice("kinematics", {"exact", "binomial"}, "exact, or the binomial series", "seed 001 eqs (36)-(39)"),
-     MECHOPT_STORED_AT(m.mechanism.kinematics)},
-    {whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""),
-     MECHOPT_STORED_AT(m.cycle_points)},
-};
-
-template <class S>
-S& slot(mech::SliderCrank<S>& k, int row) {
-  switch (row) {
-    case 0: return k.r;
-    case 1: return k.l;
-    default: return k.e;
-  }
-}
+const std::vector<opt::Parameter> kTable = opt::table(
+    "slider_crank",
+    {{R::crank_radius, variable("crank_radius", Dimension::length, opt::kPositive, "r", "seed 000 eq. (1)"), 0.2},
+     {R::rod_length,
+      variable("rod_length", Dimension::length, opt::kPositive, "l (l <= r + |e|: cannot_assemble)",
+               "seed 000 eq. (1)"),
+      0.8},
+     {R::offset, variable("offset", Dimension::length, opt::kAnyValue, "e, the slider axis off the crank axis", ""),
+      0.0},
+     {R::crank_speed,
+      quantity("crank_speed", Dimension::angular_speed, opt::kPositive, "w, constant", "seed 000 eq. (5)"),
+      100 * std::numbers::pi / 30},
+     {R::kinematics,
+      choice("kinematics", {"exact", "binomial"}, "exact, or the binomial series", "seed 001 eqs (36)-(39)"), 0},
+     {R::cycle_points,
+      whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""), 64}});
 
 // The metrics, in the order of kMetrics (their MetricIds).
 struct M {
@@ -64,19 +54,19 @@ const std::vector<MetricSpec> kMetrics = {
 
 class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
  public:
-  SliderCrankProblem(Model m, std::vector<opt::Variable> vars)
-      : ModelProblem("slider_crank", kMetrics, std::move(vars)), m_(std::move(m)),
-        slots_(opt::variable_rows(kTable, variables())) {}
+  SliderCrankProblem(opt::Values<double> values, std::vector<opt::Variable> vars)
+      : ModelProblem("slider_crank", kMetrics, kTable, std::move(values), std::move(vars)) {}
 
   nlohmann::json settings() const override {
-    return {{"model", opt::parameters_json(opt::parameters(kTable, m_))},
+    return {{"model", model_json()},
             {"numerics", {{"extrema", "grid bracket + Brent root of the angle derivative; Danskin gradients"}}}};
   }
 
   template <class S>
-  void evaluate_model(const std::vector<S>& x, MetricSink<S>& out) const {
-    mech::SliderCrank<S> k{S(m_.mechanism.r), S(m_.mechanism.l), S(m_.mechanism.e), 1, m_.mechanism.kinematics};
-    for (size_t i = 0; i < x.size(); ++i) slot(k, slots_[i]) = x[i];
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
+    const mech::SliderCrank<S> k{v[R::crank_radius], v[R::rod_length], v[R::offset], 1,
+                                 static_cast<mech::Kinematics>(values()[R::kinematics])};
+    const int n = static_cast<int>(values()[R::cycle_points]);
     if (!mech::assembles_over_cycle(k)) {
       out.result.status = mech::Status::cannot_assemble;
       return;
@@ -86,10 +76,10 @@ class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
     const mech::SliderCrank<double> kd{mech::value(k.r), mech::value(k.l), mech::value(k.e), 1, k.kinematics};
     const mech::SliderCrank<mech::Dual> kv{mech::Dual(kd.r), mech::Dual(kd.l), mech::Dual(kd.e), 1, k.kinematics};
     auto at = [&](const auto& f) {  // angle of the cycle maximum of f(model, phi)
-      std::vector<double> v(m_.cycle_points);
-      for (int i = 0; i < m_.cycle_points; ++i) v[i] = f(kd, mech::kTwoPi * i / m_.cycle_points);
+      std::vector<double> grid(n);
+      for (int i = 0; i < n; ++i) grid[i] = f(kd, mech::kTwoPi * i / n);
       return mech::global_max_angle(
-          v, [&](double phi) { return f(kd, phi); },
+          grid, [&](double phi) { return f(kd, phi); },
           [&](double phi) { return f(kv, mech::seed(phi)).d; });
     };
     // (Named points: GCC takes members of a temporary point for uninitialised.)
@@ -112,29 +102,24 @@ class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
       return decltype(m.r)(abs(m.r * sin(phi) + m.e) / m.l);
     };
     using std::asin;
-    const S w(m_.crank_speed);
+    const S& w = v[R::crank_speed];
     if (out.want(M::stroke))
       out.put(M::stroke, position(k, S(at(position))) - position(k, S(at(minus_position))));
     if (out.want(M::peak_slider_acceleration))
       out.put(M::peak_slider_acceleration, acceleration(k, S(at(acceleration))) * w * w);
     if (out.want(M::max_pressure_angle)) out.put(M::max_pressure_angle, asin(rod_slope(k, S(at(rod_slope)))));
   }
-
- private:
-  Model m_;
-  std::vector<int> slots_;  // table row of each variable
 };
 
 std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  Model m;
-  opt::read_parameters(root, kTable, m);
-  auto vars = opt::parse_variables(root, opt::parameters(kTable, m));
-  return std::make_unique<SliderCrankProblem>(std::move(m), std::move(vars));
+  opt::Values<double> v = opt::read_values(root, kTable);
+  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
+  return std::make_unique<SliderCrankProblem>(std::move(v), std::move(vars));
 }
 
 const Registration kRegistration{
     {"slider_crank", "one slider-crank sized for stroke, peak acceleration and pressure angle (seed 000)",
-     opt::parameters(kTable, Model{}), make}};
+     kTable, make}};
 
 }  // namespace
 }  // namespace problems

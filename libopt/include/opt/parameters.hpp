@@ -1,13 +1,13 @@
 // One parameter table per problem: for every model value a config may set,
 // its name, physical dimension, domain, one doc line, seed equation, whether
-// a config may free it as a design variable, and where it is stored. The
-// YAML reader, the checks on model values, bounds, initial values and grid
-// points, `mechopt list` and the config reference in docs/ all read it.
+// a config may free it as a design variable, and its default. The values
+// themselves travel as one vector indexed by row (Values). The YAML reader,
+// the checks on model values, bounds, initial values and grid points,
+// `mechopt list` and the config reference all read the table.
 #pragma once
-#include <functional>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "opt/config.hpp"
@@ -65,24 +65,43 @@ inline Parameter whole(std::string name, Domain domain, std::string doc, std::st
   return {std::move(name), Dimension::dimensionless, domain, std::move(doc), std::move(eq), {}, true, false, false, 0, {}};
 }
 
-// A row of a problem's table with where its value is stored in the problem's
-// Model (as a double: a choice's index, an integer, or an SI quantity).
-template <class Model>
-struct ParameterRow {
+// A problem's model values: one per row of its parameter table, in the
+// table's order (a choice as its option's index, a whole number, or an SI
+// quantity), on the scalar S of an evaluation: double, or an autodiff type
+// whose derivatives are those of the variables. A problem names the rows by
+// its own enum, whose values are the rows' positions: v[R::crank_radius].
+template <class S>
+using Values = std::vector<S>;
+
+// A row of a problem's table as its file writes it: the problem's enum value
+// for it (equal to its position, checked by table()), the parameter, and
+// its default value.
+struct TableRow {
+  int id;
   Parameter p;
-  std::function<void(Model&, double)> set;
-  std::function<double(const Model&)> get;
+  template <class Id, class Number>  // (a whole number's default may be an int)
+  TableRow(Id i, Parameter parameter, Number default_value)
+      : id(static_cast<int>(i)), p(std::move(parameter)) {
+    p.value = static_cast<double>(default_value);
+  }
 };
 
-template <class Model>
-using ParameterTable = std::vector<ParameterRow<Model>>;
+// The table of a problem's model values, each row's default in its `value`;
+// throws std::logic_error naming `problem` when a row is not at its enum's
+// position.
+std::vector<Parameter> table(const std::string& problem, std::initializer_list<TableRow> rows);
 
-// set and get of a row from one field expression of `m`:
-//   {variable("crank_radius", Dimension::length, kPositive, "crank radius r", "seed 000 eq. (1)"),
-//    MECHOPT_STORED_AT(m.drive.crank_radius)}
-#define MECHOPT_STORED_AT(field)                                                         \
-  [](auto& m, double v) { field = static_cast<std::remove_cvref_t<decltype(field)>>(v); }, \
-      [](const auto& m) { return static_cast<double>(field); }
+// The model values of a config: each row's default, overwritten by the
+// `model` section's value for it. Keys outside the table (or its sections)
+// are errors, values outside their domain are located errors.
+Values<double> read_values(const ConfigNode& root, const std::vector<Parameter>& table);
+
+// The rows with their values set to v, for `mechopt list`, result files and
+// parse_variables.
+std::vector<Parameter> with_values(std::vector<Parameter> table, const Values<double>& v);
+
+// The table row of each variable (by name, once, when the problem is built).
+std::vector<int> variable_rows(const std::vector<Parameter>& table, const std::vector<Variable>& vars);
 
 // The value of row p from node n (a choice by name, a whole number, or a
 // quantity with its unit), checked against p's domain.
@@ -100,56 +119,10 @@ std::string exact_value_text(const Parameter& p, double v);
 // "one of: opposed, same_side".
 std::string domain_text(const Parameter& p);
 
-// The table row of each variable (by name, once, when the problem is built).
-template <class Model>
-std::vector<int> variable_rows(const ParameterTable<Model>& table, const std::vector<Variable>& vars) {
-  std::vector<int> rows;
-  for (const auto& v : vars)
-    for (size_t i = 0; i < table.size(); ++i)
-      if (table[i].p.name == v.name) rows.push_back(static_cast<int>(i));
-  return rows;
-}
-
 // Unknown keys of `model` and of its sections are errors naming what is allowed.
 void check_model_keys(const ConfigNode& model, const std::vector<Parameter>& rows);
 
 // {name: value} of every row, a choice by its name, for result files.
 nlohmann::json parameters_json(const std::vector<Parameter>& rows);
-
-// Reads the `model` section into m: keys outside the table (or its
-// sections) are errors, values outside their domain are located errors.
-// Returns the names of the rows the config set.
-template <class Model>
-std::vector<std::string> read_parameters(const ConfigNode& root, const ParameterTable<Model>& table,
-                                         Model& m) {
-  std::vector<std::string> set;
-  if (!root.has("model")) return set;
-  std::vector<Parameter> rows;
-  for (const auto& r : table) rows.push_back(r.p);
-  const ConfigNode model = root.at("model");
-  check_model_keys(model, rows);
-  for (const auto& r : table) {
-    // (No ConfigNode is assigned to: a YAML::Node assignment writes into the tree.)
-    const auto dot = r.p.name.find('.');
-    if (dot != std::string::npos && !model.has(r.p.name.substr(0, dot))) continue;
-    const ConfigNode section = dot == std::string::npos ? model : model.at(r.p.name.substr(0, dot));
-    const std::string key = dot == std::string::npos ? r.p.name : r.p.name.substr(dot + 1);
-    if (!section.has(key)) continue;
-    r.set(m, read_parameter(section.at(key), r.p));
-    set.push_back(r.p.name);
-  }
-  return set;
-}
-
-// The rows as Parameters with their values in m.
-template <class Model>
-std::vector<Parameter> parameters(const ParameterTable<Model>& table, const Model& m) {
-  std::vector<Parameter> out;
-  for (const auto& r : table) {
-    out.push_back(r.p);
-    out.back().value = r.get(m);
-  }
-  return out;
-}
 
 }  // namespace opt

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace opt {
 std::string value_text(const Parameter& p) {
@@ -79,6 +80,47 @@ nlohmann::json parameters_json(const std::vector<Parameter>& rows) {
     else j[r.name.substr(0, dot)][r.name.substr(dot + 1)] = v;
   }
   return j;
+}
+
+std::vector<Parameter> table(const std::string& problem, std::initializer_list<TableRow> rows) {
+  std::vector<Parameter> out;
+  for (const auto& r : rows) {
+    if (r.id != static_cast<int>(out.size()))
+      throw std::logic_error(problem + ": model value " + r.p.name + " is not at its enum's position");
+    out.push_back(r.p);
+  }
+  return out;
+}
+
+Values<double> read_values(const ConfigNode& root, const std::vector<Parameter>& table) {
+  Values<double> v;
+  for (const auto& p : table) v.push_back(p.value);
+  if (!root.has("model")) return v;
+  const ConfigNode model = root.at("model");
+  check_model_keys(model, table);
+  for (size_t i = 0; i < table.size(); ++i) {
+    const std::string& name = table[i].name;
+    // (No ConfigNode is assigned to: a YAML::Node assignment writes into the tree.)
+    const auto dot = name.find('.');
+    if (dot != std::string::npos && !model.has(name.substr(0, dot))) continue;
+    const ConfigNode section = dot == std::string::npos ? model : model.at(name.substr(0, dot));
+    const std::string key = dot == std::string::npos ? name : name.substr(dot + 1);
+    if (section.has(key)) v[i] = read_parameter(section.at(key), table[i]);
+  }
+  return v;
+}
+
+std::vector<Parameter> with_values(std::vector<Parameter> table, const Values<double>& v) {
+  for (size_t i = 0; i < table.size(); ++i) table[i].value = v.at(i);
+  return table;
+}
+
+std::vector<int> variable_rows(const std::vector<Parameter>& table, const std::vector<Variable>& vars) {
+  std::vector<int> rows;
+  for (const auto& var : vars)
+    for (size_t i = 0; i < table.size(); ++i)
+      if (table[i].name == var.name) rows.push_back(static_cast<int>(i));
+  return rows;
 }
 
 }  // namespace opt
