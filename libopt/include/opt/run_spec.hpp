@@ -2,6 +2,7 @@
 // objective, constraints, study, driver, grid, reference and output; keys
 // are checked against the problem's variables and metrics, errors located.
 #pragma once
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -50,9 +51,14 @@ struct RunSpec {
 // Reads a `driver:` map (library, algorithm, tolerances, limits, polish).
 DriverOptions parse_driver(const ConfigNode& n);
 
+// The most designs one run evaluates without --force: a sweep's grid points
+// in all, a DOE's samples (a sweep is a factorial design, run by the DOE's
+// runner; opt/doe/batch.hpp).
+constexpr std::int64_t kMaxSamples = 10'000'000;
+
 // Reads objective, constraints, study, output and reference (keys checked
 // against the problem's variables and metrics).
-// `force`: a sweep may have more than doe::kMaxSamples points in all.
+// `force`: a sweep may have more than kMaxSamples points in all.
 RunSpec parse_run(const ConfigNode& root, const Problem& problem, bool force = false);
 
 }  // namespace opt

@@ -5,15 +5,14 @@
 #include <cmath>
 #include <iostream>
 
-#include "opt/doe/batch.hpp"
+#include "core/text.hpp"
 #include "opt/drivers/nlopt.hpp"
-#include "report/report.hpp"
 
 namespace opt {
 namespace {
 
-using report::fmt;
-using report::join;
+using text::fmt;
+using text::join;
 
 int variable_index(const Problem& p, const std::string& name) {
   const auto& v = p.variables();
@@ -29,7 +28,7 @@ const Variable* find_variable(const Problem& p, const std::string& name) {
 
 // Points a sweep may have (on an axis always; in all without --force):
 // a sweep is a factorial design, with the batch's limit.
-constexpr double kMaxGridPoints = doe::kMaxSamples;
+constexpr double kMaxGridPoints = kMaxSamples;
 
 std::vector<double> parse_values(const ConfigNode& n, const Variable& v) {
   std::vector<double> out;

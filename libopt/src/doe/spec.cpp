@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "opt/doe/batch.hpp"
-#include "opt/study.hpp"
+#include "opt/run_spec.hpp"
 #include "opt/units.hpp"
 
 namespace opt::doe {

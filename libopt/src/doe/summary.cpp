@@ -8,6 +8,7 @@
 #include <ostream>
 #include <variant>
 
+#include "core/text.hpp"
 #include "doe/evaluator.hpp"
 #include "doe/summary_reads.hpp"
 #include "opt/chart.hpp"
@@ -145,7 +146,7 @@ void print_main_effects(std::ostream& out, const nlohmann::json& j, const DoeSpe
     out << "  " << pad(f, factor_width, true);
     for (size_t m = 0; m < metrics.size(); ++m) {
       const double range = j["main_effects"][f][metrics[m]]["range"].get<double>();
-      out << "  " << pad(report::fmt(range * shown_unit(problem.metric_unit(metrics[m])).scale),
+      out << "  " << pad(text::fmt(range * shown_unit(problem.metric_unit(metrics[m])).scale),
                          std::max<size_t>(12, head[m].size()));
     }
     out << "\n";

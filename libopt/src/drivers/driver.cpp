@@ -12,8 +12,8 @@
 #include "opt/drivers/line.hpp"
 #include "opt/drivers/nlopt.hpp"
 #include "opt/interrupt.hpp"
+#include "core/text.hpp"
 #include "opt/stationarity.hpp"
-#include "report/report.hpp"
 
 namespace opt {
 namespace {
@@ -53,7 +53,7 @@ std::string driver_incompatibility(const DriverOptions& options, const Problem& 
     if (make_driver(other)->incompatibility(problem, constraints).empty())
       can.push_back(std::string("library: ") + library);
   }
-  return why + "; algorithms that can take this problem: " + (can.empty() ? "none" : report::join(can));
+  return why + "; algorithms that can take this problem: " + (can.empty() ? "none" : text::join(can));
 }
 
 namespace detail {

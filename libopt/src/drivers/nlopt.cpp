@@ -17,8 +17,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "core/text.hpp"
 #include "opt/stationarity.hpp"
-#include "report/report.hpp"
 
 namespace opt {
 
@@ -76,7 +76,7 @@ bool has(const std::string& algorithm, F property) {
 std::string nlopt_algorithm_incompatibility(const std::string& name, const Problem& p,
                                             const std::vector<Constraint>& constraints) {
   const Algorithm* a = find_algorithm(name);
-  if (!a) return "is not an NLopt algorithm mechopt offers (" + report::join(nlopt_algorithms()) + ")";
+  if (!a) return "is not an NLopt algorithm mechopt offers (" + text::join(nlopt_algorithms()) + ")";
   if (a->gradient && !p.provides_gradients())
     return "needs exact gradients, and " + p.name() + " has none: it takes derivative-free algorithms only";
   const int n = static_cast<int>(p.variables().size());

@@ -1,5 +1,5 @@
-// Shared by the studies: number formatting, the printed tables, variables as
-// JSON, and the charts along a variable and over the crank cycle.
+// Shared by the studies: the printed tables, variables as JSON, and the
+// charts along a variable and over the crank cycle.
 #pragma once
 #include <Eigen/Core>
 #include <iosfwd>
@@ -8,13 +8,10 @@
 #include <vector>
 
 #include "opt/problem.hpp"
-#include "opt/study.hpp"
+#include "opt/run_spec.hpp"
 
 namespace opt::report {
 
-// v with `precision` significant digits; "-" when not finite.
-std::string fmt(double v, int precision = 6);
-std::string join(const std::vector<std::string>& v);
 // The length of the longest name, at least `at_least`: a column of names as wide as it needs.
 size_t longest(const std::vector<std::string>& names, size_t at_least = 0);
 // Right-aligned cells, each as wide as its column's header (at least 12).

@@ -1,26 +1,14 @@
 #include <algorithm>
-#include <cmath>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 
+#include "core/text.hpp"
 #include "opt/display_units.hpp"
 #include "report/report.hpp"
 
 namespace opt::report {
 
-std::string fmt(double v, int precision) {
-  if (!std::isfinite(v)) return "-";
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
-
-std::string join(const std::vector<std::string>& v) {
-  std::string out;
-  for (size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
-  return out;
-}
+using text::fmt;
 
 void print_row(std::ostream& out, const std::vector<std::string>& cells,
                const std::vector<std::string>& head) {

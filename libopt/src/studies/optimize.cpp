@@ -2,6 +2,7 @@
 #include <iostream>
 #include <limits>
 
+#include "core/text.hpp"
 #include "opt/display_units.hpp"
 #include "opt/record.hpp"
 #include "report/report.hpp"
@@ -10,7 +11,7 @@
 namespace opt::studies {
 namespace {
 
-using report::fmt;
+using text::fmt;
 
 // Every evaluation the driver made: evaluation, variables, status, objective.
 void write_history(const Problem& p, const Result& r, const std::string& file) {

@@ -2,6 +2,7 @@
 #include <iostream>
 #include <limits>
 
+#include "core/text.hpp"
 #include "opt/chart.hpp"
 #include "opt/display_units.hpp"
 #include "opt/interrupt.hpp"
@@ -11,7 +12,7 @@
 
 namespace opt::studies {
 
-using report::fmt;
+using text::fmt;
 using report::print_row;
 
 // Epsilon-constraint Pareto front of two minimised metrics f1, f2: the two

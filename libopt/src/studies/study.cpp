@@ -1,6 +1,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/text.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/record.hpp"
 #include "opt/study.hpp"
@@ -80,7 +81,7 @@ nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) 
     for (const auto& x : grid.x) {
       std::string label;
       for (int d = 0; d < x.size(); ++d)
-        label += (d ? ", " : "") + p.variables()[d].name + " = " + report::fmt(x[d], 4);
+        label += (d ? ", " : "") + p.variables()[d].name + " = " + text::fmt(x[d], 4);
       designs.emplace_back(label, x);
     }
   if (optimized && o.result.success()) designs.emplace_back("optimum", o.result.x);

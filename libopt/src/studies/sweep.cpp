@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include "core/text.hpp"
 #include "opt/doe/batch.hpp"
 #include "opt/display_units.hpp"
 #include "opt/doe/store.hpp"
@@ -15,7 +16,7 @@
 namespace opt::studies {
 namespace {
 
-using report::fmt;
+using text::fmt;
 using report::print_row;
 
 // The SI unit of a grid variable.

@@ -21,6 +21,7 @@
 #include "opt/doe/sampler.hpp"
 #include "opt/parameters.hpp"
 #include "opt/problem.hpp"
+#include "opt/run_spec.hpp"
 
 namespace opt::doe {
 
@@ -64,10 +65,9 @@ std::vector<std::string> stored_metrics(const DoeSpec& spec, const Problem& prob
 // Makes a problem from a config: problems::make_problem.
 using ProblemFactory = std::function<std::unique_ptr<Problem>(const ConfigNode& root)>;
 
-// More samples than this need --force (--dry-run shows what they would take).
-constexpr std::int64_t kMaxSamples = 10'000'000;
-// More than this, never: the finished-sample bitmap alone would take 1.25 GB,
-// the store ~1.5 TB.
+// More samples than kMaxSamples (opt/run_spec.hpp, a sweep's limit too) need
+// --force (--dry-run shows what they would take). More than this, never: the
+// finished-sample bitmap alone would take 1.25 GB, the store ~1.5 TB.
 constexpr std::int64_t kHardMaxSamples = 10'000'000'000;
 
 // Reads `study: {type: doe, sampler, samples, seed, maximin, factors, points,
