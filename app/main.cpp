@@ -20,7 +20,7 @@
 #include "opt/interrupt.hpp"
 #include "opt/study.hpp"
 #include "opt/units.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -347,7 +347,7 @@ void list(bool markdown) {
                  "`model: {fidelity: {rod: full}}`.\n\n";
   }
   std::cout << (markdown ? "" : "problems:\n");
-  for (const auto& e : problems::registry()) {
+  for (const auto& e : opt::registry()) {
     const auto p = e.make(opt::ConfigNode::parse("problem: " + e.name, "<list>"));
     if (markdown) {
       std::cout << "### " << e.name << "\n\n" << e.summary << ".\n\n"
@@ -436,13 +436,13 @@ void print_check(const opt::doe::StoreCheck& c) {
 }
 
 int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& problem) {
-  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, problems::parameters(root), problem,
+  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, opt::model_parameters(root), problem,
                                                       a.batch.force || a.batch.dry_run);
   const opt::RunSpec run = opt::parse_run(root, problem);  // output
   opt::doe::BatchOptions o = a.batch;
   o.peers = opt::doe::mpi_peers();
   o.output_directory = !a.output.empty() ? a.output : run.output_directory;
-  opt::doe::run_batch(root, problems::make_problem, spec, o, std::cout, std::cerr);
+  opt::doe::run_batch(root, opt::make_problem, spec, o, std::cout, std::cerr);
   return stopped(o.output_directory + "/store.sqlite");
 }
 
@@ -462,7 +462,7 @@ int run(const Args& a) {
     // has none): set that too, or a variable's `initial` would win silently.
     if (y["variables"] && y["variables"][key] && y["variables"][key].IsMap()) y["variables"][key]["initial"] = value;
   }
-  const auto problem = problems::make_problem(root);
+  const auto problem = opt::make_problem(root);
   if (a.command == "eval") {
     nlohmann::json j = opt::metrics_json(*problem, problem->initial_point(false));
     j["problem"] = problem->name();

@@ -15,7 +15,7 @@
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
 #include "opt/drivers/nlopt.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -44,7 +44,7 @@ const Scene kScenes[] = {
 };
 
 void run(benchmark::State& state, const Scene& scene, opt::DriverOptions o) {
-  const auto p = problems::make_problem(opt::ConfigNode::parse(scene.yaml, "<bench>"));
+  const auto p = opt::make_problem(opt::ConfigNode::parse(scene.yaml, "<bench>"));
   const auto driver = opt::make_driver(o);
   opt::Result r;
   for (auto _ : state) {

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "opt/config.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -22,7 +22,7 @@ namespace {
 // both with the lever as a slider; 2 the pressure law with the exact
 // four-bar lever (pivot on the crank pin's side).
 std::unique_ptr<opt::Problem> press(int fidelity, int stroke_points = 64) {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       std::string("problem: crank_press\n"
                   "model: {press: SM-816, depth: 20 mm, pressure_factor: 0.035 MPa, bricks: 4,\n"
                   "        tabulated_angle: 120 deg, crank_speed: 20.7 rad/s, pressing_end: inner,\n"
@@ -60,7 +60,7 @@ BENCHMARK(BM_PressGrid)->Arg(4)->Arg(6)->Arg(8)->Arg(12)->Arg(16)->Arg(32)->Arg(
 
 // The paper's improved mechanism (configs/balanced_slider_crank/paper.yaml), 72 grid points.
 std::unique_ptr<opt::Problem> sawmill(int cycle_points = 72) {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       "problem: balanced_slider_crank\n"
       "model: {crank_speed: 320 rpm, crank_length: 0.3 m, original_rod_length: 2 m, cam_offset: 0.0219 m,\n"
       "        rod_length: auto, rod_mass: 150 kg, rod_inertia: 0.5 kg m^2, rod_centre_of_mass: 0.5,\n"
@@ -101,7 +101,7 @@ BENCHMARK(BM_SawmillGrid)->Arg(8)->Arg(12)->Arg(18)->Arg(24)->Arg(36)->Arg(72)->
 void BM_RollerFormingTable(benchmark::State& state) {
   std::vector<std::unique_ptr<opt::Problem>> ps;
   for (int i = 1; i <= 24; ++i)
-    ps.push_back(problems::make_problem(opt::ConfigNode::parse(
+    ps.push_back(opt::make_problem(opt::ConfigNode::parse(
         "problem: roller_forming\nmodel: {variant: " + std::to_string(i) + "}\n", "<bench>")));
   const Eigen::VectorXd x = ps[0]->initial_point();
   const opt::MetricSet wanted = opt::MetricSet::all();

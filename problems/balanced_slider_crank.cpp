@@ -13,7 +13,6 @@
 #include "mech/cycle.hpp"
 #include "opt/parameters.hpp"
 #include "problems/model_problem.hpp"
-#include "problems/registry.hpp"
 
 namespace problems {
 namespace {
@@ -212,10 +211,18 @@ struct CycleGrid {
 
 class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProblem> {
  public:
-  BalancedSliderCrankProblem(opt::Values<double> values, bool rod_auto, std::vector<opt::Variable> vars)
+  // `given`: the values as the config gave them (rod_length auto: 0).
+  BalancedSliderCrankProblem(opt::Values<double> values, std::vector<opt::Variable> vars,
+                             const opt::Values<double>& given)
       : ModelProblem("balanced_slider_crank", kMetrics, kTable, std::move(values), std::move(vars)),
-        rod_auto_(rod_auto) {
+        rod_auto_(given[R::rod_length] == 0) {
     for (const auto& v : variables()) rod_auto_ = rod_auto_ && v.name != kTable[R::rod_length].name;
+  }
+
+  // The values left at auto: L = l2 + a, c = m3 w^2.
+  static void resolve(opt::Values<double>& v, const opt::ConfigNode&) {
+    if (v[R::rod_length] == 0) v[R::rod_length] = v[R::original_rod_length] + v[R::cam_offset];
+    if (v[R::spring_rate] == 0) v[R::spring_rate] = v[R::slider_mass] * v[R::crank_speed] * v[R::crank_speed];
   }
 
   nlohmann::json settings() const override {
@@ -349,19 +356,10 @@ class BalancedSliderCrankProblem : public ModelProblem<BalancedSliderCrankProble
   bool rod_auto_;  // L = l2 + a (tracks a variable cam offset)
 };
 
-std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  opt::Values<double> v = opt::read_values(root, kTable);
-  const bool rod_auto = v[R::rod_length] == 0;
-  if (rod_auto) v[R::rod_length] = v[R::original_rod_length] + v[R::cam_offset];
-  if (v[R::spring_rate] == 0) v[R::spring_rate] = v[R::slider_mass] * v[R::crank_speed] * v[R::crank_speed];
-  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
-  return std::make_unique<BalancedSliderCrankProblem>(std::move(v), rod_auto, std::move(vars));
-}
-
-const Registration kRegistration{
-    {"balanced_slider_crank",
-     "sawmill-frame slider-crank balanced by a fixed circular cam and springs, against the original (seed 004)",
-     kTable, make}};
+const opt::Registered<BalancedSliderCrankProblem> kRegistration{
+    "balanced_slider_crank",
+    "sawmill-frame slider-crank balanced by a fixed circular cam and springs, against the original (seed 004)",
+    kTable};
 
 }  // namespace
 }  // namespace problems

@@ -1,5 +1,4 @@
 #include "problems/conveyor_swing.hpp"
-#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -191,6 +190,28 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
       : ModelProblem("conveyor_swing", kMetrics, kTable, std::move(values), std::move(vars)),
         fixed_(fixed(this->values())) {}
 
+  // The frame's rule, and the link lengths left at auto: the synthesis'.
+  static void resolve(opt::Values<double>& v, const opt::ConfigNode& root) {
+    if (!(std::hypot(v[R::frame_x], v[R::frame_y]) > 0))
+      root.at("model").fail("frame_x and frame_y place the crank pivot on the rocker pivot");
+    const mech::FourBar<double> syn = synthesized(v, v).linkage;
+    for (auto [row, length] : {std::pair{R::crank_length, syn.crank}, {R::coupler_length, syn.coupler},
+                               {R::rocker_length, syn.rocker}})
+      if (!(v[row] > 0)) v[row] = length;
+  }
+  // l_co1 is the synthesis' variable; the link lengths free_links'.
+  static void check_variables(const std::vector<opt::Variable>& vars, const opt::Values<double>& v,
+                              const opt::ConfigNode& root) {
+    for (const auto& var : vars) {
+      const bool synthesis_var = var.name == "l_co1";
+      if (synthesis_var != synthesis(v))
+        root.at("variables").at(var.name).fail(
+            std::string("variable '") + var.name + "' belongs to design: " +
+            (synthesis_var ? "synthesis" : "free_links") + ", but the model has design: " +
+            (synthesis(v) ? "synthesis" : "free_links"));
+    }
+  }
+
   std::vector<opt::Constraint> implicit_constraints() const override {
     std::vector<opt::Constraint> c = {{"rotation_margin", false, kMinMargin}};
     if (synthesis(values())) c.push_back({"synthesis_margin", false, kMinMargin});
@@ -326,28 +347,10 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
 }  // namespace
 
 std::unique_ptr<opt::Problem> make_conveyor_swing(const opt::ConfigNode& root) {
-  opt::Values<double> v = opt::read_values(root, kTable);
-  if (!(std::hypot(v[R::frame_x], v[R::frame_y]) > 0))
-    root.at("model").fail("frame_x and frame_y place the crank pivot on the rocker pivot");
-  // The link lengths left at auto: the synthesis'.
-  const mech::FourBar<double> syn = synthesized(v, v).linkage;
-  for (auto [row, length] : {std::pair{R::crank_length, syn.crank}, {R::coupler_length, syn.coupler},
-                             {R::rocker_length, syn.rocker}})
-    if (!(v[row] > 0)) v[row] = length;
-  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
-  for (const auto& var : vars) {
-    const bool synthesis_var = var.name == "l_co1";
-    if (synthesis_var != synthesis(v))
-      root.at("variables").at(var.name).fail(
-          std::string("variable '") + var.name + "' belongs to design: " +
-          (synthesis_var ? "synthesis" : "free_links") + ", but the model has design: " +
-          (synthesis(v) ? "synthesis" : "free_links"));
-  }
-  return std::make_unique<ConveyorSwing>(std::move(v), std::move(vars));
+  return opt::make_tabled<ConveyorSwing>(root, kTable);
 }
 
-const Registration kRegistration{
-    {"conveyor_swing", "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)",
-     kTable, make_conveyor_swing}};
+const opt::Registered<ConveyorSwing> kRegistration{
+    "conveyor_swing", "crank-rocker swing mechanism of a radial-rotary conveyor (seed 002)", kTable};
 
 }  // namespace problems

@@ -10,7 +10,6 @@
 #include "mech/crank_press.hpp"
 #include "opt/parameters.hpp"
 #include "problems/model_problem.hpp"
-#include "problems/registry.hpp"
 
 namespace problems {
 namespace {
@@ -169,6 +168,28 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
   CrankPressProblem(opt::Values<double> values, std::vector<opt::Variable> vars)
       : ModelProblem("crank_press", kMetrics, kTable, std::move(values), std::move(vars)) {}
 
+  // The lever's rules, and the lengths left at auto: the press's (Table
+  // 7.1), the pusher arm the stroke's when one is held.
+  static void resolve(opt::Values<double>& v, const opt::ConfigNode& root) {
+    const opt::ConfigNode model = root.has("model") ? root.at("model") : root;
+    if ((v[R::lever] == 1) != (v[R::lever_pivot] != 0))
+      model.fail(v[R::lever] == 1 ? "lever: four_bar needs lever_pivot: same_side or opposite_side"
+                                  : "lever_pivot goes with lever: four_bar");
+    if (v[R::stroke] > 0 && v[R::pusher_arm] > 0)
+      model.fail("pusher_arm follows the stroke held (l = S l_p / (2 r)): give one of them");
+    const Preset& p = kPresets[static_cast<int>(v[R::press])];
+    for (auto [row, preset] : {std::pair{R::crank_radius, p.r}, {R::rod_length, p.l_sh}, {R::lever_arm, p.l_p},
+                               {R::pusher_arm, p.l}})
+      if (v[row] == 0) v[row] = preset;
+    if (v[R::stroke] > 0) v[R::pusher_arm] = v[R::stroke] * v[R::lever_arm] / (2 * v[R::crank_radius]);
+  }
+  static void check_variables(const std::vector<opt::Variable>& vars, const opt::Values<double>& v,
+                              const opt::ConfigNode& root) {
+    for (const auto& var : vars)
+      if (var.name == "pusher_arm" && v[R::stroke] > 0)
+        root.at("variables").at(var.name).fail("the pusher arm follows the stroke held (l = S l_p / (2 r))");
+  }
+
   nlohmann::json settings() const override {
     const opt::Values<double>& v = values();
     nlohmann::json model = model_json();
@@ -267,29 +288,8 @@ class CrankPressProblem : public ModelProblem<CrankPressProblem> {
   }
 };
 
-std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  opt::Values<double> v = opt::read_values(root, kTable);
-  const opt::ConfigNode model = root.has("model") ? root.at("model") : root;
-  if ((v[R::lever] == 1) != (v[R::lever_pivot] != 0))
-    model.fail(v[R::lever] == 1 ? "lever: four_bar needs lever_pivot: same_side or opposite_side"
-                                : "lever_pivot goes with lever: four_bar");
-  if (v[R::stroke] > 0 && v[R::pusher_arm] > 0)
-    model.fail("pusher_arm follows the stroke held (l = S l_p / (2 r)): give one of them");
-  const Preset& p = kPresets[static_cast<int>(v[R::press])];
-  for (auto [row, preset] : {std::pair{R::crank_radius, p.r}, {R::rod_length, p.l_sh}, {R::lever_arm, p.l_p},
-                             {R::pusher_arm, p.l}})
-    if (v[row] == 0) v[row] = preset;
-  if (v[R::stroke] > 0) v[R::pusher_arm] = v[R::stroke] * v[R::lever_arm] / (2 * v[R::crank_radius]);
-  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
-  for (const auto& var : vars)
-    if (var.name == "pusher_arm" && v[R::stroke] > 0)
-      root.at("variables").at(var.name).fail("the pusher arm follows the stroke held (l = S l_p / (2 r))");
-  return std::make_unique<CrankPressProblem>(std::move(v), std::move(vars));
-}
-
-const Registration kRegistration{
-    {"crank_press", "crank-lever brick press: pressing force, crankshaft torque and drive power (seed 003)",
-     kTable, make}};
+const opt::Registered<CrankPressProblem> kRegistration{
+    "crank_press", "crank-lever brick press: pressing force, crankshaft torque and drive power (seed 003)", kTable};
 
 }  // namespace
 }  // namespace problems

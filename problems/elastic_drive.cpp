@@ -1,5 +1,4 @@
 #include "problems/elastic_drive.hpp"
-#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -282,6 +281,17 @@ class ElasticDriveProblem : public TabledProblem {
         startup_curves_(this->values()[R::curves] != 0), start_speed_(this->values()[R::start_speed]),
         warmup_(this->values()[R::warmup]), startup_time_(this->values()[R::startup_time]) {}
 
+  // s_kr: given, or from nominal_slip and overload_ratio (eq. 27a), not both.
+  static void resolve(opt::Values<double>& v, const opt::ConfigNode& root) {
+    const bool motor = root.has("model") && root.at("model").has("motor");
+    auto has = [&](const char* k) { return motor && root.at("model").at("motor").has(k); };
+    if (has("critical_slip") && (has("nominal_slip") || has("overload_ratio")))
+      root.at("model").at("motor").fail("give critical_slip, or nominal_slip with overload_ratio (eq. 27a), not both");
+    if (!has("critical_slip"))
+      v[R::motor_critical_slip] =
+          mech::InductionMotor::critical_slip_from(v[R::motor_nominal_slip], v[R::motor_overload_ratio]);
+  }
+
   bool provides_gradients() const override { return false; }
 
   opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
@@ -370,19 +380,10 @@ class ElasticDriveProblem : public TabledProblem {
 }  // namespace
 
 std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
-  opt::Values<double> v = opt::read_values(root, kTable);
-  const bool motor = root.has("model") && root.at("model").has("motor");
-  auto has = [&](const char* k) { return motor && root.at("model").at("motor").has(k); };
-  if (has("critical_slip") && (has("nominal_slip") || has("overload_ratio")))
-    root.at("model").at("motor").fail("give critical_slip, or nominal_slip with overload_ratio (eq. 27a), not both");
-  if (!has("critical_slip"))
-    v[R::motor_critical_slip] = mech::InductionMotor::critical_slip_from(v[R::motor_nominal_slip], v[R::motor_overload_ratio]);
-  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
-  return std::make_unique<ElasticDriveProblem>(std::move(v), std::move(vars));
+  return opt::make_tabled<ElasticDriveProblem>(root, kTable);
 }
 
-const Registration kRegistration{
-    {"elastic_drive", "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)",
-     kTable, make_elastic_drive}};
+const opt::Registered<ElasticDriveProblem> kRegistration{
+    "elastic_drive", "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)", kTable};
 
 }  // namespace problems

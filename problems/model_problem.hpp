@@ -1,231 +1,23 @@
-// What every problem built on a libmech model shares: a table of named metrics
-// with units, the chosen variables, and evaluation on the scalar type the
-// driver needs (double, or an autodiff type with one derivative per
-// variable). A problem supplies `evaluate_model(xs, metrics)` templated on
-// the scalar; nothing here knows which driver runs it.
+// The words of a problem file: the base classes (opt/model_problem.hpp), the
+// registration (opt/registry.hpp) and the rows of a parameter table.
 #pragma once
-#include <algorithm>
-#include <stdexcept>
-#include <string>
-#include <type_traits>
-#include <utility>
-#include <vector>
-
-#include "mech/autodiff.hpp"
-#include "mech/cycle.hpp"
+#include "opt/model_problem.hpp"
 #include "opt/parameters.hpp"
-#include "opt/problem.hpp"
+#include "opt/registry.hpp"
 
 namespace problems {
 
-// The words of a parameter table (opt/parameters.hpp), for the problem files.
 using opt::choice;
 using opt::Dimension;
 using opt::kAnyValue;
 using opt::kNonNegative;
 using opt::kPositive;
+using opt::MetricSink;
+using opt::MetricSpec;
+using opt::ModelProblem;
 using opt::quantity;
+using opt::TabledProblem;
 using opt::variable;
 using opt::whole;
-
-// Collects the metrics a caller wants, with gradients when S carries them.
-// Metrics are named by the problem's own enum, whose values are the rows of
-// its metric table (TabledProblem checks the order).
-template <class S>
-class MetricSink {
- public:
-  // Into `into`, cleared, its storage reused.
-  MetricSink(const opt::MetricSet& wanted, opt::Evaluation& into) : result(into), wanted_(wanted) { into.clear(); }
-  template <class Id>
-  bool want(Id id) const { return wanted_.contains(static_cast<opt::MetricId>(id)); }
-  template <class... Ids>
-  bool want_any(Ids... ids) const { return (want(ids) || ...); }
-  template <class Id>
-  [[gnu::always_inline]] void put(Id id, const S& v) {  // ten a design: inline
-    if (!want(id)) return;
-    opt::MetricValue& mv = result.slot(static_cast<opt::MetricId>(id));
-    mv.value = mech::value(v);
-    if constexpr (mech::is_dual<S>) mech::gradient_into(v, mv.gradient);
-    else mv.gradient.resize(0);
-  }
-  opt::Evaluation& result;
-
- private:
-  const opt::MetricSet& wanted_;
-};
-
-// A row of a problem's metric table: `id` is the problem's enum value for
-// it, equal to the row's position.
-struct MetricSpec {
-  int id;
-  std::string name, unit;
-  std::string formerly = "";  // an earlier name, still accepted in configs
-  template <class Id>
-  MetricSpec(Id i, std::string n, std::string u, std::string f = "")
-      : id(static_cast<int>(i)), name(std::move(n)), unit(std::move(u)), formerly(std::move(f)) {}
-};
-
-// A problem's name, its table of metrics with units, its table of model
-// values (opt/parameters.hpp) with the values a config gave, and its
-// variables: rows of the table.
-class TabledProblem : public opt::Problem {
- public:
-  // `values` as read from the config, any derived (auto) values resolved.
-  TabledProblem(std::string name, std::vector<MetricSpec> metrics, std::vector<opt::Parameter> table,
-                opt::Values<double> values, std::vector<opt::Variable> vars)
-      : TabledProblem(std::move(name), std::move(metrics), std::move(vars)) {
-    table_ = std::move(table);
-    values_ = std::move(values);
-    rows_ = opt::variable_rows(table_, variables());
-  }
-  // Without a table: the values are the variables.
-  TabledProblem(std::string name, std::vector<MetricSpec> metrics, std::vector<opt::Variable> vars)
-      : name_(std::move(name)), metrics_(std::move(metrics)), vars_(std::move(vars)) {
-    if (metrics_.size() > static_cast<size_t>(opt::MetricSet::kMax))
-      throw std::logic_error(name_ + ": more metrics than opt::MetricSet holds");
-    std::vector<std::string> names;
-    for (size_t i = 0; i < metrics_.size(); ++i) {
-      if (metrics_[i].id != static_cast<int>(i))
-        throw std::logic_error(name_ + ": metric " + metrics_[i].name + " is not at its enum's position");
-      names.push_back(metrics_[i].name);
-    }
-    names_ = std::make_shared<const std::vector<std::string>>(std::move(names));
-  }
-
-  std::string name() const override { return name_; }
-  const std::vector<opt::Variable>& variables() const override { return vars_; }
-  const std::vector<std::string>& metric_names() const override { return *names_; }
-  std::shared_ptr<const std::vector<std::string>> shared_metric_names() const override { return names_; }
-  std::string renamed_metric(const std::string& old) const override {
-    for (const auto& m : metrics_)
-      if (!old.empty() && m.formerly == old) return m.name;
-    return "";
-  }
-  std::string metric_unit(const std::string& metric) const override {
-    for (const auto& m : metrics_)
-      if (m.name == metric) return m.unit;
-    return "";
-  }
-
-  // The model values as the config gave them (derived values resolved).
-  const opt::Values<double>& values() const { return values_; }
-  // The model values at design x.
-  opt::Values<double> values_at(const Eigen::VectorXd& x) const { return seeded<double>(x); }
-  // {name: value} of the model values, for result files.
-  nlohmann::json model_json() const { return opt::parameters_json(opt::with_values(table_, values_)); }
-
- protected:
-  template <class S>
-  opt::Values<S> seeded(const Eigen::VectorXd& x) const {
-    opt::Values<S> v;
-    fill(x, v);
-    return v;
-  }
-  // v = the values with each variable's row set to it, seeded as variable i
-  // of x.size() when S carries derivatives.
-  template <class S>
-  void fill(const Eigen::VectorXd& x, opt::Values<S>& v) const {
-    const int n = static_cast<int>(x.size());
-    if (table_.empty()) v.resize(n);
-    else v.assign(values_.begin(), values_.end());
-    for (int i = 0; i < n; ++i) {
-      S& s = v[table_.empty() ? i : rows_[i]];
-      if constexpr (std::is_same_v<S, mech::Dual>) s = mech::seed(x[i]);
-      else if constexpr (mech::is_dual<S>) s = S(x[i], n, i);
-      else s = x[i];
-    }
-  }
-
- private:
-  std::vector<opt::Parameter> table_;  // empty without a table
-  opt::Values<double> values_;
-  std::vector<int> rows_;  // the table row of each variable
-  std::string name_;
-  std::vector<MetricSpec> metrics_;
-  std::shared_ptr<const std::vector<std::string>> names_;  // shared with the evaluations
-  std::vector<opt::Variable> vars_;
-};
-
-// Derived implements
-//   template <class S> void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const;
-// setting out.result.status for an infeasible design. v holds the model
-// values of the problem's table at the design (each variable's row set to
-// the variable, with its derivative when S carries them); a problem built
-// without a table has its variables as its values.
-template <class Derived>
-class ModelProblem : public TabledProblem {
- public:
-  using TabledProblem::TabledProblem;
-
-  opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
-                                    bool gradient) const override {
-    opt::Evaluation e;
-    evaluate_model_into(x, wanted, gradient, e);
-    return e;
-  }
-  void evaluate_model_into(const Eigen::VectorXd& x, const opt::MetricSet& wanted, bool gradient,
-                           opt::Evaluation& out) const override {
-    with_scalar(x, gradient, [&](const auto& v) {
-      MetricSink<typename std::decay_t<decltype(v)>::value_type> sink(wanted, out);
-      static_cast<const Derived&>(*this).evaluate_model(v, sink);
-    });
-  }
-
- protected:
-  // Calls f(v) with the model values at x as double, or as an autodiff type
-  // with one derivative per variable (each variable's row seeded) when a
-  // gradient is wanted: fixed size up to 4 variables, sized at run time
-  // beyond.
-  template <class F>
-  auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
-    if (!gradient) return with_doubles(x, f);
-    switch (variables().size()) {
-      case 1: return f(seeded<mech::Dual>(x));  // value and slope: no Eigen expression templates
-      case 2: return f(seeded<mech::DualN<2>>(x));
-      case 3: return f(seeded<mech::DualN<3>>(x));
-      case 4: return f(seeded<mech::DualN<4>>(x));
-      default: return f(seeded<mech::DualX>(x));
-    }
-  }
-
-  // The local maxima of a cycle integrand g(model, phi) of the model at x
-  // (see opt::Problem::local_maxima); model_at(v) builds the model from the
-  // values v.
-  template <class ModelAt, class G>
-  std::vector<opt::MetricValue> cycle_local_maxima(const Eigen::VectorXd& x, int n,
-                                                   ModelAt&& model_at, G&& g) const {
-    const auto angles = mech::cycle_max_angles(model_at(seeded<double>(x)), n, g);
-    return with_scalar(x, true, [&](const auto& v) {
-      using S = typename std::decay_t<decltype(v)>::value_type;
-      const auto model = model_at(v);
-      std::vector<opt::MetricValue> out;
-      for (double phi : angles) {
-        const S g_phi = g(model, S(phi));
-        opt::MetricValue mv{mech::value(g_phi), {}};
-        if constexpr (mech::is_dual<S>) mv.gradient = mech::gradient(g_phi);
-        out.push_back(mv);
-      }
-      return out;
-    });
-  }
-
- private:
-  // f(the values at x as doubles) in a vector kept by the thread: a batch
-  // evaluates millions of designs, and an allocation each cost a DOE sample
-  // ~3%. A call inside f (a model evaluating another design) gets its own
-  // vector.
-  template <class F>
-  auto with_doubles(const Eigen::VectorXd& x, F& f) const {
-    thread_local opt::Values<double> kept;
-    thread_local bool busy = false;
-    if (busy) return f(seeded<double>(x));
-    busy = true;
-    struct Release {
-      ~Release() { busy = false; }
-    } release;
-    fill(x, kept);
-    return f(kept);
-  }
-};
 
 }  // namespace problems

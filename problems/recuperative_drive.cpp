@@ -1,5 +1,4 @@
 #include "problems/recuperative_drive.hpp"
-#include "problems/registry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -226,13 +225,10 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
 }  // namespace
 
 std::unique_ptr<opt::Problem> make_recuperative_drive(const opt::ConfigNode& root) {
-  opt::Values<double> v = opt::read_values(root, kTable);
-  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
-  return std::make_unique<RecuperativeDrive>(std::move(v), std::move(vars));
+  return opt::make_tabled<RecuperativeDrive>(root, kTable);
 }
 
-const Registration kRegistration{
-    {"recuperative_drive", "twin slider-crank recuperative drive of a roller forming installation (seed 000)",
-     kTable, make_recuperative_drive}};
+const opt::Registered<RecuperativeDrive> kRegistration{
+    "recuperative_drive", "twin slider-crank recuperative drive of a roller forming installation (seed 000)", kTable};
 
 }  // namespace problems

@@ -11,7 +11,6 @@
 #include "mech/roller_forming.hpp"
 #include "opt/parameters.hpp"
 #include "problems/model_problem.hpp"
-#include "problems/registry.hpp"
 
 namespace problems {
 namespace {
@@ -217,7 +216,27 @@ const std::vector<MetricSpec> kMetrics = {
 class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
  public:
   RollerFormingProblem(opt::Values<double> values, std::vector<opt::Variable> vars)
-      : ModelProblem("roller_forming", kMetrics, kTable, std::move(values), std::move(vars)), c_(inputs(this->values())) {}
+      : ModelProblem("roller_forming", kMetrics, kTable, std::move(values), std::move(vars)),
+        c_(inputs(this->values())) {}
+
+  // The product values left at auto (0): the variant's row; and the rules
+  // of (6.1) and (6.3).
+  static void resolve(opt::Values<double>& v, const opt::ConfigNode& root) {
+    const opt::ConfigNode model = root.has("model") ? root.at("model") : root;
+    const int variant = static_cast<int>(v[R::variant]);
+    const Variant row = variant > 0 ? kTable61[variant - 1] : Variant{};
+    for (auto [r, row_value] : {std::pair{R::product_length, row.L}, {R::width, row.B}, {R::thickness, row.H},
+                                {R::forming_speed, row.v_f}, {R::cart_speed, row.v_p},
+                                {R::passes, static_cast<double>(row.passes)}}) {
+      if (v[r] != 0) continue;
+      if (variant == 0) model.fail(kTable[r].name + ": required with variant 0 (no Table 6.1 row)");
+      v[r] = row_value;
+    }
+    if (!(v[R::friction] * v[R::mix_friction] < 1))
+      model.fail("friction x mix_friction must be below 1 for the bite angle of (6.1)");
+    if (!(v[R::pass_time] > v[R::feed_time]))
+      model.fail("pass_time must exceed feed_time: (6.3) t_pf = t_pr - t_zas > 0");
+  }
 
   nlohmann::json settings() const override {
     nlohmann::json model = model_json();
@@ -269,31 +288,10 @@ class RollerFormingProblem : public ModelProblem<RollerFormingProblem> {
   mech::RollerForming c_;  // libmech's inputs from the model values
 };
 
-std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  opt::Values<double> v = opt::read_values(root, kTable);
-  const opt::ConfigNode model = root.has("model") ? root.at("model") : root;
-  // The product values left at auto (0) come from the variant's row.
-  const int variant = static_cast<int>(v[R::variant]);
-  const Variant row = variant > 0 ? kTable61[variant - 1] : Variant{};
-  for (auto [r, row_value] : {std::pair{R::product_length, row.L}, {R::width, row.B}, {R::thickness, row.H},
-                              {R::forming_speed, row.v_f}, {R::cart_speed, row.v_p},
-                              {R::passes, static_cast<double>(row.passes)}}) {
-    if (v[r] != 0) continue;
-    if (variant == 0) model.fail(kTable[r].name + ": required with variant 0 (no Table 6.1 row)");
-    v[r] = row_value;
-  }
-  if (!(v[R::friction] * v[R::mix_friction] < 1))
-    model.fail("friction x mix_friction must be below 1 for the bite angle of (6.1)");
-  if (!(v[R::pass_time] > v[R::feed_time]))
-    model.fail("pass_time must exceed feed_time: (6.3) t_pf = t_pr - t_zas > 0");
-  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
-  return std::make_unique<RollerFormingProblem>(std::move(v), std::move(vars));
-}
-
-const Registration kRegistration{
-    {"roller_forming",
-     "roller-forming machine: roller, hopper outlet, cart stroke and crank radius, productivity (seed 003 ex. 6)",
-     kTable, make}};
+const opt::Registered<RollerFormingProblem> kRegistration{
+    "roller_forming",
+    "roller-forming machine: roller, hopper outlet, cart stroke and crank radius, productivity (seed 003 ex. 6)",
+    kTable};
 
 }  // namespace
 }  // namespace problems

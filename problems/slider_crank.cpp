@@ -9,7 +9,6 @@
 #include "mech/slider_crank.hpp"
 #include "opt/parameters.hpp"
 #include "problems/model_problem.hpp"
-#include "problems/registry.hpp"
 
 namespace problems {
 namespace {
@@ -111,15 +110,8 @@ class SliderCrankProblem : public ModelProblem<SliderCrankProblem> {
   }
 };
 
-std::unique_ptr<opt::Problem> make(const opt::ConfigNode& root) {
-  opt::Values<double> v = opt::read_values(root, kTable);
-  auto vars = opt::parse_variables(root, opt::with_values(kTable, v));
-  return std::make_unique<SliderCrankProblem>(std::move(v), std::move(vars));
-}
-
-const Registration kRegistration{
-    {"slider_crank", "one slider-crank sized for stroke, peak acceleration and pressure angle (seed 000)",
-     kTable, make}};
+const opt::Registered<SliderCrankProblem> kRegistration{
+    "slider_crank", "one slider-crank sized for stroke, peak acceleration and pressure angle (seed 000)", kTable};
 
 }  // namespace
 }  // namespace problems

@@ -24,7 +24,7 @@
 #include "mech/balanced_slider_crank.hpp"
 #include "mech/slider_crank.hpp"
 #include "opt/derivatives.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -57,7 +57,7 @@ BalancedSliderCrank<double> original(Gravity g = Gravity::perpendicular) {
 }
 
 std::unique_ptr<opt::Problem> problem(const std::string& model, const std::string& variables = "") {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       "problem: balanced_slider_crank\nmodel: {" + model + "}\n" +
           (variables.empty() ? "" : "variables: {" + variables + "}\n"),
       "<balanced_slider_crank>"));

@@ -225,7 +225,7 @@ TEST(CommandLine, BaseFileIsInheritedAndOverridden) {
 
 }  // namespace
 
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -242,7 +242,7 @@ opt::ConfigNode linking(const std::string& link) {
 TEST(Links, ModelValueIsTheLinkedMetricAtItsDesignWithTheLinksValues) {
   // stroke.yaml's own design has offset 0.02 m (a variable's initial value);
   // the link sets it to 0, and its crank radius to 0.15 m: stroke 0.3 m.
-  const auto p = problems::make_problem(linking("metric: stroke, offset: 0 m, crank_radius: 0.15 m"));
+  const auto p = opt::make_problem(linking("metric: stroke, offset: 0 m, crank_radius: 0.15 m"));
   const nlohmann::json r = p->record();
   EXPECT_NEAR(r["model"]["crank_radius"].get<double>(), 0.3, 1e-15);
   ASSERT_EQ(r["links"].size(), 1u);
@@ -258,7 +258,7 @@ TEST(Links, ModelValueIsTheLinkedMetricAtItsDesignWithTheLinksValues) {
 
 TEST(Links, DoeFactorsNameTheLinkedModelValuesAndASampleSetsThem) {
   const opt::ConfigNode root = linking("metric: stroke, offset: 0 m");
-  const auto table = problems::parameters(root);
+  const auto table = opt::model_parameters(root);
   const auto it = std::find_if(table.begin(), table.end(), [](const auto& q) { return q.name == "crank_radius.crank_radius"; });
   ASSERT_NE(it, table.end());
   EXPECT_FALSE(it->variable) << "set in the linked config, which each sample rebuilds";
@@ -266,10 +266,10 @@ TEST(Links, DoeFactorsNameTheLinkedModelValuesAndASampleSetsThem) {
   // A sample's value, written as the DOE writes it (over the config).
   YAML::Node over;
   opt::set_dotted(over["model"], "crank_radius.crank_radius", YAML::Node("0.12 m"));
-  const auto p = problems::make_problem(root.with(over, "sample 0"));
+  const auto p = opt::make_problem(root.with(over, "sample 0"));
   EXPECT_NEAR(p->record()["model"]["crank_radius"].get<double>(), 0.24, 1e-15);
   // Without the link, no such factor.
-  const auto plain = problems::parameters(opt::ConfigNode::parse("problem: slider_crank\n", "<plain>"));
+  const auto plain = opt::model_parameters(opt::ConfigNode::parse("problem: slider_crank\n", "<plain>"));
   EXPECT_TRUE(std::none_of(plain.begin(), plain.end(), [](const auto& q) { return q.name.find('.') != std::string::npos; }));
 }
 
@@ -292,7 +292,7 @@ opt::ConfigNode rod_length_with(const std::string& fidelity) {
 }
 
 double mean_kinetic_energy(const opt::ConfigNode& root) {
-  const auto p = problems::make_problem(root);
+  const auto p = opt::make_problem(root);
   return p->evaluate(p->initial_point(false), std::vector<std::string>{"mean_kinetic_energy"}, false)
       [p->metric_id("mean_kinetic_energy")].value;
 }
@@ -303,7 +303,7 @@ TEST(FidelityAuto, TheCoarsestLevelWithinTheToleranceOfTheNextFiner) {
   const double change = std::abs(point_masses - full) / full;
   ASSERT_GT(change, 1e-4);  // the two levels differ: the choice means something
   for (const double tolerance : {change * 2, change / 2}) {
-    const auto p = problems::make_problem(rod_length_with("{rod: {auto: " + std::to_string(tolerance) + "}}"));
+    const auto p = opt::make_problem(rod_length_with("{rod: {auto: " + std::to_string(tolerance) + "}}"));
     const nlohmann::json r = p->record();
     const std::string expected = tolerance > change ? "point_masses" : "full";
     EXPECT_EQ(r["model"]["fidelity"]["rod"], expected) << tolerance;
@@ -326,7 +326,7 @@ TEST(FidelityAuto, TheCoarsestLevelWithinTheToleranceOfTheNextFiner) {
 // them); its inertia moves the mean energy by 0.5% at l = 0.8 m, more than
 // the default 1e-3, so the full rod stays.
 TEST(FidelityAuto, ASectionWrittenAutoCoversEveryLevelInIt) {
-  const nlohmann::json r = problems::make_problem(rod_length_with("auto"))->record();
+  const nlohmann::json r = opt::make_problem(rod_length_with("auto"))->record();
   ASSERT_EQ(r["fidelity_auto"].size(), 1u);
   EXPECT_EQ(r["fidelity_auto"][0]["key"], "fidelity.rod");
   EXPECT_EQ(r["model"]["fidelity"]["rod"], "full");
@@ -335,7 +335,7 @@ TEST(FidelityAuto, ASectionWrittenAutoCoversEveryLevelInIt) {
 
 TEST(FidelityAuto, BadToleranceIsALocatedError) {
   try {
-    problems::make_problem(rod_length_with("{rod: {auto: 2}}"));
+    opt::make_problem(rod_length_with("{rod: {auto: 2}}"));
     FAIL() << "no error";
   } catch (const opt::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("key 'model.fidelity.rod.auto'"), std::string::npos) << e.what();
@@ -350,7 +350,7 @@ namespace {
 // an error (tests/bad_configs/cycle_points_not_integer.yaml).
 TEST(ConfigValues, WholeNumbersInAnyNumberForm) {
   for (const char* text : {"24", "24.0", "2.4e1"}) {
-    const auto p = problems::make_problem(opt::ConfigNode::parse(
+    const auto p = opt::make_problem(opt::ConfigNode::parse(
         std::string("problem: recuperative_drive\nmodel: {cycle_points: ") + text + "}\n", "<whole>"));
     EXPECT_EQ(p->record()["numerics"]["cycle_points"], 24) << text;
   }

@@ -18,7 +18,7 @@
 #include "opt/derivatives.hpp"
 #include "opt/driver.hpp"
 #include "opt/study.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -34,7 +34,7 @@ constexpr double kTol = 1e-10;
 constexpr double kAngleTol = 1e-8;
 
 std::unique_ptr<opt::Problem> press(const std::string& model, const std::string& variables = "") {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       "problem: crank_press\nmodel: {" + model + "}\n" + (variables.empty() ? "" : "variables: {" + variables + "}\n"),
       "<crank_press>"));
 }
@@ -319,7 +319,7 @@ TEST(CrankPressProblem, InteriorLeastPeakTorqueAgainstTheReference) {
   for (const InteriorOptimum& ref : kInterior) {
     SCOPED_TRACE(ref.press);
     const auto p = ref.press == std::string("SM-816")
-                       ? problems::make_problem(config)
+                       ? opt::make_problem(config)
                        : press(variant_model(kTable72[24]) + ", stroke: " + ref.stroke,
                                "rod_length: {min: 0.21 m, max: 2 m, initial: 0.55 m}");
     opt::DriverOptions slsqp;
@@ -340,7 +340,7 @@ TEST(CrankPressProblem, InteriorLeastPeakTorqueAgainstTheReference) {
   }
   // Variant 1 of SM-816: 477.45 N m at the optimum against 624.8 N m at the
   // printed rod (reference: variant1_peak_torque_Nm, at_printed_lambda x Q_max).
-  const auto p = problems::make_problem(config);
+  const auto p = opt::make_problem(config);
   const auto at = [&](double l_sh) {
     return p->evaluate(Eigen::VectorXd::Constant(1, l_sh), opt::MetricSet::all(), false).at("peak_crank_torque");
   };

@@ -24,7 +24,7 @@
 #include "opt/doe/batch.hpp"
 #include "opt/doe/store.hpp"
 #include "opt/interrupt.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -60,14 +60,14 @@ struct Run {
 
 Run parse(const std::string& yaml) {
   Run r{opt::ConfigNode::parse(yaml, "<doe>"), nullptr, {}};
-  r.problem = problems::make_problem(r.root);
-  for (const auto& e : problems::registry())
+  r.problem = opt::make_problem(r.root);
+  for (const auto& e : opt::registry())
     if (e.name == r.problem->name()) r.spec = opt::doe::parse_doe(r.root, e.parameters, *r.problem);
   return r;
 }
 
 nlohmann::json run(const std::string& yaml, const std::string& dir, int threads,
-                   const opt::doe::ProblemFactory& make = problems::make_problem, bool fresh = false,
+                   const opt::doe::ProblemFactory& make = opt::make_problem, bool fresh = false,
                    opt::doe::Shard shard = {}, std::size_t segment_rows = 65536) {
   const Run r = parse(yaml);
   opt::doe::BatchOptions o;
@@ -219,7 +219,7 @@ study:
   std::vector<std::vector<std::vector<std::string>>> stores;
   for (int threads : {1, 5}) {
     const std::string dir = cli::fresh_dir("doe_turns_" + std::to_string(threads));
-    const auto j = run(yaml, dir, threads, problems::make_problem, false, {}, 3000);
+    const auto j = run(yaml, dir, threads, opt::make_problem, false, {}, 3000);
     EXPECT_EQ(j["evaluated"], 50000);
     EXPECT_EQ(j["run_status"], "complete");
     EXPECT_TRUE(cli::segment_files(dir).empty()) << threads << " threads";
@@ -238,7 +238,7 @@ TEST(DoeBatch, StoppedRunResumesExactly) {
   std::atomic<int> made{0};
   const opt::doe::ProblemFactory stop_after_100 = [&](const opt::ConfigNode& root) {
     if (++made == 100) opt::request_stop();
-    return problems::make_problem(root);
+    return opt::make_problem(root);
   };
   const auto first = run(kSobol, parts, 2, stop_after_100);
   opt::clear_stop();
@@ -265,7 +265,7 @@ TEST(DoeBatch, ChangedConfigIsRefused) {
   } catch (const opt::doe::StoreMismatch& e) {
     EXPECT_NE(std::string(e.what()).find("sampler"), std::string::npos) << e.what();
   }
-  const auto j = run(changed, dir, 1, problems::make_problem, true);
+  const auto j = run(changed, dir, 1, opt::make_problem, true);
   EXPECT_EQ(j["evaluated"], 512);
   bool moved = false;
   for (const auto& e : fs::directory_iterator(dir)) moved = moved || e.path().filename().string().rfind("store.sqlite.old-", 0) == 0;
@@ -280,8 +280,8 @@ TEST(DoeBatch, ShardsMergeIntoOneRun) {
                     b = cli::fresh_dir("doe_shard_b"), c = cli::fresh_dir("doe_shard_c"),
                     merged = cli::fresh_dir("doe_shard_merged");
   run(kSobol, whole, 2);
-  EXPECT_EQ(run(kSobol, a, 1, problems::make_problem, false, {0, 3})["done"], 170);  // [0, 170)
-  EXPECT_EQ(run(kSobol, b, 2, problems::make_problem, false, {1, 3})["done"], 171);  // [170, 341)
+  EXPECT_EQ(run(kSobol, a, 1, opt::make_problem, false, {0, 3})["done"], 170);  // [0, 170)
+  EXPECT_EQ(run(kSobol, b, 2, opt::make_problem, false, {1, 3})["done"], 171);  // [170, 341)
   fs::create_directories(c);
   std::ofstream(c + "/config.yaml") << kSobol;
   const auto o = cli::run("run " + c + "/config.yaml --output " + c + " --progress=none --shard auto",

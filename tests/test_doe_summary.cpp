@@ -14,8 +14,8 @@
 #include "cli.hpp"
 #include "opt/doe/store.hpp"
 #include "opt/doe/batch.hpp"
-#include "problems/model_problem.hpp"
-#include "problems/registry.hpp"
+#include "opt/model_problem.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -26,19 +26,19 @@ std::vector<opt::Parameter> ishigami_parameters() {
   return p;
 }
 
-class Ishigami : public problems::ModelProblem<Ishigami> {
+class Ishigami : public opt::ModelProblem<Ishigami> {
  public:
   enum Metric { f };
   explicit Ishigami(std::vector<opt::Variable> v) : ModelProblem("ishigami", {{f, "f", ""}}, std::move(v)) {}
   template <class S>
-  void evaluate_model(const std::vector<S>& x, problems::MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, opt::MetricSink<S>& out) const {
     using std::sin;
     out.put(f, sin(x[0]) + 7 * sin(x[1]) * sin(x[1]) + 0.1 * x[2] * x[2] * x[2] * x[2] * sin(x[0]));
   }
   nlohmann::json settings() const override { return {}; }
 };
 
-const problems::Registration kIshigami{
+const opt::Registration kIshigami{
     {"ishigami", "test only: the Ishigami function", ishigami_parameters(),
      [](const opt::ConfigNode& root) -> std::unique_ptr<opt::Problem> {
        return std::make_unique<Ishigami>(opt::parse_variables(root, ishigami_parameters()));
@@ -47,9 +47,9 @@ const problems::Registration kIshigami{
 nlohmann::json run(const std::string& yaml, const std::string& dir, std::string& printed,
                    opt::doe::DoeSpec* spec_out = nullptr) {
   const auto root = opt::ConfigNode::parse(yaml, "<summary>");
-  const auto p = problems::make_problem(root);
+  const auto p = opt::make_problem(root);
   std::vector<opt::Parameter> table;
-  for (const auto& e : problems::registry())
+  for (const auto& e : opt::registry())
     if (e.name == p->name()) table = e.parameters;
   opt::doe::DoeSpec spec = opt::doe::parse_doe(root, table, *p);
   const auto run = opt::parse_run(root, *p);
@@ -59,7 +59,7 @@ nlohmann::json run(const std::string& yaml, const std::string& dir, std::string&
   o.output_directory = dir;
   o.progress = "none";
   std::ostringstream out, err;
-  const auto j = opt::doe::run_batch(root, problems::make_problem, spec, o, out, err);
+  const auto j = opt::doe::run_batch(root, opt::make_problem, spec, o, out, err);
   printed = out.str();
   if (spec_out) *spec_out = spec;
   return j;

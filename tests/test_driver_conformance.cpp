@@ -15,7 +15,7 @@
 #include "opt/driver.hpp"
 #include "opt/drivers/ipopt.hpp"
 #include "opt/drivers/nlopt.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 #include "test_problems.hpp"
 
 namespace {
@@ -30,7 +30,7 @@ struct Case {
 };
 
 std::shared_ptr<opt::Problem> from_yaml(const std::string& yaml) {
-  return problems::make_problem(opt::ConfigNode::parse(yaml, "<conformance>"));
+  return opt::make_problem(opt::ConfigNode::parse(yaml, "<conformance>"));
 }
 
 const std::vector<Case>& cases() {
@@ -198,7 +198,7 @@ class SlowRosenbrock : public opt::Problem {
   testing_problems::Analytic rosenbrock_ = testing_problems::rosenbrock();
 };
 
-const problems::Registration kSlow{
+const opt::Registration kSlow{
     {"slow_rosenbrock", "test only: the bounded Rosenbrock, 30 ms an evaluation", slow_parameters(),
      [](const opt::ConfigNode& root) -> std::unique_ptr<opt::Problem> {
        return std::make_unique<SlowRosenbrock>(opt::parse_variables(root, slow_parameters()));
@@ -229,7 +229,7 @@ class EveryDriver : public ::testing::TestWithParam<std::string> {
 // to within the evaluation under way at the limit.
 TEST_P(EveryDriver, MaxSecondsIsWallClockWithinOneEvaluation) {
   constexpr double kMaxSeconds = 0.2;
-  const auto p = problems::make_problem(opt::ConfigNode::parse(
+  const auto p = opt::make_problem(opt::ConfigNode::parse(
       "problem: slow_rosenbrock\nvariables: {x: {min: -1.5, max: 0.5}, y: {min: -0.5, max: 1.5}}\n",
       "<slow>"));
   opt::DriverOptions o = single(GetParam());
@@ -430,7 +430,7 @@ TEST(IpoptDriver, InfinitePeakGradientIsAFailedEvaluationNotACrash) {
 // angle saturates at 90 deg.
 TEST(IpoptDriver, AbsurdBoundIsPassedAsNone) {
   auto conveyor = [](const std::string& max) {
-    return problems::make_problem(opt::ConfigNode::parse(
+    return opt::make_problem(opt::ConfigNode::parse(
         "problem: conveyor_swing\nmodel: {design: synthesis, frame_x: 1.0 m, frame_y: 2.2 m, "
         "swing_angle: 32 deg, coupler_offset: 1.0 m, crank_speed: 12 rad/s, l_co1: 1.2 m}\n"
         "variables: {l_co1: {min: 0.9 m, max: " + max + "}}\n", "<conveyor>"));

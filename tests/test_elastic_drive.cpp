@@ -15,7 +15,7 @@
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
 #include "opt/drivers/nlopt.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -342,7 +342,7 @@ TEST(Inputs, InvalidRunSettingsAreInvalid) {
 TEST(ElasticDriveProblem, GridValueOutsideTheDomainIsInvalidParameter) {
   // The config rejects such bounds (tests/repro/bounds_bypass_domain_negative_stiffness.yaml);
   // a design handed to the problem directly with c = -1000 is still a status.
-  const auto p = problems::make_problem(opt::ConfigNode::parse(
+  const auto p = opt::make_problem(opt::ConfigNode::parse(
       "problem: elastic_drive\nvariables: {stiffness: {min: 1000, max: 1e6}}\n", "<t>"));
   EXPECT_EQ(p->evaluate(Eigen::VectorXd::Constant(1, -1000.0), opt::MetricSet::all(), false).status, mech::Status::invalid_parameter);
 }
@@ -463,7 +463,7 @@ TEST(Startup, KeptSamplesAreDecimatedEvenlyAndTheMetricsUseThemAll) {
 }
 
 TEST(ElasticDriveProblem, GradientDriversRefuse) {
-  const auto p = problems::make_problem(opt::ConfigNode::parse(
+  const auto p = opt::make_problem(opt::ConfigNode::parse(
       "problem: elastic_drive\nvariables: {damping: {min: 200, max: 10000}}\n", "<t>"));
   opt::DriverOptions o;
   o.algorithm = "LD_SLSQP";

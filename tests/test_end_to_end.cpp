@@ -12,6 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
+#include "opt/display_units.hpp"
+#include "opt/registry.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -50,20 +53,16 @@ size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
-// The curves each problem's cycle.svg names in its legend.
-const std::map<std::string, std::vector<std::string>> kCycleCurves = {
-    {"recuperative_drive", {"total_moment", "inertia_moment", "static_moment"}},
-    {"conveyor_swing", {"balancing_moment", "inertia_moment", "friction_moment"}},
-    {"elastic_drive", {"coupling_torque"}},
-    {"balanced_slider_crank", {"balancing_torque", "original_balancing_torque"}},
-    {"crank_press", {"torque_constant_force", "torque_pressure_law"}},
-};
-
 // cycle.svg: the x axis in degrees of crank angle (or seconds), the y axis
-// labelled with its unit (never "[SI]"), the expected curves named (on the
-// axis or in the legend; neither cut),
-// and the legend beside the plot at most 30% of the chart's width; cycle.csv headed "name [unit]".
-void check_cycle_chart(const std::string& dir, const std::string& problem) {
+// labelled with the unit of the problem's primary cycle curve (never
+// "[SI]"), every curve the problem plots with it named (on the axis or in
+// the legend; neither cut), and the legend beside the plot at most 30% of
+// the chart's width; cycle.csv headed "name [unit]". What the problem plots
+// comes from the problem itself (opt::CycleCurves at the config's start).
+void check_cycle_chart(const std::string& dir, const std::string& config) {
+  const auto p = opt::make_problem(opt::ConfigNode::load(config));
+  const opt::CycleCurves curves = p->cycle_curves(p->initial_point(), 8);
+  ASSERT_FALSE(curves.plotted().empty()) << p->name() << " draws cycle.svg but gives no curves at its start";
   std::ifstream in(dir + "/cycle.svg");
   const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(svg.find("[SI]"), std::string::npos);
@@ -73,11 +72,13 @@ void check_cycle_chart(const std::string& dir, const std::string& problem) {
   ASSERT_NE(y, texts.begin());
   const std::string x_label = std::prev(y)->text;
   EXPECT_TRUE(x_label == "crank_angle [deg]" || x_label == "time [s]") << x_label;
-  EXPECT_NE(y->text.find(" [N m]"), std::string::npos) << y->text;  // every problem's cycle curves are torques
-  ASSERT_TRUE(kCycleCurves.count(problem)) << problem << " has no expected cycle curves";
-  for (const auto& name : kCycleCurves.at(problem))
+  const std::string unit = opt::shown_unit(curves.units[curves.primary]).unit;
+  EXPECT_NE(y->text.find(" [" + unit + "]"), std::string::npos) << y->text << ", expected [" << unit << "]";
+  for (size_t k : curves.plotted()) {
+    const std::string& name = curves.names[k];
     EXPECT_TRUE(std::any_of(y, texts.end(), [&](const SvgText& t) { return t.text.find(name) != std::string::npos; }))
         << name << " neither on the y axis nor in the legend";
+  }
   const size_t plot = svg.find("<rect x='80' y='40' width='");
   ASSERT_NE(plot, std::string::npos);
   EXPECT_GE(std::strtod(svg.c_str() + plot + 27, nullptr), 780 - 80 - 0.3 * 780);  // the legend: at most 30%
@@ -177,7 +178,7 @@ TEST_P(Config, RunsAndWritesResults) {
   }
   if (fs::exists(dir + "/cycle.svg")) {
     SCOPED_TRACE("cycle.svg of " + GetParam());
-    check_cycle_chart(dir, problem);
+    check_cycle_chart(dir, config);
   }
   check_every_chart(dir);
   if (j.contains("variables") && j["variables"].size() == 1) {
@@ -208,7 +209,7 @@ TEST(CycleChart, SawmillDrawsBothTorques) {
   std::ifstream in(dir + "/cycle.svg");
   const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(count(svg, "<polyline"), 2u);
-  check_cycle_chart(dir, "balanced_slider_crank");
+  check_cycle_chart(dir, std::string(MECHOPT_SOURCE_DIR) + "/configs/balanced_slider_crank/paper.yaml");
   check_every_chart(dir);
   EXPECT_GT(fs::file_size(dir + "/cycle.png"), 5000u);
 }

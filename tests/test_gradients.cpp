@@ -1,12 +1,17 @@
 // Every metric of every problem: the autodiff gradient the drivers use
-// against central differences, at designs away from ties of the maxima.
+// against central differences, at every shipped config's start point (the
+// registry's problems, each required to ship one), and at further designs
+// away from ties of the maxima.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <set>
 
 #include "opt/config.hpp"
 #include "opt/derivatives.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -41,7 +46,7 @@ variables: {crank_length: {min: 0.3 m, max: 1.6 m}, coupler_length: {min: 0.3 m,
 class Gradients : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Gradients, MatchCentralDifferences) {
-  const auto p = problems::make_problem(opt::ConfigNode::parse(GetParam().yaml, GetParam().name));
+  const auto p = opt::make_problem(opt::ConfigNode::parse(GetParam().yaml, GetParam().name));
   const Eigen::VectorXd x = p->initial_point();
   ASSERT_TRUE(p->evaluate(x, opt::MetricSet::all(), false).ok());
   // opt::check_derivatives (also `mechopt check-derivatives`): h = 1e-6 of
@@ -60,6 +65,60 @@ TEST_P(Gradients, MatchCentralDifferences) {
 INSTANTIATE_TEST_SUITE_P(AllProblems, Gradients, ::testing::ValuesIn(kCases),
                          [](const auto& info) { return info.param.name; });
 
+// configs/**/*.yaml that free variables, relative to configs/.
+std::vector<std::string> configs_with_variables() {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(MECHOPT_SOURCE_DIR) / "configs";
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(root)) {
+    if (e.path().extension() != ".yaml") continue;
+    const auto c = opt::ConfigNode::load(e.path().string());
+    if (c.has("variables") && c.at("variables").is_map()) out.push_back(fs::relative(e.path(), root).string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string config_path(const std::string& relative) {
+  return std::string(MECHOPT_SOURCE_DIR) + "/configs/" + relative;
+}
+
+// opt::check_derivatives at the start point of every shipped config that
+// frees variables of a problem with gradients: every metric the design has,
+// d/d every variable (h = 1e-6 of each variable's scale, 1e-7 relative to
+// max(1, |f|)), and the epigraph rows of its cycle maxima. Every registered
+// problem with gradients must ship such a config.
+TEST(ShippedConfigs, GradientsMatchCentralDifferences) {
+  std::set<std::string> checked_problems, with_gradients;
+  for (const auto& entry : opt::registry())
+    if (entry.summary.rfind("test only", 0) != 0) with_gradients.insert(entry.name);  // not this binary's own
+  for (const auto& config : configs_with_variables()) {
+    SCOPED_TRACE(config);
+    const auto p = opt::make_problem(opt::ConfigNode::load(config_path(config)));
+    if (!p->provides_gradients()) {
+      with_gradients.erase(p->name());
+      continue;
+    }
+    const Eigen::VectorXd x = p->initial_point();
+    const auto e = p->evaluate(x, opt::MetricSet::all(), false);
+    ASSERT_TRUE(e.ok()) << "the start point fails";
+    std::set<std::string> checked;
+    for (const auto& c : opt::check_derivatives(*p, x)) {
+      EXPECT_TRUE(c.ok) << c.metric << " d/d" << c.variable << ": autodiff " << c.autodiff << ", central "
+                        << c.central << ", error " << c.error;
+      checked.insert(c.metric);
+    }
+    for (const auto& m : p->metric_names()) {
+      if (e.has(p->metric_id(m))) {
+        EXPECT_TRUE(checked.count(m)) << m << " has a value but no gradient check";
+      }
+    }
+    checked_problems.insert(p->name());
+  }
+  for (const auto& name : with_gradients)
+    EXPECT_TRUE(checked_problems.count(name)) << name << ": no config in configs/ frees a variable";
+}
+
 }  // namespace
 
 // Autodiff for any number of design variables: a test-only problem,
@@ -70,7 +129,7 @@ INSTANTIATE_TEST_SUITE_P(AllProblems, Gradients, ::testing::ValuesIn(kCases),
 #include <numbers>
 
 #include "mech/twin_slider_crank.hpp"
-#include "problems/model_problem.hpp"
+#include "opt/model_problem.hpp"
 
 namespace {
 
@@ -88,14 +147,14 @@ std::vector<opt::Parameter> six_parameters() {
   return p;
 }
 
-class SixVariables : public problems::ModelProblem<SixVariables> {
+class SixVariables : public opt::ModelProblem<SixVariables> {
  public:
   enum Metric { mean, least };
   explicit SixVariables(std::vector<opt::Variable> v)
       : ModelProblem("six_variables", {{mean, "mean_kinetic_energy", "J"}, {least, "least_mean_kinetic_energy", "J"}},
                      std::move(v)) {}
   template <class S>
-  void evaluate_model(const std::vector<S>& x, problems::MetricSink<S>& out) const {
+  void evaluate_model(const std::vector<S>& x, opt::MetricSink<S>& out) const {
     mech::TwinDrive<S> d = mech::TwinDrive<double>{0.2, 0.8, 1.5, 0, 10, 1000, 80, 0.9, 3562}.cast<S>();
     d.rod_length = x[0], d.phase_shift = x[1], d.crank_radius = x[2], d.offset = x[3];
     d.cart_mass = x[4], d.crank_speed = x[5];
@@ -105,14 +164,14 @@ class SixVariables : public problems::ModelProblem<SixVariables> {
   nlohmann::json settings() const override { return {}; }
 };
 
-const problems::Registration kSix{
+const opt::Registration kSix{
     {"six_variables", "test only: six variables of the twin drive", six_parameters(),
      [](const opt::ConfigNode& root) -> std::unique_ptr<opt::Problem> {
        return std::make_unique<SixVariables>(opt::parse_variables(root, six_parameters()));
      }}};
 
 TEST(Gradients, SixVariablesThroughTheRegistry) {
-  const auto p = problems::make_problem(opt::ConfigNode::parse(R"(
+  const auto p = opt::make_problem(opt::ConfigNode::parse(R"(
 problem: six_variables
 variables: {rod_length: {min: 0.5 m, max: 1.5 m}, phase_shift: {min: 0 deg, max: 180 deg},
             crank_radius: {min: 0.1 m, max: 0.3 m}, offset: {min: -0.1 m, max: 0.1 m},

@@ -17,7 +17,7 @@
 #include "opt/config.hpp"
 #include "opt/driver.hpp"
 #include "opt/drivers/ipopt.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -120,11 +120,11 @@ TEST(DenseSymSolver, SingularAndNonFiniteMatricesAreSaidSo) {
 }
 
 std::shared_ptr<opt::Problem> conveyor() {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       "problem: conveyor_swing\nvariables: {l_co1: {min: 0.9 m, max: 2.4 m}}\n", "<conveyor>"));
 }
 std::shared_ptr<opt::Problem> rod_length() {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       "problem: recuperative_drive\nvariables: {rod_length: {min: 0.5 m, max: 1.5 m}}\n", "<rod>"));
 }
 const std::vector<opt::Constraint> kPressure = {{"max_pressure_angle", true, 60 * M_PI / 180}};

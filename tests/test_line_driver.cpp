@@ -14,7 +14,7 @@
 #include "opt/driver.hpp"
 #include "opt/drivers/line.hpp"
 #include "opt/interrupt.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 #include "test_problems.hpp"
 
 namespace {
@@ -66,7 +66,7 @@ TEST(LineDriver, MaximizeAndBoundMinimum) {
 TEST(LineDriver, RodLengthOptimumAgainstTheReference) {
   std::ifstream in(std::string(MECHOPT_SOURCE_DIR) + "/tools/reference_seed000.json");
   const double reference = std::stod(nlohmann::json::parse(in)["rod_length_optimum"].get<std::string>());
-  const auto p = problems::make_problem(opt::ConfigNode::parse(
+  const auto p = opt::make_problem(opt::ConfigNode::parse(
       "problem: recuperative_drive\n"
       "model: {crank_radius: 0.2 m, crank_speed: 100 rpm, cart_mass: 1000 kg, rod_mass_per_length: 80 kg/m,\n"
       "        efficiency: 0.9, cart_resistance: 3562 N, phase_shift: 90 deg, rod_length: 0.8 m}\n"
@@ -97,7 +97,7 @@ TEST(LineDriver, RefusesWhatItCannotTakeBeforeAnyWork) {
       "problem: slider_crank\nvariables: {crank_radius: {min: 0.1 m, max: 0.3 m}, rod_length: {min: 0.5 m, max: 1 m}}\n"
       "objective: {minimize: peak_slider_acceleration}\nstudy: {type: optimize, driver: {library: line}}\n",
       "<two>");
-  const auto sc = problems::make_problem(root);
+  const auto sc = opt::make_problem(root);
   try {
     opt::parse_run(root, *sc);
     FAIL() << "no error";

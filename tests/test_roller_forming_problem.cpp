@@ -13,7 +13,7 @@
 #include "mech/roller_forming.hpp"
 #include "opt/config.hpp"
 #include "opt/derivatives.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -26,7 +26,7 @@ constexpr double kDeg = std::numbers::pi / 180;
 constexpr double kTol = 1e-12;
 
 std::unique_ptr<opt::Problem> forming(const std::string& model, const std::string& variables = "") {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       "problem: roller_forming\nmodel: {" + model + "}\n" + (variables.empty() ? "" : "variables: {" + variables + "}\n"),
       "<roller_forming>"));
 }
@@ -297,7 +297,7 @@ TEST(FormingChain, EachVariantSetsTheDrivesCrankRadiusAndSpeed) {
   for (const auto& [i, v_p] : {std::pair{1, 0.23}, {9, 0.25}, {24, 0.25}}) {
     YAML::Node over;
     opt::set_dotted(over["model"], "crank_radius.variant", YAML::Node(std::to_string(i)));
-    const auto drive = problems::make_problem(chain.with(over, "sample"));
+    const auto drive = opt::make_problem(chain.with(over, "sample"));
     const Row& ref = kNegative[i - 1];
     const nlohmann::json record = drive->record();
     expect_rel(record["model"]["crank_radius"].get<double>(), ref.crank_radius);
@@ -311,7 +311,7 @@ TEST(FormingChain, EachVariantSetsTheDrivesCrankRadiusAndSpeed) {
 
 TEST(FormingChain, ALinkNamingALinkTakesNoModelValuesOfItsOwn) {
   const auto error = config_error([] {
-    problems::make_problem(opt::ConfigNode::parse(
+    opt::make_problem(opt::ConfigNode::parse(
         "problem: recuperative_drive\nmodel:\n  crank_radius: {from: " + std::string(MECHOPT_SOURCE_DIR) +
             "/configs/roller_forming/variant.yaml, metric: crank_radius}\n"
             "  crank_speed: {from: crank_radius, metric: crank_speed, variant: 3}\n",

@@ -9,12 +9,12 @@
 #include <numbers>
 
 #include "opt/derivatives.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
 std::unique_ptr<opt::Problem> slider_crank(const std::string& model) {
-  return problems::make_problem(opt::ConfigNode::parse(
+  return opt::make_problem(opt::ConfigNode::parse(
       "problem: slider_crank\nmodel: {" + model + "}\n"
       "variables: {crank_radius: {min: 0.1 m, max: 0.4 m}, rod_length: {min: 0.5 m, max: 2 m},\n"
       "            offset: {min: -0.2 m, max: 0.2 m}}\n",

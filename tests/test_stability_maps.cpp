@@ -21,7 +21,7 @@
 #include "cli.hpp"
 #include "mech/status.hpp"
 #include "opt/config.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -103,7 +103,7 @@ TEST(StabilityMap, ConveyorFourBarFailsAsGrashofAndItsLoopSay) {
 // explicit method's steps must stay tiny, BDF's need not), and a stiff,
 // lightly damped coupling oscillates fast (every method must resolve it).
 bool bdf_solves(const std::string& stiffness, const std::string& damping) {
-  const auto p = problems::make_problem(opt::ConfigNode::parse(
+  const auto p = opt::make_problem(opt::ConfigNode::parse(
       "problem: elastic_drive\nmodel: {stiffness: " + stiffness + ", damping: " + damping +
           ",\n        ode: {method: bdf, rtol: 1e-8, max_steps: 20000}}\n",
       "<bdf>"));

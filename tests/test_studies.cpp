@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "opt/study.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -18,7 +18,7 @@ variables: {l_co1: {min: 0.9 m, max: 2.4 m}}
 study: {type: pareto, objectives: [peak_crank_torque, max_pressure_angle], points: 5,
         driver: {library: nlopt, algorithm: LD_SLSQP, xtol_rel: 1e-10}}
 )", "<pareto>");
-  const auto p = problems::make_problem(root);
+  const auto p = opt::make_problem(root);
   opt::RunSpec spec = opt::parse_run(root, *p);
   spec.output_directory = testing::TempDir() + "/pareto";
   std::ostringstream log;
@@ -48,7 +48,7 @@ problem: conveyor_swing
 variables: {l_co1: {min: 0.9 m, max: 2.4 m}}
 study: {type: pareto, objectives: [peak_crank_torque]}
 )", "<pareto>");
-  const auto p = problems::make_problem(root);
+  const auto p = opt::make_problem(root);
   EXPECT_THROW(opt::parse_run(root, *p), opt::ConfigError);
 }
 
@@ -56,7 +56,7 @@ study: {type: pareto, objectives: [peak_crank_torque]}
 
 // Nothing non-finite is reported as ok: a metric (or a gradient) that comes
 // out NaN or infinite makes the design non_finite, with no metrics.
-#include "problems/model_problem.hpp"
+#include "opt/model_problem.hpp"
 #include "test_problems.hpp"
 
 namespace {
@@ -101,7 +101,7 @@ void expect_same(const opt::Evaluation& reused, const opt::Evaluation& fresh) {
 }
 
 TEST(Evaluate, IntoAReusedEvaluationEqualsAFreshOne) {
-  const auto p = problems::make_problem(opt::ConfigNode::parse(
+  const auto p = opt::make_problem(opt::ConfigNode::parse(
       "problem: recuperative_drive\n"
       "variables: {rod_length: {min: 0.1 m, max: 1.5 m}, phase_shift: {min: 0 deg, max: 180 deg}}\n",
       "<reuse>"));
@@ -141,7 +141,7 @@ TEST(Evaluate, IntoAReusedEvaluationEqualsAFreshOne) {
 // Metrics travel by id: the id a problem puts a value under is the row of
 // its metric table, checked when the problem is built, and a name resolves
 // to the same id everywhere.
-class Misordered : public problems::TabledProblem {
+class Misordered : public opt::TabledProblem {
  public:
   enum Metric { a, b };
   explicit Misordered(bool swap)

@@ -21,7 +21,7 @@
 #include "opt/config.hpp"
 #include "opt/study.hpp"
 #include "opt/units.hpp"
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 namespace {
 
@@ -284,7 +284,7 @@ constraints:
   peak_slider_acceleration: {max: 2000 cm/s^2}
 study: {type: sweep, optimize: false, grid: {crank_radius: {from: 10 cm, to: 0.4 m, step: 15 cm}}}
 )", "<units>");
-  const auto p = problems::make_problem(root);
+  const auto p = opt::make_problem(root);
   const auto& v = p->variables();
   ASSERT_EQ(v.size(), 1u);
   EXPECT_TRUE(within_one_ulp(v[0].upper, 0.4));
@@ -307,7 +307,7 @@ constraints: {peak_slider_acceleration: {max: 2 kJ}}
 study: {type: evaluate}
 )", "<units>");
   try {
-    opt::parse_run(wrong, *problems::make_problem(wrong));
+    opt::parse_run(wrong, *opt::make_problem(wrong));
     ADD_FAILURE() << "2 kJ taken for an acceleration";
   } catch (const opt::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("key 'constraints.peak_slider_acceleration.max': expected an acceleration "

@@ -1,7 +1,7 @@
 // Forward-mode autodiff scalars used by every model: exact first derivatives
 // with respect to N design variables. One variable (and every angle
 // derivative) uses Dual, a plain value-and-slope pair; 2 to 4
-// (problems/model_problem.hpp) Eigen's AutoDiffScalar with N fixed at compile
+// (opt/model_problem.hpp) Eigen's AutoDiffScalar with N fixed at compile
 // time (no heap use); beyond, DualX carries a derivative vector sized at run
 // time.
 #pragma once

@@ -1,4 +1,4 @@
-#include "problems/registry.hpp"
+#include "opt/registry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "opt/parameters.hpp"
 #include "opt/units.hpp"
 
-namespace problems {
+namespace opt {
 namespace {
 std::vector<Entry>& entries() {
   static std::vector<Entry> all;
@@ -274,7 +274,7 @@ const std::vector<std::string>& config_keys() {
 
 std::unique_ptr<opt::Problem> make_problem(const opt::ConfigNode& root) { return make_at_depth(root, 0); }
 
-std::vector<opt::Parameter> parameters(const opt::ConfigNode& root) {
+std::vector<opt::Parameter> model_parameters(const opt::ConfigNode& root) {
   std::vector<opt::Parameter> out = entry(root).parameters;
   const std::vector<Link> ls = links_of(root);
   for (const auto& l : ls) {
@@ -289,4 +289,4 @@ std::vector<opt::Parameter> parameters(const opt::ConfigNode& root) {
   return out;
 }
 
-}  // namespace problems
+}  // namespace opt
