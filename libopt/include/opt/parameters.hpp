@@ -30,7 +30,7 @@ struct Parameter {
   bool variable = false;             // a config may free it under `variables:`
   double value = 0;                  // the default (filled from the default model)
   // A model fidelity choice: its options from the coarsest (cheapest) to the
-  // finest; a config may write `auto` (problems::make_problem picks one).
+  // finest; a config may write `auto` (opt::make_problem picks one).
   std::vector<std::string> coarse_to_fine;
 
   // The same choice as a fidelity level, its options ordered coarsest first.

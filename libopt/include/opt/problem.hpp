@@ -197,7 +197,7 @@ class Problem {
   virtual bool provides_gradients() const { return true; }
   // Fidelity, numerical settings and fixed model values, for result files.
   virtual nlohmann::json settings() const = 0;
-  // How problems::make_problem settled the config's open values, for the
+  // How opt::make_problem settled the config's open values, for the
   // record: "links" (model values taken from other configs' results: each
   // one's key, file, metric, value and the linked problem's record) and
   // "fidelity" (each `auto` level: the one chosen and why).

@@ -62,7 +62,7 @@ struct DoeSpec {
 // the store). A DOE computes nothing else.
 std::vector<std::string> stored_metrics(const DoeSpec& spec, const Problem& problem);
 
-// Makes a problem from a config: problems::make_problem.
+// Makes a problem from a config: opt::make_problem.
 using ProblemFactory = std::function<std::unique_ptr<Problem>(const ConfigNode& root)>;
 
 // More samples than kMaxSamples (opt/run_spec.hpp, a sweep's limit too) need
