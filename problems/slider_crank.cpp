@@ -22,19 +22,16 @@ struct R {
 const std::vector<opt::Parameter> kTable = opt::table(
     "slider_crank",
     {{R::crank_radius, variable("crank_radius", Dimension::length, opt::kPositive, "r", "seed 000 eq. (1)"), 0.2},
-     {R::rod_length,
-      variable("rod_length", Dimension::length, opt::kPositive, "l (l <= r + |e|: cannot_assemble)",
-               "seed 000 eq. (1)"),
-      0.8},
+     {R::rod_length, variable("rod_length", Dimension::length, opt::kPositive, "l (l <= r + |e|: cannot_assemble)",
+         "seed 000 eq. (1)"), 0.8},
      {R::offset, variable("offset", Dimension::length, opt::kAnyValue, "e, the slider axis off the crank axis", ""),
-      0.0},
-     {R::crank_speed,
-      quantity("crank_speed", Dimension::angular_speed, opt::kPositive, "w, constant", "seed 000 eq. (5)"),
-      100 * std::numbers::pi / 30},
-     {R::kinematics,
-      choice("kinematics", {"exact", "binomial"}, "exact, or the binomial series", "seed 001 eqs (36)-(39)"), 0},
-     {R::cycle_points,
-      whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema", ""), 64}});
+         0.0},
+     {R::crank_speed, quantity("crank_speed", Dimension::angular_speed, opt::kPositive, "w, constant",
+         "seed 000 eq. (5)"), 100 * std::numbers::pi / 30},
+     {R::kinematics, choice("kinematics", {"exact", "binomial"}, "exact, or the binomial series",
+         "seed 001 eqs (36)-(39)"), 0},
+     {R::cycle_points, whole("cycle_points", {8, 100000, false, false}, "grid points per revolution for the extrema",
+         ""), 64}});
 
 // The metrics, in the order of kMetrics (their MetricIds).
 struct M {
