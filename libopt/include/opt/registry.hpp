@@ -34,7 +34,9 @@ struct Registration {
 // (values left at auto, rules across values, each failing at its key); the
 // variables read (parse_variables); P::check_variables(vars, values, root)
 // where P declares it; then P(values, vars), or P(values, vars, given) where
-// P takes the values as the config gave them (auto as 0) too.
+// P takes the values as the config gave them (auto as 0) too, or
+// P(table, values, vars) where the table is built at run time (its rows
+// named by the config) and P takes it.
 template <class P>
 std::unique_ptr<Problem> make_tabled(const ConfigNode& root, const std::vector<Parameter>& table) {
   const Values<double> given = read_values(root, table);
@@ -42,7 +44,9 @@ std::unique_ptr<Problem> make_tabled(const ConfigNode& root, const std::vector<P
   if constexpr (requires { P::resolve(v, root); }) P::resolve(v, root);
   std::vector<Variable> vars = parse_variables(root, with_values(table, v));
   if constexpr (requires { P::check_variables(vars, v, root); }) P::check_variables(vars, v, root);
-  if constexpr (std::is_constructible_v<P, Values<double>, std::vector<Variable>, const Values<double>&>)
+  if constexpr (std::is_constructible_v<P, std::vector<Parameter>, Values<double>, std::vector<Variable>>)
+    return std::make_unique<P>(table, std::move(v), std::move(vars));
+  else if constexpr (std::is_constructible_v<P, Values<double>, std::vector<Variable>, const Values<double>&>)
     return std::make_unique<P>(std::move(v), std::move(vars), given);
   else
     return std::make_unique<P>(std::move(v), std::move(vars));
