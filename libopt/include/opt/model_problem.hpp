@@ -7,6 +7,7 @@
 // problem from a config and registers it by name.
 #pragma once
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -138,16 +139,31 @@ class TabledProblem : public opt::Problem {
   std::vector<opt::Variable> vars_;
 };
 
+// The scratch of a ModelProblem's evaluation: the model values at the
+// design as doubles (a batch evaluates millions of designs, and an
+// allocation each cost a DOE sample ~3%). A problem with scratch of its own
+// derives from it (see ModelProblem).
+struct ModelWorkspace : opt::Workspace {
+  opt::Values<double> values;
+};
+
 // Derived implements
 //   template <class S> void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const;
 // setting out.result.status for an infeasible design. v holds the model
 // values of the problem's table at the design (each variable's row set to
 // the variable, with its derivative when S carries them); a problem built
-// without a table has its variables as its values.
+// without a table has its variables as its values. A problem that keeps
+// scratch of its own declares `struct Workspace : opt::ModelWorkspace`
+// with it and implements
+//   template <class S> void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const;
+// instead: make_workspace makes one, and the evaluation gets the one its
+// caller passed.
 template <class Derived>
 class ModelProblem : public TabledProblem {
  public:
   using TabledProblem::TabledProblem;
+
+  std::unique_ptr<opt::Workspace> make_workspace() const override { return std::make_unique<WorkspaceOf<Derived>>(); }
 
   opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
                                     bool gradient) const override {
@@ -157,20 +173,30 @@ class ModelProblem : public TabledProblem {
   }
   void evaluate_model_into(const Eigen::VectorXd& x, const opt::MetricSet& wanted, bool gradient,
                            opt::Evaluation& out) const override {
-    with_scalar(x, gradient, [&](const auto& v) {
+    WorkspaceOf<Derived> ws;
+    evaluate_model_with(x, wanted, gradient, out, ws);
+  }
+  // `w`: made by make_workspace (of this problem's type).
+  void evaluate_model_with(const Eigen::VectorXd& x, const opt::MetricSet& wanted, bool gradient,
+                           opt::Evaluation& out, opt::Workspace& w) const override {
+    auto& ws = static_cast<WorkspaceOf<Derived>&>(w);
+    auto run = [&](const auto& v) {
       MetricSink<typename std::decay_t<decltype(v)>::value_type> sink(wanted, out);
-      static_cast<const Derived&>(*this).evaluate_model(v, sink);
-    });
+      const Derived& self = static_cast<const Derived&>(*this);
+      if constexpr (std::is_same_v<WorkspaceOf<Derived>, ModelWorkspace>) self.evaluate_model(v, sink);
+      else self.evaluate_model(v, sink, ws);
+    };
+    if (gradient) return with_duals(x, run);
+    fill(x, ws.values);
+    run(ws.values);
   }
 
  protected:
-  // Calls f(v) with the model values at x as double, or as an autodiff type
-  // with one derivative per variable (each variable's row seeded) when a
-  // gradient is wanted: fixed size up to 4 variables, sized at run time
-  // beyond.
+  // Calls f(v) with the model values at x as an autodiff type with one
+  // derivative per variable (each variable's row seeded): fixed size up to 4
+  // variables, sized at run time beyond.
   template <class F>
-  auto with_scalar(const Eigen::VectorXd& x, bool gradient, F&& f) const {
-    if (!gradient) return with_doubles(x, f);
+  auto with_duals(const Eigen::VectorXd& x, F&& f) const {
     switch (variables().size()) {
       case 1: return f(seeded<mech::Dual>(x));  // value and slope: no Eigen expression templates
       case 2: return f(seeded<mech::DualN<2>>(x));
@@ -187,7 +213,7 @@ class ModelProblem : public TabledProblem {
   std::vector<opt::MetricValue> cycle_local_maxima(const Eigen::VectorXd& x, int n,
                                                    ModelAt&& model_at, G&& g) const {
     const auto angles = mech::cycle_max_angles(model_at(seeded<double>(x)), n, g);
-    return with_scalar(x, true, [&](const auto& v) {
+    return with_duals(x, [&](const auto& v) {
       using S = typename std::decay_t<decltype(v)>::value_type;
       const auto model = model_at(v);
       std::vector<opt::MetricValue> out;
@@ -202,22 +228,19 @@ class ModelProblem : public TabledProblem {
   }
 
  private:
-  // f(the values at x as doubles) in a vector kept by the thread: a batch
-  // evaluates millions of designs, and an allocation each cost a DOE sample
-  // ~3%. A call inside f (a model evaluating another design) gets its own
-  // vector.
-  template <class F>
-  auto with_doubles(const Eigen::VectorXd& x, F& f) const {
-    thread_local opt::Values<double> kept;
-    thread_local bool busy = false;
-    if (busy) return f(seeded<double>(x));
-    busy = true;
-    struct Release {
-      ~Release() { busy = false; }
-    } release;
-    fill(x, kept);
-    return f(kept);
-  }
+  // Derived::Workspace where Derived declares one, else ModelWorkspace
+  // (looked up where Derived is complete: in the member functions' bodies).
+  template <class D>
+  struct WorkspaceOfT {
+    using type = ModelWorkspace;
+  };
+  template <class D>
+    requires requires { typename D::Workspace; }
+  struct WorkspaceOfT<D> {
+    using type = typename D::Workspace;
+  };
+  template <class D>
+  using WorkspaceOf = typename WorkspaceOfT<D>::type;
 };
 
 }  // namespace opt

@@ -144,6 +144,16 @@ struct CycleCurves {
   }
 };
 
+// Scratch space for one evaluation at a time: what a problem's evaluation
+// reuses from one design to the next (a values vector, a cycle search's
+// lists), made by Problem::make_workspace and owned by whoever evaluates (a
+// driver run, a DOE worker thread). The problem stays immutable and shared;
+// two evaluations under way at once (two threads, or a linked problem inside
+// another's evaluation) each have their own.
+struct Workspace {
+  virtual ~Workspace() = default;
+};
+
 class Problem {
  public:
   virtual ~Problem() = default;
@@ -171,9 +181,16 @@ class Problem {
   // lies: a design whose metrics (or gradients) come out NaN or infinite has
   // status non_finite and no metrics.
   Evaluation evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient) const;
-  // The same into `out`, reusing its storage: a driver's loop over designs
-  // then allocates nothing per evaluation.
+  // The same into `out`, reusing its storage, with `ws` (from this problem's
+  // make_workspace) as scratch: a driver's loop over designs then allocates
+  // nothing per evaluation. The overloads without a workspace make one per
+  // call (reports, tests).
+  void evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& out,
+                Workspace& ws) const;
   void evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& out) const;
+  // A workspace for evaluate: the problem's own type (a plain Workspace when
+  // the problem keeps no scratch).
+  virtual std::unique_ptr<Workspace> make_workspace() const { return std::make_unique<Workspace>(); }
   // The same by names (all metrics if empty), for reports and tests.
   Evaluation evaluate(const Eigen::VectorXd& x, const std::vector<std::string>& wanted, bool gradient) const;
   // Curves over one crank revolution at x, at n + 1 angles from 0 to 2 pi
@@ -229,6 +246,12 @@ class Problem {
   virtual void evaluate_model_into(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient,
                                    Evaluation& out) const {
     out = evaluate_model_at(x, wanted, gradient);
+  }
+  // The same with `ws`, made by this problem's make_workspace, as scratch.
+  virtual void evaluate_model_with(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient,
+                                   Evaluation& out, Workspace& ws) const {
+    (void)ws;
+    evaluate_model_into(x, wanted, gradient, out);
   }
 };
 

@@ -48,7 +48,13 @@ Evaluation Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, 
 }
 
 void Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& e) const {
-  evaluate_model_into(x, wanted, gradient, e);
+  const std::unique_ptr<Workspace> ws = make_workspace();
+  evaluate(x, wanted, gradient, e, *ws);
+}
+
+void Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& e,
+                       Workspace& ws) const {
+  evaluate_model_with(x, wanted, gradient, e, ws);
   leave_avx();
   if (e.names.get() != &metric_names()) e.names = shared_metric_names();  // no reference count churn per design
   for (MetricId i = 0; i < static_cast<MetricId>(e.values.size()); ++i) {
