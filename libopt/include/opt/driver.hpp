@@ -166,10 +166,26 @@ class StopCheck {
   double max_seconds_;
 };
 
-// An evaluation with its design, so that the final report can reuse it.
+// An evaluation with its design, so that the final report can reuse it, and
+// the workspace of the evaluations into it: a run's evaluations reuse both.
 struct EvaluationAt {
   Eigen::VectorXd x;
   Evaluation e;
+  // e = the problem's evaluation at x, into e's storage, with the kept
+  // workspace (made on the first call, and again for another problem).
+  void evaluate(const Problem& problem, const MetricSet& wanted, bool gradient) {
+    problem.evaluate(x, wanted, gradient, e, workspace(problem));
+  }
+  // The kept workspace (made as by evaluate), for another evaluation of the
+  // same problem into other storage.
+  Workspace& workspace(const Problem& problem) {
+    if (!ws || of != &problem) ws = problem.make_workspace(), of = &problem;
+    return *ws;
+  }
+
+ private:
+  std::unique_ptr<Workspace> ws;
+  const Problem* of = nullptr;
 };
 
 // A run's objective and constraints with their metric ids, bound once a run

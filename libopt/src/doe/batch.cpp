@@ -109,6 +109,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     o.peers->share(finished);
     std::vector<SampleMaker> makers_of(static_cast<size_t>(threads));
     for (auto& m : makers_of) m = maker();
+    std::vector<Evaluator::Worker> workers(static_cast<size_t>(threads));
     std::optional<Segment> segment;
     std::int64_t closed = 0;      // segment files closed, for rank 0 to fold
     std::size_t in_segment = 0;  // rows in the open one
@@ -117,7 +118,9 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
       std::vector<std::vector<Row>> parts(static_cast<size_t>(threads));
       auto part = [&](int t) {  // every threads-th index from begin + t
         for (std::int64_t i = begin + t; i < end && !stop_requested(); i += threads)
-          if (!finished[static_cast<size_t>(i)]) parts[static_cast<size_t>(t)].push_back(evaluator.evaluate(makers_of[static_cast<size_t>(t)], i));
+          if (!finished[static_cast<size_t>(i)])
+            evaluator.evaluate(makers_of[static_cast<size_t>(t)], i, parts[static_cast<size_t>(t)].emplace_back(),
+                               workers[static_cast<size_t>(t)]);
       };
       std::vector<std::thread> pool;
       for (int t = 1; t < threads; ++t) pool.emplace_back(part, t);
@@ -189,6 +192,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
     auto work = [&](int t) {
       try {
         const SampleMaker m = maker();
+        Evaluator::Worker worker;  // this thread's storage and workspace
         RowWriter writer(store, &folder, t, o.segment_rows, committed);
         std::int64_t chunk = 1;
         while (!stop_requested()) {
@@ -196,7 +200,7 @@ nlohmann::json run_samples(const Problem& base, const std::function<SampleMaker(
           if (begin == end) break;
           const auto c0 = Clock::now();
           for (std::int64_t i = begin; i < end && !stop_requested(); ++i)
-            if (!finished[static_cast<size_t>(i)]) evaluator.evaluate(m, i, writer.next());
+            if (!finished[static_cast<size_t>(i)]) evaluator.evaluate(m, i, writer.next(), worker);
           chunk = next_chunk(since(c0), end - begin, 1);
           writer.commit_if_due();
         }

@@ -72,11 +72,12 @@ void Evaluator::sample_into(const SampleMaker& maker, std::int64_t index, const 
 
 Row Evaluator::evaluate(const SampleMaker& maker, std::int64_t i) const {
   Row r;
-  evaluate(maker, i, r);
+  Worker w;
+  evaluate(maker, i, r, w);
   return r;
 }
 
-void Evaluator::evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const {
+void Evaluator::evaluate(const SampleMaker& maker, std::int64_t i, Row& r, Worker& w) const {
   r.index = i;
   r.message.clear();
   r.factors.assign(spec_.factors.size(), 0.0);
@@ -84,11 +85,19 @@ void Evaluator::evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const
   r.metrics.assign(stored_.size(), kNan);
   const auto t0 = Clock::now();
   mech::set_deadline(spec_.sample_seconds);  // checked inside long computations
-  thread_local Sample s;      // storage reused from the thread's previous sample
-  thread_local Evaluation out;  // likewise
+  Sample& s = w.sample;
+  Evaluation& out = w.out;
   try {
     sample_into(maker, i, r.factors, s);
-    s.problem->evaluate(s.x, wanted_, false, out);
+    Workspace* ws;
+    if (s.own) {
+      w.own_workspace = s.own->make_workspace();
+      ws = w.own_workspace.get();
+    } else {
+      if (!w.base_workspace) w.base_workspace = base_.make_workspace();
+      ws = w.base_workspace.get();
+    }
+    s.problem->evaluate(s.x, wanted_, false, out, *ws);
     r.status = mech::to_string(out.status);
     r.message = out.message;
     for (size_t k = 0; k < stored_.size(); ++k)
@@ -107,7 +116,8 @@ void Evaluator::evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const
     std::fill(r.metrics.begin(), r.metrics.end(), kNan);
   }
   mech::set_deadline(0);
-  s.own.reset();  // no problem outlives its sample in the thread's storage
+  w.own_workspace.reset();
+  s.own.reset();  // no problem outlives its sample in the worker's storage
   r.wall_time = since(t0);
 }
 

@@ -43,11 +43,23 @@ class Evaluator {
   // The same into `s`, its x's storage reused.
   void sample_into(const SampleMaker& maker, std::int64_t index, const std::vector<double>& factors, Sample& s) const;
 
+  // What a worker thread reuses from one sample to the next: the sample's
+  // storage, its evaluation's, and the workspace of the base problem (a
+  // sample with a problem of its own evaluates with a workspace of that
+  // problem, made for it).
+  struct Worker {
+    Sample sample;
+    Evaluation out;
+    std::unique_ptr<Workspace> base_workspace;  // made on first use
+    std::unique_ptr<Workspace> own_workspace;   // the sample's own problem's
+  };
+
   // Sample i as a row: a status (never an exception) and the stored metrics
   // (stored_metrics), the only ones computed.
   Row evaluate(const SampleMaker& maker, std::int64_t i) const;
-  // The same into `r`, the storage of its vectors reused (a batch's spent rows).
-  void evaluate(const SampleMaker& maker, std::int64_t i, Row& r) const;
+  // The same into `r`, the storage of its vectors reused (a batch's spent
+  // rows), with a worker thread's storage `w`.
+  void evaluate(const SampleMaker& maker, std::int64_t i, Row& r, Worker& w) const;
 
   const Problem& base() const { return base_; }
   // Factor j's index in x, or -1 (a model value).

@@ -150,9 +150,9 @@ Start prepare_start(const Problem& problem, const Bound& b, Eigen::VectorXd& x, 
   Evaluation values;
   auto evaluate = [&]() -> const Evaluation& {
     at.x = x;
-    problem.evaluate(x, wanted, gradient, at.e);
+    at.evaluate(problem, wanted, gradient);
     if (at.e.ok() || !gradient) return at.e;
-    problem.evaluate(x, wanted, false, values);
+    problem.evaluate(x, wanted, false, values, at.workspace(problem));
     return values;
   };
   Start s;

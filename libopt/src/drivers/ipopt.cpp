@@ -219,7 +219,8 @@ class Nlp : public Ipopt::TNLP {
     Eigen::Map<const Eigen::VectorXd> xv(x, nx_);
     if (last_.x.size() == nx_ && last_.x == xv) return usable_;
     if (error || stop_()) return false;
-    last_ = {xv, p_.evaluate(xv, wanted_, true)};
+    last_.x = xv;
+    last_.evaluate(p_, wanted_, true);  // storage and workspace reused
     auto usable_peaks = [](const std::vector<MetricValue>& list) {
       return !list.empty() && std::all_of(list.begin(), list.end(), [](const MetricValue& v) {
         return std::isfinite(v.value) && v.gradient.allFinite();

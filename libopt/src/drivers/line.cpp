@@ -56,7 +56,7 @@ Result LineDriver::minimize(const Problem& problem, const Objective& objective,
     if (result.evaluations >= options_.max_evaluations)
       throw Ended{DriverStatus::max_evaluations, detail::stop_message(DriverStatus::max_evaluations, options_)};
     last.x = Eigen::VectorXd::Constant(1, x);
-    problem.evaluate(last.x, wanted, true, last.e);  // storage reused
+    last.evaluate(problem, wanted, true);  // storage and workspace reused
     ++result.evaluations;
     const bool ok = last.e.ok() && last.e.has(f.id);
     if (options_.record_history)

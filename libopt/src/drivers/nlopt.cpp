@@ -176,7 +176,7 @@ struct Context {
       return nullptr;
     }
     last.x = xv;  // storage reused: no allocation per evaluation
-    problem->evaluate(last.x, wanted, gradient, last.e);
+    last.evaluate(*problem, wanted, gradient);  // workspace reused too
     remembered(gradient);
     if ((*stop)()) nlopt_force_stop(opt);
     return &last;
@@ -313,6 +313,7 @@ struct Restoration {
   int evaluations = 0;
   std::exception_ptr error;
   nlopt_opt opt = nullptr;
+  detail::EvaluationAt last;  // the latest evaluation
 };
 
 double violation_cb(unsigned n, const double* x, double* grad, void* data) {
@@ -323,8 +324,9 @@ double violation_cb(unsigned n, const double* x, double* grad, void* data) {
       return kInfeasibleValue;
     }
     ++r.evaluations;
-    const Evaluation e = r.problem->evaluate(Eigen::Map<const Eigen::VectorXd>(x, n), r.wanted,
-                                             grad != nullptr);
+    r.last.x = Eigen::Map<const Eigen::VectorXd>(x, n);
+    r.last.evaluate(*r.problem, r.wanted, grad != nullptr);  // storage and workspace reused
+    const Evaluation& e = r.last.e;
     double f = 0;
     if (grad) std::fill(grad, grad + n, 0.0);
     for (const auto& k : r.constraints) {
@@ -349,7 +351,7 @@ double violation_cb(unsigned n, const double* x, double* grad, void* data) {
 }  // namespace
 
 int detail::restore_feasibility(const Problem& problem, Eigen::VectorXd& x, StopCheck& stop) {
-  Restoration r{&problem, problem.bind(problem.implicit_constraints()), {}, &stop, 0, nullptr, nullptr};
+  Restoration r{&problem, problem.bind(problem.implicit_constraints()), {}, &stop, 0, nullptr, nullptr, {}};
   for (const auto& k : r.constraints) r.wanted.add(k.id);
   if (r.constraints.empty()) return 0;
   const unsigned n = static_cast<unsigned>(x.size());
