@@ -185,8 +185,13 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
             {"units", "SI (m, rad, rad/s, kg, N, N m)"}};
   }
 
+  // An evaluation's scratch: the values and the cycle computations' lists.
+  struct Workspace : opt::ModelWorkspace {
+    mech::CycleScratch cycle;
+  };
+
   template <class S>
-  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
     using std::abs;
     const Design<S> d = design(v);
     const auto& k = d.mech.linkage;
@@ -206,7 +211,7 @@ class ConveyorSwing : public ModelProblem<ConveyorSwing> {
     out.put(M::time_ratio, mech::time_ratio(dc));
     if (!out.want_any(M::peak_crank_torque, M::mean_abs_crank_torque, M::rms_crank_torque, M::max_pressure_angle)) return;
     const bool means = out.want_any(M::mean_abs_crank_torque, M::rms_crank_torque);
-    const auto r = mech::swing_metrics(d.mech, cycle_points(), means);
+    const auto r = mech::swing_metrics(d.mech, cycle_points(), ws.cycle, means);
     out.put(M::peak_crank_torque, r.peak_moment);
     if (means) {
       out.put(M::mean_abs_crank_torque, r.mean_abs_moment);

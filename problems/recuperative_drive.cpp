@@ -155,8 +155,13 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
             static_cast<mech::RodModel>(c[R::rod]), static_cast<mech::Resistance>(c[R::resistance])};
   }
 
+  // An evaluation's scratch: the values and the cycle computations' lists.
+  struct Workspace : opt::ModelWorkspace {
+    mech::CycleScratch cycle;
+  };
+
   template <class S>
-  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out) const {
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
     const mech::TwinDrive<S> d = drive(v);
     using std::abs;
     out.put(M::crank_rod_ratio, (d.crank_radius + abs(d.offset)) / d.rod_length);  // defined everywhere
@@ -182,7 +187,7 @@ class RecuperativeDrive : public ModelProblem<RecuperativeDrive> {
       out.put(M::k2, mean / least);
       return;
     }
-    const auto m = mech::cycle_metrics(d, n, needs);
+    const auto m = mech::cycle_metrics(d, n, ws.cycle, needs);
     out.put(M::mean_kinetic_energy, m.mean_kinetic_energy);
     out.put(M::least_mean_kinetic_energy, m.least_mean_kinetic_energy);
     out.put(M::k2, m.k2);

@@ -1,10 +1,13 @@
 // Angles of the crank cycle: 2 pi, rounding and wrapping into [0, 2 pi), and
 // the n-point grid phi_k = 2 pi k / n with cos and sin of its angles, one
-// at a time by rotation or kLanes at a time from tables kept per thread.
+// at a time by rotation or kLanes at a time from tables made once.
 #pragma once
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
+#include <mutex>
 #include <numbers>
 #include <vector>
 
@@ -43,25 +46,32 @@ void for_each_grid_angle(int n, F&& f) {
 }
 
 // cos and sin of the grid angles 2*pi*k/n, kLanes at a time, computed once
-// per n and thread for n up to 512 (nullptr beyond: such a design's cycle
-// costs far more than its sincos). All tables together stay under 2.1 MB a
-// thread (every n from 4 to 512), however many designs a batch runs.
+// per n for the process for n up to 512 (nullptr beyond: such a design's
+// cycle costs far more than its sincos). All tables together stay under 2.1
+// MB (every n from 4 to 512), however many designs and threads a batch runs.
+// A reader loads the table's pointer (acquire: a plain load on x86, no
+// hashing per evaluation); only a miss takes the lock.
 struct GridTable {
   std::vector<Lanes> c, s;
 };
 inline const GridTable* grid_table(int n) {
   constexpr int kMost = 512;
   if (n > kMost || n < 1) return nullptr;
-  static thread_local std::vector<GridTable> tables(kMost + 1);  // by n: no hashing per evaluation
-  GridTable& t = tables[static_cast<std::size_t>(n)];
-  if (t.c.empty()) {
-    for (int k = 0; k < n; k += kLanes) {
-      Lanes c, s;
-      sincos(iota(k) * kTwoPi / n, s, c);
-      t.c.push_back(c);
-      t.s.push_back(s);
-    }
+  static std::array<std::atomic<const GridTable*>, kMost + 1> made{};  // by n
+  static std::array<GridTable, kMost + 1> tables;
+  static std::mutex making;
+  const auto i = static_cast<std::size_t>(n);
+  if (const GridTable* t = made[i].load(std::memory_order_acquire)) [[likely]] return t;
+  const std::lock_guard lock(making);
+  if (const GridTable* t = made[i].load(std::memory_order_relaxed)) return t;
+  GridTable& t = tables[i];
+  for (int k = 0; k < n; k += kLanes) {
+    Lanes c, s;
+    sincos(iota(k) * kTwoPi / n, s, c);
+    t.c.push_back(c);
+    t.s.push_back(s);
   }
+  made[i].store(&t, std::memory_order_release);
   return &t;
 }
 

@@ -139,9 +139,9 @@ struct SwingMetrics {
 // the cycle take their design
 // derivative at the maximising angle (Danskin); |M| and the friction term have
 // kinks (zeros of M, rocker reversals), so means integrate piecewise between
-// them. check(m) must be ok.
+// them. check(m) must be ok. `scratch`: the grids' and searches' storage.
 template <class S>
-SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = true) {
+SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, CycleScratch& scratch, bool means = true) {
   using std::abs;
   using std::sqrt;
   SwingMetrics<S> out;
@@ -151,7 +151,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   const auto poles = toggle_poles(md.linkage);
   const int means_points = 2 * n;
   n = swing_grid_points(poles, n);
-  static thread_local std::vector<double> grids;  // no allocation per design once warm
+  std::vector<double>& grids = scratch.grids;  // no allocation per design once warm
   grids.resize(3 * static_cast<std::size_t>(n));
   const std::span<double> gridM(grids.data(), n), gridP(grids.data() + n, n), M(grids.data() + 2 * n, n);
   const SwingMechanism<Lanes> ml = md.lanes();
@@ -183,10 +183,10 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
       using L = lanes_of<S>;
       const SwingMechanism<L> mlanes = m.lanes();
       auto moment = [&](const Lanes&, const Lanes& c, const Lanes& s) { return swing_point(mlanes, L(c), L(s)).moment(); };
-      arcs = piecewise_means<S>(moment, kinks, means_points, poles);
+      arcs = piecewise_means<S>(moment, kinks, means_points, scratch, poles);
     } else {
       auto moment = [&](double, double c, double s) -> S { return swing_point(m, S(c), S(s)).moment(); };
-      arcs = piecewise_means<S>(moment, kinks, means_points, poles);
+      arcs = piecewise_means<S>(moment, kinks, means_points, scratch, poles);
     }
     out.mean_abs_moment = arcs.mean_abs;
     out.rms_moment = sqrt(arcs.mean_square);
@@ -195,9 +195,9 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   // slopes in phi by a dual number.
   using LD = LaneDual<1>;
   const SwingMechanism<LD> mdual = md.map([](double x) { return LD(x); });
-  static thread_local CycleMaxSearch searches[2];  // kept: no allocation per design
+  CycleMaxSearch* searches = scratch.searches;  // kept: no allocation per design
   searches[0].reset(gridM), searches[1].reset(gridP);
-  find_cycle_maxima(std::span(searches), [&](std::span<AngleQuery> qs) {
+  find_cycle_maxima(std::span(searches, 2), [&](std::span<AngleQuery> qs) {
     for_query_blocks(qs, [&](AngleQuery* q, int lanes, const Lanes& c, const Lanes& s) {
       LD cl(c), sl(s);  // slopes -sin, cos
       cl.d[0] = -s, sl.d[0] = c;
@@ -212,7 +212,7 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
                           : std::asin(std::abs(u.v[j]));
       }
     });
-  });
+  }, scratch);
   // The peaks' values: as the search found them (the lanes' sincos and
   // arithmetic, the scalar ones' bits), or at the same cosines with
   // derivatives in the design (Danskin).
@@ -233,6 +233,13 @@ SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = tr
   out.swing_angle = abs(dc.theta3_folded - dc.theta3_extended);
   out.time_ratio = time_ratio(dc);
   return out;
+}
+
+// The same with scratch of its own (tests, benchmarks).
+template <class S>
+SwingMetrics<S> swing_metrics(const SwingMechanism<S>& m, int n, bool means = true) {
+  CycleScratch scratch;
+  return swing_metrics(m, n, scratch, means);
 }
 
 }  // namespace mech

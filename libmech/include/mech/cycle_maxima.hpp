@@ -13,21 +13,13 @@
 
 #include "mech/angles.hpp"
 #include "mech/autodiff.hpp"
+#include "mech/cycle_scratch.hpp"
 #include "mech/grow.hpp"
 #include "mech/inline.hpp"
 #include "mech/roots.hpp"
 #include "mech/simd.hpp"
 
 namespace mech {
-
-// One evaluation a batched search asks for: f of search `fn` at the angle
-// phi, or its angle derivative (slope); the evaluator writes `out`.
-struct AngleQuery {
-  double phi;
-  int fn;
-  bool slope;
-  double out = 0;
-};
 
 // Calls block(q, lanes, c, s) for the queries, kLanes at a time: q =
 // &qs[i], lanes how many (at most kLanes), c and s the cos and sin of their
@@ -88,30 +80,6 @@ MECH_INLINE std::pair<double, double> max_and_curvature(std::span<const double> 
   return {top, bend};
 }
 
-// The maxima over the cycle of a periodic f sampled as v[k] = f(2 pi k / n),
-// found by find_cycle_maxima. `kinks`: the angles where f has kinks (a
-// slider's dead centres for |M|); `slopes`: df on the grid, where the caller
-// has it (its evaluations saved).
-struct CycleMaxSearch {
-  std::span<const double> v, kinks = {}, slopes = {};
-  bool global = true;        // the global maximum; else every local one within `margin`
-  double margin = HUGE_VAL;  // local ones: no lower than max(v) - margin
-  std::vector<double> maxima;  // out: the refined local maxima, sorted by angle
-  double phi = 0;              // out (global): the angle of the largest value
-  double value = 0;            // out (global): f there, as eval answered it (or the grid's)
-
-  // A global search of these inputs, the maxima's storage kept: a model
-  // that searches every design keeps its searches per thread (an allocation
-  // a search cost a DOE design 3%).
-  void reset(std::span<const double> values, std::span<const double> kinks_of_f = {},
-             std::span<const double> slopes_of_f = {}) {
-    v = values, kinks = kinks_of_f, slopes = slopes_of_f;
-    global = true, margin = HUGE_VAL;
-    maxima.clear();
-    phi = value = 0;
-  }
-};
-
 // Finds the maxima of several periodic functions of the crank angle together,
 // asking for their values and slopes in batches: eval(std::span<AngleQuery>)
 // fills every query's out (a model can answer kLanes at a time). The answers
@@ -135,39 +103,24 @@ struct CycleMaxSearch {
 // need not show on the grid as a local maximum (the grid point past the kink
 // may be higher): where the grid rises into a kink, the two cells before it
 // (or after it) are searched too.
+//
+// `scratch`: the lists reused from one call to the next (eval must not call
+// find_cycle_maxima with the same scratch).
 template <class Eval>
-void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
+void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScratch& scratch) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  struct Point {
-    double x, g;
-    int query = -1;     // g comes from this query
-    bool kink = false;  // eps beside a kink (f's pieces part between two such points)
-  };
-  struct Candidate {
-    int fn;
-    double phi_k;
-    int first, count;  // its points: phi_k -+ h, phi_k, and kink -+ eps
-    int quarter = -1;  // the 4-part search's first query
-  };
-  struct Root {  // a maximum: known, or where a root search ends
-    int fn;
-    double phi;
-    int search = -1;  // its root search, if any
-  };
-  struct Bracket {  // a cell beside a kink
-    int fn;
-    Point a, b;
-  };
-  // Working storage reused by every call on a thread (eval must not call
-  // find_cycle_maxima): no allocation per design once warm.
-  static thread_local Grow<AngleQuery> batch;
-  static thread_local Grow<Point> points;
-  static thread_local Grow<Candidate> cands;
-  static thread_local Grow<Root> roots, beside_roots;
-  static thread_local Grow<Bracket> beside;
-  static thread_local Grow<int> kink_queries, root_fn, tops;
-  static thread_local Grow<double> kink_f;
-  static thread_local Grow<LaneRootSearch> roots_searched;
+  using Point = CycleScratch::Point;
+  using Candidate = CycleScratch::Candidate;
+  using Root = CycleScratch::Root;
+  using Bracket = CycleScratch::Bracket;
+  auto& batch = scratch.batch;
+  auto& points = scratch.points;
+  auto& cands = scratch.cands;
+  auto &roots = scratch.roots, &beside_roots = scratch.beside_roots;
+  auto& beside = scratch.beside;
+  auto &kink_queries = scratch.kink_queries, &root_fn = scratch.root_fn, &tops = scratch.tops;
+  auto& kink_f = scratch.kink_f;
+  auto& roots_searched = scratch.roots_searched;
   points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
   kink_queries.clear(), kink_f.clear(), roots_searched.clear(), root_fn.clear(), tops.clear();
   auto ask = [&](double phi, int fn, bool slope) {
@@ -329,6 +282,13 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
     for (std::size_t i = 0; i < beside_roots.size(); ++i)
       if (beside_roots[i].fn == static_cast<int>(fn)) consider(batch[beside_first + i].phi, batch[beside_first + i].out);
   }
+}
+
+// The same with lists of its own (tests, one-off searches).
+template <class Eval>
+void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval) {
+  CycleScratch scratch;
+  find_cycle_maxima(searches, eval, scratch);
 }
 
 // An evaluator of angle queries by reference, its type erased: the searches

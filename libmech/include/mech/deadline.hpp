@@ -17,22 +17,30 @@ class TimedOut : public std::runtime_error {
   TimedOut() : std::runtime_error("the evaluation ran past its time limit") {}
 };
 
-inline thread_local bool has_deadline = false;
-inline thread_local Clock::time_point deadline;
-inline thread_local unsigned deadline_calls = 0;
+// The limit on the evaluation under way in a thread.
+struct Deadline {
+  bool set = false;
+  Clock::time_point at;
+  unsigned calls = 0;  // checks since the thread began: the clock is read every 64th
+};
+// thread_local, not passed: SUNDIALS' callbacks check it and have no path
+// for an argument; it is the batch's limit on the evaluation under way on
+// that thread, set by the DOE worker around each sample.
+inline thread_local Deadline thread_deadline;
 
 // Sets (seconds > 0) or clears (0) this thread's deadline, from now.
 inline void set_deadline(double seconds) {
-  has_deadline = seconds > 0;
-  if (has_deadline)
-    deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  Deadline& d = thread_deadline;
+  d.set = seconds > 0;
+  if (d.set) d.at = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
 // Reads the clock every 64th call: a right-hand side costs ~0.1 us and the
 // clock ~20 ns, 8% of a limited elastic DOE's time if read on every call;
 // 64 calls are microseconds past the limit at most.
 inline void check_deadline() {
-  if (has_deadline && (++deadline_calls & 63) == 0 && Clock::now() > deadline) throw TimedOut();
+  Deadline& d = thread_deadline;
+  if (d.set && (++d.calls & 63) == 0 && Clock::now() > d.at) throw TimedOut();
 }
 
 }  // namespace mech

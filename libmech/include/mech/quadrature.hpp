@@ -5,6 +5,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -17,6 +18,7 @@
 
 #include "mech/angles.hpp"
 #include "mech/autodiff.hpp"
+#include "mech/cycle_scratch.hpp"
 #include "mech/simd.hpp"
 
 namespace mech {
@@ -67,15 +69,18 @@ struct GaussRule {
   std::vector<std::pair<double, double>> nodes;  // (x, w) on [-1, 1], the first (m+1)/2
   std::vector<Lanes> pairs, weights;
 };
+// Made once per m for the process: a reader loads the rule's pointer
+// (acquire: a plain load on x86); only a miss takes the lock (call_once on
+// every read cost a design of a DOE 2%).
 inline const GaussRule& gauss_rule(int m) {
-  static std::array<std::once_flag, kMaxGaussNodes + 1> once;
+  static std::array<std::atomic<const GaussRule*>, kMaxGaussNodes + 1> made{};
   static std::array<GaussRule, kMaxGaussNodes + 1> table;
-  // Each thread remembers the rules it has seen: call_once costs a design
-  // of a DOE 2% even when the rule is long made.
-  thread_local std::array<const GaussRule*, kMaxGaussNodes + 1> seen{};
+  static std::mutex making;
   const auto k = static_cast<size_t>(std::clamp(m, 1, kMaxGaussNodes));
-  if (seen[k]) return *seen[k];
-  std::call_once(once[k], [k] {
+  if (const GaussRule* r = made[k].load(std::memory_order_acquire)) [[likely]] return *r;
+  const std::lock_guard lock(making);
+  if (const GaussRule* r = made[k].load(std::memory_order_relaxed)) return *r;
+  {
     GaussRule& r = table[k];
     const std::size_t pairs = (k + 1) / 2;
     r.m = static_cast<int>(k);
@@ -87,8 +92,9 @@ inline const GaussRule& gauss_rule(int m) {
       r.pairs.push_back(x);
       r.weights.push_back(w);
     }
-  });
-  return *(seen[k] = &table[k]);
+  }
+  made[k].store(&table[k], std::memory_order_release);
+  return table[k];
 }
 
 // Cycle means of a periodic f, of |f| and of f^2.
@@ -164,13 +170,15 @@ void for_each_panel(double a, double b, int n, std::span<const NearPole> poles, 
   for (int p = 0; p < panels; ++p) visit(a + (2 * p + 1) * half, half, (m + panels - 1) / panels);
 }
 
+// `scratch`: its ends are the arcs' (no allocation per call once warm).
 template <class S, class F>
-ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std::span<const NearPole> poles = {}) {
+ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, CycleScratch& scratch,
+                            std::span<const NearPole> poles = {}) {
   constexpr bool kLanesOfF = [] {
     if constexpr (has_lanes<S>) return std::is_invocable_r_v<lanes_of<S>, F&, Lanes, Lanes, Lanes>;
     return false;
   }();
-  static thread_local std::vector<double> ends;  // sorted; no allocation per call once warm
+  std::vector<double>& ends = scratch.ends;  // sorted
   ends.assign(kinks.begin(), kinks.end());
   std::sort(ends.begin(), ends.end());
   if (ends.empty()) ends.push_back(0.0);
@@ -256,6 +264,13 @@ ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std:
   out.mean_abs /= kTwoPi;
   out.mean_square /= kTwoPi;
   return out;
+}
+
+// The same with scratch of its own (tests).
+template <class S, class F>
+ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, std::span<const NearPole> poles = {}) {
+  CycleScratch scratch;
+  return piecewise_means<S>(f, kinks, n, scratch, poles);
 }
 
 }  // namespace mech

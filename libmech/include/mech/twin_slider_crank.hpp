@@ -286,12 +286,13 @@ std::vector<double> dead_centres(const TwinDrive<S>& d, int n) {
 // dead centres (`centres`: dead_centres(d, n)), where M is smooth:
 // exponential convergence again.
 template <class Rod = RodOf, class S>
-std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::vector<double>& centres) {
+std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::vector<double>& centres,
+                                       CycleScratch& scratch) {
   using std::cos;
   using std::sin;
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
   auto means = [&](auto&& M) {
-    const auto r = piecewise_means<S>(M, centres, 2 * n);
+    const auto r = piecewise_means<S>(M, centres, 2 * n, scratch);
     return std::pair<S, S>{r.mean, r.mean_square};
   };
   if constexpr (has_lanes<S>) {  // kLanes nodes at a time
@@ -309,9 +310,9 @@ std::pair<S, S> piecewise_moment_means(const TwinDrive<S>& d, int n, const std::
 // nonsmooth in the design; its derivative is taken at the maximising angle
 // (Danskin's theorem), which is exact wherever the maximiser is unique.
 // check(d) must be ok. Rod: the rod model, fixed for the loops (cycle_metrics
-// below).
+// below). `scratch`: the grids', kinks' and searches' storage.
 template <class Rod, class S>
-CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds needs) {
+CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds needs, CycleScratch& scratch) {
   using std::abs;
   using std::cos;
   using std::sin;
@@ -319,7 +320,7 @@ CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds need
   const S cd = cos(d.phase_shift), sd = sin(d.phase_shift);
   CycleMetrics<S> m;
   S sumT(0.0), sumM(0.0), sumM2(0.0);
-  static thread_local std::vector<double> grids;  // for the maxima: no allocation per design once warm
+  std::vector<double>& grids = scratch.grids;  // for the maxima: no allocation per design once warm
   grids.resize(3 * static_cast<std::size_t>(n));
   const std::span<double> gridT(grids.data(), n), gridDT(grids.data() + n, n),
       gridM(grids.data() + 2 * n, needs.moments ? n : 0);
@@ -356,14 +357,14 @@ CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds need
   m.mean_kinetic_energy = sumT / double(n);
   m.least_mean_kinetic_energy = least_mean_kinetic_energy(d);
   m.k2 = m.mean_kinetic_energy / m.least_mean_kinetic_energy;
-  static thread_local std::vector<double> kinks;  // of M: where a cart stops and its resistance flips
+  std::vector<double>& kinks = scratch.kinks;  // of M: where a cart stops and its resistance flips
   kinks.clear();
   if (needs.moments) {
     if (d.resistance == Resistance::opposes_motion) {
       // |dx/dphi| has kinks at the dead centres, where the trapezoidal rule
       // drops to O(h^2): integrate piecewise between them instead.
       dead_centres(d, n, kinks);
-      const auto [mean, mean2] = piecewise_moment_means<Rod>(d, n, kinks);
+      const auto [mean, mean2] = piecewise_moment_means<Rod>(d, n, kinks, scratch);
       sumM = mean * double(n);
       sumM2 = mean2 * double(n);
     }
@@ -373,7 +374,7 @@ CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds need
   // The peaks of T and |M|, searched together (find_cycle_maxima), kLanes
   // angles an evaluation: dT/dphi is the inertia moment (eqs 18-20, constant
   // speed; the grid has it), d|M|/dphi from third-order transfer functions.
-  static thread_local CycleMaxSearch searches[2];  // kept: no allocation per design
+  CycleMaxSearch* searches = scratch.searches;  // kept: no allocation per design
   int count = 0, energy = -1, moment = -1;
   if (needs.peak_energy) energy = count, searches[count++].reset(gridT, {}, gridDT);
   if (needs.moments) moment = count, searches[count++].reset(gridM, kinks);
@@ -399,7 +400,7 @@ CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds need
         answer(drive_point<Rod>(dl, c, s, cdl, sdl), Lanes(0.0));
       }
     });
-  });
+  }, scratch);
   // The peaks' values: as the search found them (the lanes' sincos and
   // arithmetic, the scalar ones' bits), or at the same cosines with
   // derivatives in the design (Danskin).
@@ -423,9 +424,15 @@ CycleMetrics<S> cycle_metrics_with(const TwinDrive<S>& d, int n, CycleNeeds need
   return m;
 }
 template <class S>
+CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleScratch& scratch, CycleNeeds needs = {}) {
+  return d.rod == RodModel::full ? cycle_metrics_with<FixedRod<RodModel::full>>(d, n, needs, scratch)
+                                 : cycle_metrics_with<FixedRod<RodModel::point_masses>>(d, n, needs, scratch);
+}
+// The same with scratch of its own (tests, benchmarks).
+template <class S>
 CycleMetrics<S> cycle_metrics(const TwinDrive<S>& d, int n, CycleNeeds needs = {}) {
-  return d.rod == RodModel::full ? cycle_metrics_with<FixedRod<RodModel::full>>(d, n, needs)
-                                 : cycle_metrics_with<FixedRod<RodModel::point_masses>>(d, n, needs);
+  CycleScratch scratch;
+  return cycle_metrics(d, n, scratch, needs);
 }
 
 }  // namespace mech
