@@ -14,7 +14,7 @@
 
 namespace mech {
 
-// A list for the searches' working storage, kept by the thread: appending
+// A list for the searches' working storage (mech::CycleScratch): appending
 // is inline (std::vector's emplace_back stayed a call in the model's
 // translation unit, 6% of a recuperative DOE design) and the storage is
 // never given back. T: default-constructible (the storage is made ahead)
