@@ -1,0 +1,210 @@
+// A single-degree-of-freedom planar linkage as data: a driving crank and a
+// chain of class II Assur groups in the order of solution, points and links
+// as indices into flat arrays, every number a slot of one values vector (the
+// problem's parameter table: docs/design/linkage.md, section 2). The chain
+// holds no number itself, so one chain serves every scalar and every design;
+// mech/linkage/kinematics.hpp solves it. Built by its add_* functions, which
+// check the topology (a problem's reader checks the same first, to name the
+// file and line).
+#pragma once
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace mech::linkage {
+
+// A row of the values vector; kNone: absent (a ground line, no offset).
+using Slot = int;
+inline constexpr int kNone = -1;
+
+enum class GroupType {
+  RRR,  // two links from two known points to a new joint
+  RRP,  // a rod from a known point to a slider's pin on a line
+  RPR,  // a block pinned at a known point sliding along a guide that turns about another
+};
+inline const char* to_string(GroupType t) {
+  return t == GroupType::RRR ? "RRR" : t == GroupType::RRP ? "RRP" : "RPR";
+}
+
+// A point fixed on a link at local coordinates (u, v) in its frame.
+struct LocalPoint {
+  int point;
+  Slot u, v;
+};
+
+struct Link {
+  std::string name;
+  int origin = kNone;    // the point at its frame's origin, set by the group that solves it
+  Slot length = kNone;   // none for a slider and a block
+  std::vector<LocalPoint> points;
+  // A slider's line (RRP): through a known point, at an angle in the frame
+  // of link `on` (kNone: the ground), the pin `offset` to its left.
+  int line_on = kNone, line_through = kNone;
+  Slot line_angle = kNone, line_offset = kNone;
+  // A guide's slide line (RPR): its x axis shifted `offset` to its left.
+  Slot guide_offset = kNone;
+};
+
+struct Group {
+  GroupType type;
+  int first, second;  // links: RRR the two from p and q; RRP rod, slider; RPR block, guide
+  int p, q;           // known points: RRR from p and q; RRP p (q none); RPR the block's pin p, the pivot q
+  int joint = kNone;  // the new point (RRR, RRP)
+  int branch = 1;     // RRR: +1 joint left of p -> q; RRP: +1 ahead of p's foot along the line
+};
+
+struct Crank {
+  int link = kNone, pivot = kNone, joint = kNone;
+  Slot phase = kNone, speed = kNone;
+  int sense = 1;  // +1 counter-clockwise, -1 clockwise
+};
+
+class Chain {
+ public:
+  // A new number (its default), by the name a problem's table gives it.
+  Slot value(std::string name, double v) {
+    names_.push_back(std::move(name));
+    defaults_.push_back(v);
+    return static_cast<Slot>(defaults_.size() - 1);
+  }
+  int ground(std::string name, Slot x, Slot y) {
+    const int p = new_point(std::move(name));
+    ground_.push_back({p, {x, y}});
+    return p;
+  }
+  int link(std::string name) {
+    for (const auto& l : links_)
+      if (l.name == name) throw std::invalid_argument("link '" + name + "' defined twice");
+    Link l;
+    l.name = std::move(name);
+    links_.push_back(std::move(l));
+    return static_cast<int>(links_.size() - 1);
+  }
+  void set_length(int link, Slot length) { links_.at(link).length = length; }
+  // A point fixed on `link`, solved when the link is.
+  int local_point(int link, std::string name, Slot u, Slot v) {
+    const int p = new_point(std::move(name));
+    links_.at(link).points.push_back({p, u, v});
+    return p;
+  }
+  void set_line(int slider, int on, int through, Slot angle, Slot offset) {
+    Link& l = links_.at(slider);
+    l.line_on = on, l.line_through = through, l.line_angle = angle, l.line_offset = offset;
+  }
+  void set_guide_offset(int guide, Slot offset) { links_.at(guide).guide_offset = offset; }
+
+  // The crank turning `link` about ground point `pivot`; adds its joint.
+  int crank(int link, int pivot, std::string joint, Slot phase, Slot speed, int sense) {
+    need(links_.at(link).length != kNone, "the crank '" + links_[link].name + "' needs a length");
+    need(groups_.empty() && crank_.link == kNone, "the crank comes first, once");
+    need(is_ground(pivot), "the crank's pivot '" + points_.at(pivot) + "' is not a ground point");
+    crank_ = {link, pivot, new_point(std::move(joint)), phase, speed, sense};
+    solved_link(link, pivot);
+    return crank_.joint;
+  }
+  // An RRR group: `first` from known point p and `second` from q to a new joint.
+  int rrr(int first, int second, int p, int q, std::string joint, int branch) {
+    need(links_.at(first).length != kNone && links_.at(second).length != kNone,
+         "an RRR group's links need lengths");
+    need_known({p, q});
+    const int j = new_point(std::move(joint));
+    groups_.push_back({GroupType::RRR, first, second, p, q, j, branch});
+    solved_link(first, p);
+    solved_link(second, q);
+    return j;
+  }
+  // An RRP group: rod from known point p to the pin of `slider` on its line.
+  int rrp(int rod, int slider, int p, std::string joint, int branch) {
+    need(links_.at(rod).length != kNone, "an RRP group's rod needs a length");
+    const Link& s = links_.at(slider);
+    need(s.line_through != kNone, "an RRP group's slider needs a line");
+    need(s.line_on == kNone || links_.at(s.line_on).origin != kNone,
+         "the line of '" + s.name + "' is on a link not solved before it");
+    need_known({p, s.line_through});
+    const int j = new_point(std::move(joint));
+    groups_.push_back({GroupType::RRP, rod, slider, p, kNone, j, branch});
+    solved_link(rod, p);
+    solved_link(slider, j);
+    return j;
+  }
+  // An RPR group: `block` pinned at known point a slides along `guide`,
+  // which turns about known point pivot.
+  void rpr(int block, int guide, int a, int pivot) {
+    need_known({a, pivot});
+    groups_.push_back({GroupType::RPR, block, guide, a, pivot, kNone, 1});
+    solved_link(block, a);
+    solved_link(guide, pivot);
+  }
+
+  const std::vector<std::string>& value_names() const { return names_; }
+  const std::vector<double>& defaults() const { return defaults_; }
+  const std::vector<std::string>& point_names() const { return points_; }
+  const std::vector<std::pair<int, std::pair<Slot, Slot>>>& ground_points() const { return ground_; }
+  const std::vector<Link>& links() const { return links_; }
+  const std::vector<Group>& groups() const { return groups_; }
+  const Crank& crank() const { return crank_; }
+  // "RRR (coupler, rocker)": a group as messages name it.
+  std::string group_name(int g) const {
+    const Group& gr = groups_.at(g);
+    return std::string(to_string(gr.type)) + " (" + links_[gr.first].name + ", " + links_[gr.second].name + ")";
+  }
+  int find_point(const std::string& name) const {
+    for (size_t i = 0; i < points_.size(); ++i)
+      if (points_[i] == name) return static_cast<int>(i);
+    return kNone;
+  }
+  int find_link(const std::string& name) const {
+    for (size_t i = 0; i < links_.size(); ++i)
+      if (links_[i].name == name) return static_cast<int>(i);
+    return kNone;
+  }
+
+ private:
+  static void need(bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument(what);
+  }
+  int new_point(std::string name) {
+    need(find_point(name) == kNone, "point '" + name + "' defined twice");
+    points_.push_back(std::move(name));
+    return static_cast<int>(points_.size() - 1);
+  }
+  bool is_ground(int p) const {
+    for (const auto& g : ground_)
+      if (g.first == p) return true;
+    return false;
+  }
+  // Known: a ground point, the crank's joint, an earlier group's joint, a
+  // point of a link already solved.
+  bool known(int p) const {
+    if (p < 0 || p >= static_cast<int>(points_.size())) return false;
+    if (is_ground(p) || p == crank_.joint) return true;
+    for (const auto& g : groups_)
+      if (g.joint == p) return true;
+    for (const auto& l : links_)
+      for (const auto& lp : l.points)
+        if (lp.point == p) return l.origin != kNone;
+    return false;
+  }
+  void need_known(std::initializer_list<int> ps) {
+    need(crank_.link != kNone, "a group comes after the crank");
+    for (int p : ps)
+      need(known(p), "point '" + (p >= 0 && p < static_cast<int>(points_.size()) ? points_[p] : std::string("?")) +
+                         "' is not known before this group");
+  }
+  void solved_link(int link, int origin) {
+    need(links_.at(link).origin == kNone, "link '" + links_[link].name + "' is solved by two groups");
+    links_[link].origin = origin;
+  }
+
+  std::vector<std::string> names_;
+  std::vector<double> defaults_;
+  std::vector<std::string> points_;
+  std::vector<std::pair<int, std::pair<Slot, Slot>>> ground_;  // point, its x and y slots
+  std::vector<Link> links_;
+  std::vector<Group> groups_;
+  Crank crank_;
+};
+
+}  // namespace mech::linkage

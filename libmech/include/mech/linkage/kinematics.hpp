@@ -1,0 +1,158 @@
+// Positions of a linkage's points and the axes of its links at one crank
+// angle, on jets: their first and second transfer functions come exactly
+// with them. Each class II group is its closed form (docs/design/linkage.md,
+// "Groups"); the groups are solved in the chain's order, each link's points
+// right after the link.
+#pragma once
+#include <cmath>
+#include <vector>
+
+#include "mech/autodiff.hpp"
+#include "mech/linkage/chain.hpp"
+#include "mech/linkage/jet.hpp"
+
+namespace mech::linkage {
+
+// The linkage at one crank angle. Sized once for a chain (resize), then
+// overwritten by every solve: no allocation per angle.
+template <class S>
+struct State {
+  std::vector<Vec<S>> point;   // every point, by index
+  std::vector<Vec<S>> axis;    // each link's unit x axis
+  std::vector<Jet<S>> slide;   // a slider's (block's) coordinate along its line; 0 for other links
+  std::vector<double> margin;  // per group, its distance from a singular position (see solve)
+  int failed = kNone;          // the group that could not assemble, when solve returned false
+
+  void resize(const Chain& c) {
+    point.resize(c.point_names().size());
+    axis.resize(c.links().size());
+    slide.assign(c.links().size(), constant(S(0.0)));
+    margin.resize(c.groups().size());
+  }
+  // A link's angle in (-pi, pi] with its transfer functions.
+  Jet<S> angle(int link) const { return angle_of(axis[static_cast<size_t>(link)]); }
+};
+
+namespace detail {
+
+template <class S>
+Vec<S> constant_point(const S& x, const S& y) {
+  return {constant(x), constant(y)};
+}
+
+// The points fixed on link k at origin + u e + v n.
+template <class S>
+void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
+  const Vec<S>& o = st.point[static_cast<size_t>(l.origin)];
+  const Vec<S> n = rot90(e);
+  for (const LocalPoint& lp : l.points)
+    st.point[static_cast<size_t>(lp.point)] = o + v[lp.u] * e + v[lp.v] * n;
+}
+
+}  // namespace detail
+
+// Solves the chain at crank angle phi with the values v (the chain's slots).
+// False when a group cannot assemble (st.failed names it); st.margin[g] is
+// group g's distance from a singular position, where its branch could flip:
+// |sin| of the angle between the links at the joint (RRR), |cos| of the
+// rod's angle to the line (RRP), s / |A - Q| (RPR: the cosine of the angle
+// between the guide and the line from its pivot to the block). Past the failing group the state is
+// stale; nothing reads it.
+template <class S>
+bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  st.failed = kNone;
+  for (const auto& [p, xy] : c.ground_points())
+    st.point[static_cast<size_t>(p)] = detail::constant_point(v[xy.first], v[xy.second]);
+  const auto& links = c.links();
+  const Crank& k = c.crank();
+  {
+    const double sense = k.sense;
+    const Jet<S> theta{S(v[k.phase] + sense * phi), S(sense), S(0.0)};
+    const Vec<S> e{cos(theta), sin(theta)};
+    const Link& l = links[static_cast<size_t>(k.link)];
+    st.axis[static_cast<size_t>(k.link)] = e;
+    st.point[static_cast<size_t>(k.joint)] = st.point[static_cast<size_t>(k.pivot)] + v[l.length] * e;
+    detail::place_points(l, v, st, e);
+  }
+  const auto& groups = c.groups();
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const Group& gr = groups[g];
+    const Link &first = links[static_cast<size_t>(gr.first)], &second = links[static_cast<size_t>(gr.second)];
+    const Vec<S>& P = st.point[static_cast<size_t>(gr.p)];
+    Vec<S> e1, e2;
+    switch (gr.type) {
+      case GroupType::RRR: {
+        // B = P + f d + branch g rot90(d): f and g are along and h over |d|.
+        const S &a = v[first.length], &b = v[second.length];
+        const Vec<S>& Q = st.point[static_cast<size_t>(gr.q)];
+        const Vec<S> d = Q - P;
+        const Jet<S> d2 = dot(d, d);
+        const Jet<S> f = (d2 + constant(S(a * a - b * b))) / (d2 * 2.0);
+        const Jet<S> g2 = constant(S(a * a)) / d2 - f * f;
+        if (!(value(g2.v) > 0)) return st.failed = static_cast<int>(g), false;
+        const Jet<S> gb = sqrt(g2) * double(gr.branch);
+        const Vec<S> B = P + Vec<S>{f * d.x - gb * d.y, f * d.y + gb * d.x};
+        st.point[static_cast<size_t>(gr.joint)] = B;
+        e1 = (B - P) / a;
+        e2 = (B - Q) / b;
+        st.margin[g] = std::abs(value(cross(e1, e2).v));
+        break;
+      }
+      case GroupType::RRP: {
+        // B = T + offset n + s u, |B - P| = a.
+        const S& a = v[first.length];
+        const S angle = v[second.line_angle];
+        const S offset = second.line_offset == kNone ? S(0.0) : v[second.line_offset];
+        Vec<S> u;
+        if (second.line_on == kNone) {
+          u = detail::constant_point(S(cos(angle)), S(sin(angle)));
+        } else {
+          const Vec<S>& eo = st.axis[static_cast<size_t>(second.line_on)];
+          u = S(cos(angle)) * eo + S(sin(angle)) * rot90(eo);
+        }
+        const Vec<S> n = rot90(u);
+        const Vec<S> T = st.point[static_cast<size_t>(second.line_through)] + offset * n;
+        const Vec<S> w = P - T;
+        const Jet<S> wn = dot(w, n);
+        const Jet<S> disc = constant(S(a * a)) - wn * wn;
+        if (!(value(disc.v) > 0)) return st.failed = static_cast<int>(g), false;
+        const Jet<S> s = dot(w, u) + sqrt(disc) * double(gr.branch);
+        const Vec<S> B = T + s * u;
+        st.point[static_cast<size_t>(gr.joint)] = B;
+        st.slide[static_cast<size_t>(gr.second)] = s;
+        e1 = (B - P) / a;
+        e2 = u;
+        st.margin[g] = std::sqrt(value(disc.v)) / std::abs(value(a));
+        break;
+      }
+      case GroupType::RPR: {
+        // A = Q + offset n + s u: u = (s d - offset rot90(d)) / |d|^2, d = A - Q.
+        const Vec<S>& Q = st.point[static_cast<size_t>(gr.q)];
+        const S offset = second.guide_offset == kNone ? S(0.0) : v[second.guide_offset];
+        const Vec<S> d = P - Q;
+        const Jet<S> d2 = dot(d, d);
+        const Jet<S> s2 = d2 - constant(S(offset * offset));
+        if (!(value(s2.v) > 0)) return st.failed = static_cast<int>(g), false;
+        const Jet<S> s = sqrt(s2);
+        const Vec<S> rd = rot90(d);
+        const Vec<S> u{(s * d.x - offset * rd.x) / d2, (s * d.y - offset * rd.y) / d2};
+        st.slide[static_cast<size_t>(gr.first)] = s;
+        e1 = u;
+        e2 = u;
+        st.margin[g] = value(s.v) / std::sqrt(value(d2.v));
+        break;
+      }
+    }
+    st.axis[static_cast<size_t>(gr.first)] = e1;
+    st.axis[static_cast<size_t>(gr.second)] = e2;
+    detail::place_points(first, v, st, e1);
+    detail::place_points(second, v, st, e2);
+  }
+  return true;
+}
+
+}  // namespace mech::linkage
