@@ -38,8 +38,9 @@ TEST(Status, NamesInTheEnumsOrderReadBack) {
   // than taken from the code under test.
   const char* names[] = {"ok", "cannot_assemble", "invalid_parameter", "not_grashof",
                          "toggle_in_cycle", "synthesis_failed", "stalled", "too_many_steps",
-                         "integration_failed", "not_converged", "non_finite", "timed_out", "evaluation_error"};
-  for (int i = 0; i < 13; ++i) {
+                         "integration_failed", "not_converged", "non_finite", "timed_out", "evaluation_error",
+                         "singular_position"};
+  for (int i = 0; i < 14; ++i) {
     const auto s = static_cast<Status>(i);
     EXPECT_EQ(mech::to_string(s), names[i]);
     EXPECT_EQ(mech::status_from_string(names[i]), s) << names[i];

@@ -23,14 +23,15 @@ enum class Status {
   non_finite,          // a metric came out NaN or infinite
   timed_out,           // the evaluation ran past its time limit (a batch's sample_time_limit)
   evaluation_error,    // an unexpected failure inside one evaluation, recorded with the design
+  singular_position,   // linkage: a group passes a position where its branch could flip
 };
 
 // In the enum's order.
 inline constexpr std::string_view kStatusNames[] = {
     "ok", "cannot_assemble", "invalid_parameter", "not_grashof", "toggle_in_cycle",
     "synthesis_failed", "stalled", "too_many_steps", "integration_failed", "not_converged",
-    "non_finite", "timed_out", "evaluation_error"};
-static_assert(std::size(kStatusNames) == static_cast<std::size_t>(Status::evaluation_error) + 1);
+    "non_finite", "timed_out", "evaluation_error", "singular_position"};
+static_assert(std::size(kStatusNames) == static_cast<std::size_t>(Status::singular_position) + 1);
 
 inline std::string_view to_string(Status s) {
   const auto i = static_cast<std::size_t>(s);

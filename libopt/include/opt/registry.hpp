@@ -21,6 +21,9 @@ struct Entry {
   std::string name, summary;
   std::vector<Parameter> parameters;  // its table, with the default values
   Factory make;
+  // A table the config makes (the general linkage's, named by its
+  // description), for model_parameters; none: `parameters`.
+  std::function<std::vector<Parameter>(const ConfigNode& root)> table = nullptr;
 };
 
 // Registers a problem with its own factory:

@@ -173,9 +173,16 @@ ConfigNode ConfigNode::at(const std::string& key) const {
   if (!has(key)) fail("missing required key '" + key + "'");
   if (!(node_[key].IsDefined() && !node_[key].IsNull())) return base_->at(key);
   ConfigNode child(node_[key], file_, child_path(path_, key), mark_);
-  // A map in both files: this one's keys over the base's.
+  // A map in both files: this one's keys over the base's. A map {x, y}
+  // over a pair [x, y] (a point, one coordinate set): over its items as x, y.
   if (base_ && base_->has(key) && child.is_map()) {
     ConfigNode below = base_->at(key);
+    if (below.is_sequence() && below.node_.size() == 2) {
+      YAML::Node xy(YAML::NodeType::Map);
+      xy["x"] = below.node_[0];
+      xy["y"] = below.node_[1];
+      below = ConfigNode(xy, below.file_, below.path_, below.mark_);
+    }
     if (below.is_map()) child.base_ = std::make_shared<ConfigNode>(std::move(below));
   }
   return child;

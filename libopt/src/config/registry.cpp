@@ -275,7 +275,8 @@ const std::vector<std::string>& config_keys() {
 std::unique_ptr<opt::Problem> make_problem(const opt::ConfigNode& root) { return make_at_depth(root, 0); }
 
 std::vector<opt::Parameter> model_parameters(const opt::ConfigNode& root) {
-  std::vector<opt::Parameter> out = entry(root).parameters;
+  const Entry& e = entry(root);
+  std::vector<opt::Parameter> out = e.table ? e.table(root) : e.parameters;
   const std::vector<Link> ls = links_of(root);
   for (const auto& l : ls) {
     if (&source_of(l, ls) != &l) continue;  // its values are its source's

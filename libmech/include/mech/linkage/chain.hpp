@@ -45,6 +45,10 @@ struct Link {
   Slot line_angle = kNone, line_offset = kNone;
   // A guide's slide line (RPR): its x axis shifted `offset` to its left.
   Slot guide_offset = kNone;
+  // Its body: a mass with its centre (u, v) and inertia about it; or a
+  // uniform bar of mass_per_length (centre [L/2, 0], inertia m L^2 / 12).
+  // A slider's mass sits at its pin. None: massless.
+  Slot mass = kNone, cg_u = kNone, cg_v = kNone, inertia = kNone, mass_per_length = kNone;
 };
 
 struct Group {
@@ -94,6 +98,17 @@ class Chain {
     l.line_on = on, l.line_through = through, l.line_angle = angle, l.line_offset = offset;
   }
   void set_guide_offset(int guide, Slot offset) { links_.at(guide).guide_offset = offset; }
+  void set_body(int link, Slot mass, Slot cg_u, Slot cg_v, Slot inertia) {
+    Link& l = links_.at(link);
+    l.mass = mass, l.cg_u = cg_u, l.cg_v = cg_v, l.inertia = inertia;
+  }
+  void set_bar(int link, Slot mass_per_length) {
+    need(links_.at(link).length != kNone, "a uniform bar needs a length");
+    links_[link].mass_per_length = mass_per_length;
+  }
+  // Gravity's acceleration along -y (0: off).
+  void set_gravity(double g) { gravity_ = g; }
+  double gravity() const { return gravity_; }
 
   // The crank turning `link` about ground point `pivot`; adds its joint.
   int crank(int link, int pivot, std::string joint, Slot phase, Slot speed, int sense) {
@@ -131,6 +146,7 @@ class Chain {
   }
   // An RPR group: `block` pinned at known point a slides along `guide`,
   // which turns about known point pivot.
+  void set_branch(int group, int branch) { groups_.at(group).branch = branch; }
   void rpr(int block, int guide, int a, int pivot) {
     need_known({a, pivot});
     groups_.push_back({GroupType::RPR, block, guide, a, pivot, kNone, 1});
@@ -205,6 +221,7 @@ class Chain {
   std::vector<Link> links_;
   std::vector<Group> groups_;
   Crank crank_;
+  double gravity_ = 0;
 };
 
 }  // namespace mech::linkage

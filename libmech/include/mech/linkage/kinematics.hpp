@@ -83,7 +83,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
     const Group& gr = groups[g];
     const Link &first = links[static_cast<size_t>(gr.first)], &second = links[static_cast<size_t>(gr.second)];
     const Vec<S>& P = st.point[static_cast<size_t>(gr.p)];
-    Vec<S> e1, e2;
+    // The group's two links solved: their axes, then their points.
+    auto place = [&](const Vec<S>& e1, const Vec<S>& e2) {
+      st.axis[static_cast<size_t>(gr.first)] = e1;
+      st.axis[static_cast<size_t>(gr.second)] = e2;
+      detail::place_points(first, v, st, e1);
+      detail::place_points(second, v, st, e2);
+    };
     switch (gr.type) {
       case GroupType::RRR: {
         // B = P + f d + branch g rot90(d): f and g are along and h over |d|.
@@ -97,9 +103,9 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         const Jet<S> gb = sqrt(g2) * double(gr.branch);
         const Vec<S> B = P + Vec<S>{f * d.x - gb * d.y, f * d.y + gb * d.x};
         st.point[static_cast<size_t>(gr.joint)] = B;
-        e1 = (B - P) / a;
-        e2 = (B - Q) / b;
+        const Vec<S> e1 = (B - P) / a, e2 = (B - Q) / b;
         st.margin[g] = std::abs(value(cross(e1, e2).v));
+        place(e1, e2);
         break;
       }
       case GroupType::RRP: {
@@ -124,9 +130,8 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         const Vec<S> B = T + s * u;
         st.point[static_cast<size_t>(gr.joint)] = B;
         st.slide[static_cast<size_t>(gr.second)] = s;
-        e1 = (B - P) / a;
-        e2 = u;
         st.margin[g] = std::sqrt(value(disc.v)) / std::abs(value(a));
+        place((B - P) / a, u);
         break;
       }
       case GroupType::RPR: {
@@ -141,16 +146,11 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         const Vec<S> rd = rot90(d);
         const Vec<S> u{(s * d.x - offset * rd.x) / d2, (s * d.y - offset * rd.y) / d2};
         st.slide[static_cast<size_t>(gr.first)] = s;
-        e1 = u;
-        e2 = u;
         st.margin[g] = value(s.v) / std::sqrt(value(d2.v));
+        place(u, u);
         break;
       }
     }
-    st.axis[static_cast<size_t>(gr.first)] = e1;
-    st.axis[static_cast<size_t>(gr.second)] = e2;
-    detail::place_points(first, v, st, e1);
-    detail::place_points(second, v, st, e2);
   }
   return true;
 }

@@ -1,0 +1,298 @@
+// Reads a linkage description (docs/design/linkage.md, section 1) into a
+// chain and its table, in this order: ground points; links with their
+// numbers and local points; the crank; the groups (each slider's line is
+// placed where its group is read, when its points are known); the branches
+// given by `near:`; the outputs. Every number is read with its unit and
+// becomes a row named by its address.
+#include "problems/linkage/description.hpp"
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "mech/linkage/kinematics.hpp"
+
+namespace problems::linkage {
+namespace {
+
+using mech::linkage::kNone;
+using mech::linkage::Slot;
+using opt::ConfigNode;
+using opt::Dimension;
+
+// The model of a config without one: a slider-crank (seed 000's design).
+constexpr const char* kDefaultModel = R"(
+problem: linkage
+model:
+  ground: {O: [0 m, 0 m], S0: [0 m, 0 m]}
+  crank: {link: crank, pivot: O, joint: A, phase: 0 deg, speed: 100 rev/min, sense: ccw}
+  links:
+    crank: {length: 0.2 m}
+    rod: {length: 0.8 m}
+    ram: {mass: 1 kg, line: {on: ground, through: S0, angle: 0 deg}}
+  groups:
+    - {type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}
+  outputs: [ram]
+)";
+
+bool identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char ch : s)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_')) return false;
+  return true;
+}
+
+class Reader {
+ public:
+  explicit Reader(const ConfigNode& model) : model_(model) {}
+
+  Description read() {
+    model_.allow_only({"gravity", "cycle_points", "ground", "crank", "links", "groups", "outputs"});
+    if (model_.has("gravity")) {
+      const std::string g = model_.at("gravity").choice({"on", "off", "true", "false"});
+      d_.chain.set_gravity(g == "on" || g == "true" ? 9.80665 : 0.0);
+    }
+    if (model_.has("cycle_points")) d_.cycle_points = model_.at("cycle_points").integer(8, 100000);
+    const ConfigNode ground = model_.at("ground");
+    for (const auto& name : ground.keys()) {
+      const ConfigNode p = ground.at(name);
+      check_name(p, name);
+      const auto [x, y] = pair(p, "ground." + name, "a ground point");
+      d_.chain.ground(name, x, y);
+    }
+    const ConfigNode links = model_.at("links");
+    for (const auto& name : links.keys()) read_link(links.at(name), name);
+    read_crank(model_.at("crank"));
+    const ConfigNode groups = model_.at("groups");
+    for (const auto& g : groups.items()) read_group(g);
+    for (size_t k = 0; k < d_.chain.links().size(); ++k)
+      if (d_.chain.links()[k].origin == kNone)
+        links.at(d_.chain.links()[k].name).fail("no group or crank solves this link");
+    choose_branches();
+    if (model_.has("outputs"))
+      for (const auto& o : model_.at("outputs").items()) {
+        const int k = link(o);
+        const auto& l = d_.chain.links()[static_cast<size_t>(k)];
+        d_.outputs.push_back({k, l.length == kNone, l.name});
+      }
+    return std::move(d_);
+  }
+
+ private:
+  // A number read with its unit: a row named `address`, and its slot.
+  Slot number(const ConfigNode& n, const std::string& address, Dimension dim, const opt::Domain& domain,
+              const std::string& doc) {
+    return add(address, dim, domain, doc, n.quantity(dim, domain));
+  }
+  Slot add(const std::string& address, Dimension dim, const opt::Domain& domain, const std::string& doc,
+           double value) {
+    opt::Parameter p = opt::variable(address, dim, domain, doc, "");
+    p.value = value;
+    d_.table.push_back(p);
+    return d_.chain.value(address, value);
+  }
+  Slot number_at(const ConfigNode& n, const std::string& key, const std::string& address, Dimension dim,
+                 const opt::Domain& domain, const std::string& doc) {
+    return number(n.at(key), address + "." + key, dim, domain, doc);
+  }
+  // [x, y] with units, or {x: .., y: ..} (as a config over a base writes one).
+  std::pair<Slot, Slot> pair(const ConfigNode& n, const std::string& address, const std::string& what) {
+    if (n.is_map()) {
+      n.allow_only({"x", "y"});
+      return {number_at(n, "x", address, Dimension::length, opt::kAnyValue, what + ", x"),
+              number_at(n, "y", address, Dimension::length, opt::kAnyValue, what + ", y")};
+    }
+    const auto items = n.items();
+    if (items.size() != 2) n.fail("expected a point [x, y] with units, e.g. [0.8 m, 0 m]");
+    return {number(items[0], address + ".x", Dimension::length, opt::kAnyValue, what + ", x"),
+            number(items[1], address + ".y", Dimension::length, opt::kAnyValue, what + ", y")};
+  }
+  void check_name(const ConfigNode& n, const std::string& name) {
+    if (!identifier(name)) n.fail("a name is letters, digits and _ (not starting with a digit); got '" + name + "'");
+    if (d_.chain.find_point(name) != kNone) n.fail("point '" + name + "' is defined twice");
+  }
+  int point(const ConfigNode& n) {
+    const std::string name = n.text();
+    const int p = d_.chain.find_point(name);
+    if (p == kNone) {
+      std::string known;
+      for (const auto& q : d_.chain.point_names()) known += (known.empty() ? "" : ", ") + q;
+      n.fail("unknown point '" + name + "'; the points are: " + known);
+    }
+    return p;
+  }
+  int link(const ConfigNode& n) {
+    const std::string name = n.text();
+    const int k = d_.chain.find_link(name);
+    if (k == kNone) {
+      std::string known;
+      for (const auto& l : d_.chain.links()) known += (known.empty() ? "" : ", ") + l.name;
+      n.fail("unknown link '" + name + "'; the links are: " + known);
+    }
+    return k;
+  }
+
+  void read_link(const ConfigNode& n, const std::string& name) {
+    if (!identifier(name)) n.fail("a name is letters, digits and _ (not starting with a digit); got '" + name + "'");
+    n.allow_only({"length", "points", "mass", "cg", "inertia", "mass_per_length", "line", "offset"});
+    const std::string at = "links." + name;
+    auto& c = d_.chain;
+    const int k = c.link(name);
+    if (n.has("length"))
+      c.set_length(k, number_at(n, "length", at, Dimension::length, opt::kPositive, "link length"));
+    if (n.has("points")) {
+      const ConfigNode pts = n.at("points");
+      for (const auto& p : pts.keys()) {
+        check_name(pts.at(p), p);
+        const auto [u, v] = pair(pts.at(p), at + ".points." + p, "a point on " + name + " in its frame");
+        c.local_point(k, p, u, v);
+      }
+    }
+    if (n.has("mass_per_length")) {
+      if (n.has("mass")) n.at("mass").fail("give mass (with cg and inertia) or mass_per_length, not both");
+      if (!n.has("length")) n.at("mass_per_length").fail("a uniform bar needs the link's length");
+      c.set_bar(k, number_at(n, "mass_per_length", at, Dimension::linear_density, opt::kNonNegative,
+                             "a uniform bar's mass per length"));
+      d_.has_mass = true;
+    } else if (n.has("mass")) {
+      const Slot m = number_at(n, "mass", at, Dimension::mass, opt::kNonNegative, "mass");
+      Slot u = kNone, v = kNone;
+      if (n.has("cg")) std::tie(u, v) = pair(n.at("cg"), at + ".cg", "centre of mass in " + name + "'s frame");
+      const Slot J = n.has("inertia") ? number_at(n, "inertia", at, Dimension::inertia, opt::kNonNegative,
+                                                  "moment of inertia about the centre of mass")
+                                      : kNone;
+      c.set_body(k, m, u, v, J);
+      d_.has_mass = true;
+    } else {
+      for (const char* key : {"cg", "inertia"})
+        if (n.has(key)) n.at(key).fail("a centre of mass and an inertia need the link's mass");
+    }
+    if (n.has("offset"))
+      c.set_guide_offset(k, number_at(n, "offset", at, Dimension::length, opt::kAnyValue,
+                                      "the guide's slide line left of its x axis"));
+    if (n.has("line")) {
+      const ConfigNode line = n.at("line");
+      line.allow_only({"on", "through", "angle", "offset"});
+      line.at("through");  // required; placed with its group
+      const Slot angle = number_at(line, "angle", at + ".line", Dimension::angle, opt::kAnyValue,
+                                   "the slider's line, in the frame of `on`");
+      const Slot offset = line.has("offset") ? number_at(line, "offset", at + ".line", Dimension::length,
+                                                         opt::kAnyValue, "the pin left of the slider's line")
+                                             : kNone;
+      lines_.emplace(k, Line{line, angle, offset});
+    }
+  }
+
+  void read_crank(const ConfigNode& n) {
+    n.allow_only({"link", "pivot", "joint", "phase", "speed", "sense"});
+    const int k = link(n.at("link"));
+    const int pivot = point(n.at("pivot"));
+    const std::string joint = n.at("joint").text();
+    check_name(n.at("joint"), joint);
+    const char* phase_doc = "the crank's angle at crank angle 0";
+    const Slot phase = n.has("phase") ? number_at(n, "phase", "crank", Dimension::angle, opt::kAnyValue, phase_doc)
+                                      : add("crank.phase", Dimension::angle, opt::kAnyValue, phase_doc, 0.0);
+    const Slot speed = number_at(n, "speed", "crank", Dimension::angular_speed, opt::kPositive,
+                                 "the crank's constant speed");
+    const int sense = n.has("sense") ? (n.at("sense").choice({"ccw", "cw"}) == "ccw" ? 1 : -1) : 1;
+    try {
+      d_.chain.crank(k, pivot, joint, phase, speed, sense);
+    } catch (const std::invalid_argument& e) {
+      n.fail(e.what());
+    }
+  }
+
+  void read_group(const ConfigNode& g) {
+    const std::string type = g.at("type").choice({"RRR", "RRP", "RPR"});
+    auto& c = d_.chain;
+    const auto ls = g.at("links").items();
+    if (ls.size() != 2) g.at("links").fail("expected the group's two links [first, second]");
+    const int first = link(ls[0]), second = link(ls[1]);
+    const int index = static_cast<int>(c.groups().size());
+    try {
+      if (type == "RRR") {
+        g.allow_only({"type", "links", "from", "joint", "branch", "near"});
+        const auto from = g.at("from").items();
+        if (from.size() != 2) g.at("from").fail("expected the two known points [P, Q] the links start from");
+        c.rrr(first, second, point(from[0]), point(from[1]), new_joint(g), branch(g, index));
+      } else if (type == "RRP") {
+        g.allow_only({"type", "links", "from", "joint", "branch", "near"});
+        const auto line = lines_.find(second);
+        if (line == lines_.end()) ls[1].fail("the slider '" + ls[1].text() + "' has no line: {on, through, angle}");
+        const ConfigNode& ln = line->second.node;
+        const int on = ln.has("on") && ln.at("on").text() != "ground" ? link(ln.at("on")) : kNone;
+        c.set_line(second, on, point(ln.at("through")), line->second.angle, line->second.offset);
+        c.rrp(first, second, point(g.at("from")), new_joint(g), branch(g, index));
+      } else {
+        g.allow_only({"type", "links", "from", "pivot"});
+        c.rpr(first, second, point(g.at("from")), point(g.at("pivot")));
+      }
+    } catch (const std::invalid_argument& e) {
+      g.fail(e.what());
+    }
+    nodes_.push_back(g);
+  }
+  std::string new_joint(const ConfigNode& g) {
+    const std::string name = g.at("joint").text();
+    check_name(g.at("joint"), name);
+    return name;
+  }
+  int branch(const ConfigNode& g, int index) {
+    if (g.has("near")) {
+      if (g.has("branch")) g.at("near").fail("give branch or near, not both");
+      const auto items = g.at("near").items();
+      if (items.size() != 2) g.at("near").fail("expected a point [x, y] with units near the joint at crank angle 0");
+      near_.push_back({index, items[0].quantity(Dimension::length), items[1].quantity(Dimension::length)});
+      return 1;
+    }
+    return g.at("branch").choice({"1", "+1", "-1"}) == "-1" ? -1 : 1;
+  }
+
+  // Each `near:` group takes the branch whose joint lies nearer the given
+  // point at crank angle 0 (the groups before it settled first).
+  void choose_branches() {
+    mech::linkage::State<double> st;
+    st.resize(d_.chain);
+    auto& c = d_.chain;
+    for (const Near& n : near_) {
+      const int joint = c.groups()[static_cast<size_t>(n.group)].joint;
+      double dist[2];
+      for (int b : {0, 1}) {
+        c.set_branch(n.group, b == 0 ? 1 : -1);
+        mech::linkage::solve(c, c.defaults().data(), 0.0, st);
+        const bool reached = st.failed == kNone || st.failed > n.group;
+        const auto& p = st.point[static_cast<size_t>(joint)];
+        dist[b] = reached ? std::hypot(p.x.v - n.x, p.y.v - n.y) : HUGE_VAL;
+      }
+      if (!std::isfinite(dist[0]) && !std::isfinite(dist[1]))
+        nodes_[static_cast<size_t>(n.group)].fail("the group cannot assemble at crank angle 0");
+      c.set_branch(n.group, dist[0] <= dist[1] ? 1 : -1);
+    }
+    if (!mech::linkage::solve(c, c.defaults().data(), 0.0, st))
+      nodes_[static_cast<size_t>(st.failed)].fail(c.group_name(st.failed) +
+                                                  " cannot assemble at crank angle 0 with these values");
+  }
+
+  struct Line {
+    ConfigNode node;
+    Slot angle, offset;
+  };
+  struct Near {
+    int group;
+    double x, y;
+  };
+  const ConfigNode& model_;
+  Description d_;
+  std::map<int, Line> lines_;  // by slider link
+  std::vector<Near> near_;
+  std::vector<ConfigNode> nodes_;  // each group's, for errors
+};
+
+}  // namespace
+
+Description read_description(const ConfigNode& root) {
+  if (!root.has("model")) return read_description(ConfigNode::parse(kDefaultModel, "<linkage default>"));
+  return Reader(root.at("model")).read();
+}
+
+}  // namespace problems::linkage

@@ -1,0 +1,356 @@
+// linkage: any single-degree-of-freedom planar linkage a config describes
+// (a crank and class II groups: docs/design/linkage.md), sized for the
+// motion of its outputs, its transmission and pressure angles and, with
+// masses, its driving torque and kinetic energy at constant crank speed.
+// Every number of the description is a row of the table (variables and DOE
+// factors by address); metrics are named by the description's outputs.
+//
+// At a design: the chain solved on an n-point grid (a group that cannot
+// assemble at a grid angle is cannot_assemble, named); each group's
+// distance from a singular position refined to its cycle minimum
+// (singular_position below 1e-6: a transmission or pressure angle within
+// 1e-6 rad of its limit, where the branch could flip); then every wanted
+// maximum found by the cycle machinery the hand-written problems use, its
+// slope in the crank angle from the chain solved on a Dual in phi, its
+// design gradient (Danskin) from the chain solved at the maximising angle
+// on the evaluation's scalar.
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "mech/cycle.hpp"
+#include "mech/linkage/dynamics.hpp"
+#include "problems/linkage/description.hpp"
+#include "problems/model_problem.hpp"
+
+namespace problems::linkage {
+namespace {
+
+using mech::Dual;
+using mech::linkage::Chain;
+using mech::linkage::GroupType;
+using mech::linkage::Jet;
+using mech::linkage::kNone;
+using mech::linkage::State;
+
+// A group closer than this to a singular position (the sine measure of
+// kinematics.hpp) is singular_position.
+constexpr double kSingular = 1e-6;
+
+// A function of the crank angle whose cycle maximum the metrics need.
+enum class Kind {
+  margin,          // -(a group's distance from a singular position)^2
+  coordinate,      // an output's coordinate (a rocker's angle from its direction at phi = 0)
+  neg_coordinate,  // minus that
+  speed,           // |an output's velocity|
+  acceleration,    // |an output's acceleration|
+  pressure,        // an RRP group's pressure angle: the rod against the line
+  transmission,    // minus an RRR group's transmission angle (acute)
+  torque,          // |driving torque|
+  energy,          // kinetic energy
+};
+struct Quantity {
+  Kind kind;
+  int index;  // the output or the group; none for torque and energy
+};
+
+// A metric: the maxima it is made of (the second for a stroke's minimum).
+struct Metric {
+  MetricSpec spec;
+  Quantity q, q2 = {Kind::margin, kNone};
+};
+
+std::vector<Metric> metrics_of(const Description& d) {
+  std::vector<Metric> out;
+  auto add = [&](const std::string& name, const std::string& unit, Quantity q, Quantity q2 = {Kind::margin, kNone}) {
+    out.push_back({MetricSpec(static_cast<int>(out.size()), name, unit), q, q2});
+  };
+  for (size_t o = 0; o < d.outputs.size(); ++o) {
+    const auto& out_o = d.outputs[o];
+    const int i = static_cast<int>(o);
+    const std::string u = out_o.slides ? "m" : "rad";
+    add(out_o.name + "_stroke", u, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
+    add(out_o.name + "_peak_velocity", u + "/s", {Kind::speed, i});
+    add(out_o.name + "_peak_acceleration", u + "/s^2", {Kind::acceleration, i});
+  }
+  const auto& groups = d.chain.groups();
+  auto each_group = [&](GroupType t, Kind k, const std::string& name) {
+    // one metric over the groups of type t: the largest of their maxima
+    bool any = false;
+    for (const auto& g : groups) any = any || g.type == t;
+    if (any) add(name, "rad", {k, kNone});
+  };
+  each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
+  each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
+  if (d.has_mass) {
+    add("peak_drive_torque", "N m", {Kind::torque, kNone});
+    add("peak_kinetic_energy", "J", {Kind::energy, kNone});
+  }
+  return out;
+}
+
+std::vector<MetricSpec> specs_of(const std::vector<Metric>& ms) {
+  std::vector<MetricSpec> out;
+  for (const auto& m : ms) out.push_back(m.spec);
+  return out;
+}
+
+class LinkageProblem : public ModelProblem<LinkageProblem> {
+ public:
+  LinkageProblem(Description d, std::vector<Metric> metrics, opt::Values<double> values,
+                 std::vector<opt::Variable> vars)
+      : ModelProblem("linkage", specs_of(metrics), d.table, std::move(values), std::move(vars)),
+        d_(std::move(d)), metrics_(std::move(metrics)) {}
+
+  nlohmann::json settings() const override {
+    nlohmann::json groups = nlohmann::json::array();
+    for (size_t g = 0; g < d_.chain.groups().size(); ++g)
+      groups.push_back({{"group", d_.chain.group_name(static_cast<int>(g))},
+                        {"branch", d_.chain.groups()[g].branch}});
+    return {{"model", model_json()},
+            {"groups", groups},
+            {"numerics",
+             {{"cycle_points", d_.cycle_points},
+              {"kinematics", "closed form per class II group on second-order jets in the crank angle"},
+              {"maximum", "grid bracket + root of the angle derivative (the chain on a Dual in phi); Danskin gradients"},
+              {"singular", "each group's sine measure refined to its cycle minimum; below 1e-6: singular_position"}}},
+            {"units", "SI (m, rad, rad/s, kg, N, N m, J)"}};
+  }
+
+  struct Workspace : opt::ModelWorkspace {
+    State<double> sd;
+    State<Dual> sdual;
+    std::vector<double> plain;  // the values as doubles
+    std::vector<Dual> vdual;    // ... as Duals (their slope: the crank angle's)
+    std::vector<double> grids;
+    std::vector<double> ref;  // each output's direction at phi = 0 (x, y)
+    std::vector<mech::CycleMaxSearch> searches;
+    std::vector<Quantity> asked;
+    mech::CycleScratch cycle;
+  };
+
+  template <class S>
+  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
+    const Chain& c = d_.chain;
+    const int n = d_.cycle_points;
+    if (ws.sd.point.size() != c.point_names().size()) {
+      ws.sd.resize(c);
+      ws.sdual.resize(c);
+    }
+    ws.plain.resize(v.size());
+    ws.vdual.resize(v.size());
+    for (size_t i = 0; i < v.size(); ++i) ws.vdual[i] = Dual(ws.plain[i] = mech::value(v[i]));
+    const double* vd = ws.plain.data();
+    // The outputs' reference directions, at phi = 0.
+    if (!solve_at(vd, 0.0, ws.sd, out)) return;
+    ws.ref.resize(2 * d_.outputs.size());
+    for (size_t o = 0; o < d_.outputs.size(); ++o) {
+      const auto& e = ws.sd.axis[static_cast<size_t>(d_.outputs[o].link)];
+      ws.ref[2 * o] = e.x.v, ws.ref[2 * o + 1] = e.y.v;
+    }
+    // Every asked quantity on the grid: the groups' margins, then what the
+    // wanted metrics need.
+    ws.asked.clear();
+    for (size_t g = 0; g < c.groups().size(); ++g) ws.asked.push_back({Kind::margin, static_cast<int>(g)});
+    const size_t n_margins = ws.asked.size();
+    for (size_t m = 0; m < metrics_.size(); ++m)
+      if (out.want(static_cast<int>(m))) ask(metrics_[m], ws.asked);
+    const size_t nq = ws.asked.size(), un = static_cast<size_t>(n);
+    ws.grids.resize(nq * un);
+    for (int i = 0; i < n; ++i) {
+      if (!solve_at(vd, mech::kTwoPi * i / n, ws.sd, out)) return;
+      for (size_t q = 0; q < nq; ++q) ws.grids[q * un + static_cast<size_t>(i)] = quantity(ws.asked[q], vd, ws.sd, ws);
+    }
+    // Maxima, their slopes from the chain on a Dual in phi: first the
+    // margins (a singular design stops there), then the metrics'.
+    ws.searches.resize(nq);
+    for (size_t q = 0; q < nq; ++q) ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un));
+    auto search = [&](size_t from, size_t to) {
+      mech::find_cycle_maxima(std::span(ws.searches.data() + from, to - from), [&](std::span<mech::AngleQuery> qs) {
+        for (mech::AngleQuery& a : qs) {
+          const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
+          if (!mech::linkage::solve(c, ws.vdual.data(), Dual(a.phi, 1.0), ws.sdual) &&
+              (q.kind != Kind::margin || ws.sdual.failed <= q.index)) {
+            a.out = a.slope ? 0.0 : 1.0;  // past a failure: above every margin
+            continue;
+          }
+          const Dual f = quantity(q, ws.vdual.data(), ws.sdual, ws);
+          a.out = a.slope ? f.d : f.v;
+        }
+      }, ws.cycle);
+    };
+    search(0, n_margins);
+    for (size_t g = 0; g < n_margins; ++g) {
+      const auto& s = ws.searches[g];
+      if (s.value <= -kSingular * kSingular) continue;
+      const bool assembles = mech::linkage::solve(c, vd, s.phi, ws.sd);
+      out.result.status = assembles ? mech::Status::singular_position : mech::Status::cannot_assemble;
+      out.result.message = c.group_name(assembles ? static_cast<int>(g) : ws.sd.failed) +
+                           (assembles ? " passes a singular position" : " cannot assemble") + " at crank angle " +
+                           degrees(s.phi) + " deg";
+      return;
+    }
+    search(n_margins, nq);
+    // The metrics: each maximum as the search found it (double), or the
+    // quantity at the maximising angle on S (Danskin).
+    State<S> ss;
+    auto at_max = [&](size_t q) -> S {
+      const auto& s = ws.searches[q];
+      if constexpr (!mech::is_dual<S>) {
+        return s.value;
+      } else {
+        if (ss.point.size() != c.point_names().size()) ss.resize(c);
+        mech::linkage::solve(c, v.data(), S(s.phi), ss);
+        return quantity(ws.asked[q], v.data(), ss, ws);
+      }
+    };
+    auto find = [&](Quantity q) {  // the search of q; over all groups of its kind where q names none
+      size_t best = nq;
+      for (size_t i = n_margins; i < nq; ++i)
+        if (ws.asked[i].kind == q.kind && (q.index == kNone || ws.asked[i].index == q.index) &&
+            (best == nq || ws.searches[i].value > ws.searches[best].value))
+          best = i;
+      return best;
+    };
+    for (size_t m = 0; m < metrics_.size(); ++m) {
+      if (!out.want(static_cast<int>(m))) continue;
+      const Metric& mt = metrics_[m];
+      const S top = at_max(find(mt.q));
+      if (mt.q2.kind != Kind::margin) out.put(static_cast<int>(m), S(top + at_max(find(mt.q2))));
+      else out.put(static_cast<int>(m), mt.q.kind == Kind::transmission ? S(-top) : top);
+    }
+  }
+
+ private:
+  // The quantities metric m needs: a group kind's metric one per group of that type.
+  void ask(const Metric& m, std::vector<Quantity>& asked) const {
+    for (const Quantity& q : {m.q, m.q2}) {
+      if (q.kind == Kind::margin) continue;
+      if (q.index != kNone || (q.kind != Kind::pressure && q.kind != Kind::transmission)) {
+        asked.push_back(q);
+        continue;
+      }
+      const GroupType t = q.kind == Kind::pressure ? GroupType::RRP : GroupType::RRR;
+      for (size_t g = 0; g < d_.chain.groups().size(); ++g)
+        if (d_.chain.groups()[g].type == t) asked.push_back({q.kind, static_cast<int>(g)});
+    }
+  }
+
+  static std::string degrees(double phi) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", phi * 180 / std::numbers::pi);
+    return buf;
+  }
+
+  // Solves the chain at phi (a grid angle); false, with the status and the
+  // failing group named in the evaluation, when it cannot assemble there.
+  template <class S>
+  bool solve_at(const double* vd, double phi, State<double>& st, MetricSink<S>& out) const {
+    if (mech::linkage::solve(d_.chain, vd, phi, st)) return true;
+    out.result.status = mech::Status::cannot_assemble;
+    out.result.message = d_.chain.group_name(st.failed) + " cannot assemble at crank angle " + degrees(phi) + " deg";
+    return false;
+  }
+
+  // Quantity q of the solved state st (values v), on its scalar T.
+  template <class T>
+  T quantity(const Quantity& q, const T* v, const State<T>& st, const Workspace& ws) const {
+    using std::abs;
+    using std::asin;
+    using std::atan2;
+    const Chain& c = d_.chain;
+    const T& w = v[c.crank().speed];
+    auto axis = [&](int link) -> const mech::linkage::Vec<T>& { return st.axis[static_cast<size_t>(link)]; };
+    auto cross_v = [](const mech::linkage::Vec<T>& a, const mech::linkage::Vec<T>& b) {
+      return T(a.x.v * b.y.v - a.y.v * b.x.v);
+    };
+    switch (q.kind) {
+      case Kind::margin: {
+        const auto& g = c.groups()[static_cast<size_t>(q.index)];
+        const auto &e1 = axis(g.first), &e2 = axis(g.second);
+        if (g.type == GroupType::RRR) {
+          const T s = cross_v(e1, e2);
+          return T(-(s * s));
+        }
+        if (g.type == GroupType::RRP) {
+          const T k = T(e1.x.v * e2.x.v + e1.y.v * e2.y.v);
+          return T(-(k * k));
+        }
+        const auto& A = st.point[static_cast<size_t>(g.p)];
+        const auto& Q = st.point[static_cast<size_t>(g.q)];
+        const T dx = A.x.v - Q.x.v, dy = A.y.v - Q.y.v;
+        const T& s = st.slide[static_cast<size_t>(g.first)].v;
+        return T(-(s * s) / (dx * dx + dy * dy));
+      }
+      case Kind::coordinate:
+      case Kind::neg_coordinate: {
+        const auto& o = d_.outputs[static_cast<size_t>(q.index)];
+        T x;
+        if (o.slides) {
+          x = st.slide[static_cast<size_t>(o.link)].v;
+        } else {
+          const auto& e = axis(o.link);
+          const double rx = ws.ref[2 * static_cast<size_t>(q.index)], ry = ws.ref[2 * static_cast<size_t>(q.index) + 1];
+          x = atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v));
+        }
+        return q.kind == Kind::coordinate ? x : T(-x);
+      }
+      case Kind::speed:
+      case Kind::acceleration: {
+        const auto& o = d_.outputs[static_cast<size_t>(q.index)];
+        const bool first = q.kind == Kind::speed;
+        T r;
+        if (o.slides) {
+          const Jet<T>& s = st.slide[static_cast<size_t>(o.link)];
+          r = first ? s.d : s.dd;
+        } else {
+          const Jet<T> t = mech::linkage::angle_of(axis(o.link));
+          r = first ? t.d : t.dd;
+        }
+        return T(abs(r) * (first ? w : T(w * w)));
+      }
+      case Kind::pressure: {
+        const auto& g = c.groups()[static_cast<size_t>(q.index)];
+        return T(asin(T(abs(cross_v(axis(g.second), axis(g.first))))));
+      }
+      case Kind::transmission: {
+        const auto& g = c.groups()[static_cast<size_t>(q.index)];
+        return T(-asin(T(abs(cross_v(axis(g.first), axis(g.second))))));
+      }
+      case Kind::torque: {
+        const auto p = mech::linkage::drive_point(c, v, st);
+        return T(abs(p.torque));
+      }
+      case Kind::energy: {
+        const auto p = mech::linkage::drive_point(c, v, st);
+        return T(p.energy * w * w);
+      }
+    }
+    return T(0.0);
+  }
+  Description d_;
+  std::vector<Metric> metrics_;
+};
+
+std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
+  Description d = read_description(root);
+  std::vector<Metric> metrics = metrics_of(d);
+  for (size_t i = 0; i < metrics.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (metrics[i].spec.name == metrics[j].spec.name)
+        root.at("model").fail("two metrics would be named '" + metrics[i].spec.name + "': rename an output");
+  opt::Values<double> values = d.chain.defaults();
+  std::vector<opt::Variable> vars = opt::parse_variables(root, opt::with_values(d.table, values));
+  return std::make_unique<LinkageProblem>(std::move(d), std::move(metrics), std::move(values), std::move(vars));
+}
+
+const opt::Registration kRegistration{{"linkage",
+                                       "any planar linkage of a crank and class II groups, described in the config "
+                                       "(docs/design/linkage.md)",
+                                       {},
+                                       make_linkage,
+                                       [](const opt::ConfigNode& root) { return read_description(root).table; }}};
+
+}  // namespace
+}  // namespace problems::linkage

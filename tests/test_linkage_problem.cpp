@@ -1,0 +1,168 @@
+// The `linkage` problem's reading and statuses: every number a table row
+// named by its address (variables, DOE factors, a coordinate set over a
+// base config's pair), located errors for the descriptions a designer gets
+// wrong, metrics named by the outputs, and the typed statuses of a group
+// that cannot assemble or passes a singular position. Reference values are
+// closed forms (the centred slider-crank's stroke 2 r; its peak speed; a
+// four-bar's transmission angle from the law of cosines).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "opt/registry.hpp"
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A centred slider-crank, crank r = 0.2 m, rod 0.8 m, 60 rpm; `extra`
+// lines are appended under model (indented by two spaces).
+std::string slider_crank(const std::string& extra = "", const std::string& after = "") {
+  return "problem: linkage\nmodel:\n"
+         "  ground: {O: [0 m, 0 m], S0: [0 m, 0 m]}\n"
+         "  crank: {link: crank, pivot: O, joint: A, phase: 0 deg, speed: 60 rpm}\n"
+         "  links:\n"
+         "    crank: {length: 0.2 m}\n"
+         "    rod: {length: 0.8 m}\n"
+         "    ram: {mass: 10 kg, line: {on: ground, through: S0, angle: 0 deg}}\n"
+         "  groups:\n"
+         "    - {type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}\n"
+         "  outputs: [ram]\n" +
+         extra + after;
+}
+
+// The same with the crank's phase at 0.1 rad: no grid angle at 90 deg.
+std::string replace_phase(std::string yaml) {
+  const std::string from = "phase: 0 deg";
+  return yaml.replace(yaml.find(from), from.size(), "phase: 0.1 rad");
+}
+
+std::unique_ptr<opt::Problem> make(const std::string& yaml) {
+  return opt::make_problem(opt::ConfigNode::parse(yaml, "<linkage>"));
+}
+
+// The error a config gives, or "" when it loads.
+std::string error_of(const std::string& yaml) {
+  try {
+    make(yaml);
+  } catch (const opt::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(LinkageProblem, MetricsOfTheCentredSliderCrank) {
+  const auto p = make(slider_crank());
+  const auto e = p->evaluate(p->initial_point(), opt::MetricSet::all(), false);
+  ASSERT_TRUE(e.ok()) << e.message;
+  EXPECT_NEAR(e.at("ram_stroke"), 0.4, 1e-15);  // 2 r
+  // Peak acceleration at phi = 0: r w^2 (1 + r / l).
+  const double w = 2 * kPi;
+  EXPECT_NEAR(e.at("ram_peak_acceleration"), 0.2 * w * w * 1.25, 1e-12);
+  EXPECT_NEAR(e.at("max_pressure_angle"), std::asin(0.25), 1e-15);  // asin(r / l) at phi = 90 deg
+  // Kinetic energy of the ram alone: m (x' w)^2 / 2 at its peak speed.
+  const double v = e.at("ram_peak_velocity");
+  EXPECT_NEAR(e.at("peak_kinetic_energy"), 10 * v * v / 2, 1e-12);
+}
+
+TEST(LinkageProblem, EveryNumberIsARowByItsAddress) {
+  const auto p = make(slider_crank("", "variables:\n  links.rod.length: {min: 0.5 m, max: 1 m}\n"
+                                       "  ground.S0.y: {min: -0.1 m, max: 0.1 m}\n"));
+  ASSERT_EQ(p->variables().size(), 2u);  // in the table's order
+  EXPECT_EQ(p->variables()[0].name, "ground.S0.y");
+  EXPECT_EQ(p->variables()[1].name, "links.rod.length");
+  const auto root = opt::ConfigNode::parse(slider_crank(), "<linkage>");
+  std::vector<std::string> names;
+  for (const auto& row : opt::model_parameters(root)) names.push_back(row.name);
+  for (const char* a : {"ground.O.x", "ground.S0.y", "crank.phase", "crank.speed", "links.crank.length",
+                        "links.rod.length", "links.ram.mass", "links.ram.line.angle"})
+    EXPECT_NE(std::find(names.begin(), names.end(), a), names.end()) << a;
+  // A coordinate set over the config's pair keeps the other one: the DOE
+  // rebuilds a sample this way (set_dotted writes {S0: {y: ..}}).
+  YAML::Node over;
+  over["model"]["ground"]["S0"]["y"] = "-0.05 m";
+  const auto moved = opt::make_problem(root.with(over, "<sample>"));
+  const auto e = moved->evaluate(moved->initial_point(), {"ram_stroke"}, false);
+  ASSERT_TRUE(e.ok());
+  EXPECT_NEAR(e.at("ram_stroke"), std::sqrt(1.0 - 0.05 * 0.05) - std::sqrt(0.36 - 0.05 * 0.05), 1e-15);
+}
+
+TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
+  struct Case {
+    std::string yaml, expect;
+  };
+  const std::string base = slider_crank();
+  auto in = [](std::string s, const std::string& from, const std::string& to) {
+    return s.replace(s.find(from), from.size(), to);
+  };
+  auto replaced = [&](const std::string& from, const std::string& to) { return in(base, from, to); };
+  const Case cases[] = {
+      {replaced("from: A,", "from: Q,"), "unknown point 'Q'"},
+      {in(replaced("rod: {length: 0.8 m}", "rod: {length: 0.8 m, points: {R: [0.1 m, 0 m]}}"), "from: A,",
+          "from: R,"),
+       "not known before this group"},  // R is on the rod, which this group solves
+      {replaced("rod: {length: 0.8 m}", "rod: {length: 0 m}"), "links.rod.length"},
+      {replaced("ram: {mass: 10 kg, line: {on: ground, through: S0, angle: 0 deg}}", "ram: {mass: 10 kg}"),
+       "has no line"},
+      {replaced("S0: [0 m, 0 m]", "S0: [0 m, 1 m]"), "cannot assemble at crank angle 0"},
+      {replaced("S0: [0 m, 0 m]", "S0: [0 m]"), "expected a point [x, y]"},
+      {replaced("S0: [0 m, 0 m]", "S0: [0 kg, 0 m]"), "ground.S0[0]"},
+      {replaced("rod: {length", "r.od: {length"), "a name is letters"},
+      {replaced("branch: 1", "branch: 2"), "expected one of"},
+      {replaced("outputs: [ram]", "outputs: [ram, rum]"), "unknown link 'rum'"},
+      {replaced("    rod: {length: 0.8 m}\n", "    rod: {length: 0.8 m}\n    spare: {length: 1 m}\n"),
+       "no group or crank solves this link"},
+  };
+  for (const auto& c : cases) {
+    const std::string what = error_of(c.yaml);
+    EXPECT_NE(what.find(c.expect), std::string::npos) << "expected '" << c.expect << "', got: " << what;
+    EXPECT_NE(what.find("<linkage>:"), std::string::npos) << what;  // located
+  }
+}
+
+// A crank-rocker four-bar: the transmission angle at B from the law of
+// cosines, cos(mu) = (b^2 + c^2 - |AO4|^2) / (2 b c), least where |AO4|
+// is largest or smallest (the crank along the frame line).
+TEST(LinkageProblem, FourBarTransmissionAngle) {
+  const auto p = make(
+      "problem: linkage\nmodel:\n"
+      "  ground: {O2: [0 m, 0 m], O4: [1 m, 0 m]}\n"
+      "  crank: {link: crank, pivot: O2, joint: A, speed: 10 rad/s}\n"
+      "  links: {crank: {length: 0.3 m}, coupler: {length: 1.1 m}, rocker: {length: 0.8 m}}\n"
+      "  groups: [{type: RRR, links: [coupler, rocker], from: [A, O4], joint: B, near: [1.2 m, 0.8 m]}]\n"
+      "  outputs: [rocker]\n");
+  const auto e = p->evaluate(p->initial_point(), opt::MetricSet::all(), false);
+  ASSERT_TRUE(e.ok()) << e.message;
+  const double b = 1.1, c = 0.8;
+  auto mu = [&](double d) {  // the acute angle between the links for |AO4| = d
+    const double m = std::acos((b * b + c * c - d * d) / (2 * b * c));
+    return std::min(m, kPi - m);
+  };
+  EXPECT_NEAR(e.at("min_transmission_angle"), std::min(mu(0.7), mu(1.3)), 1e-13);
+  // The rocker's swing between its extreme positions (A, B, O4 with the
+  // crank and coupler collinear): the law of cosines at O4.
+  auto rocker = [&](double ab) {  // angle at O4 of the triangle O2 O4 B with |O2 B| = ab
+    return std::acos((1 + c * c - ab * ab) / (2 * c));
+  };
+  EXPECT_NEAR(e.at("rocker_stroke"), rocker(b + 0.3) - rocker(b - 0.3), 1e-13);
+}
+
+TEST(LinkageProblem, TypedStatuses) {
+  // A rod shorter than crank + offset cannot reach past 90 deg: named.
+  const auto p = make(slider_crank("", "variables: {links.rod.length: {min: 0.1 m, max: 1 m}}\n"));
+  auto e = p->evaluate(Eigen::VectorXd::Constant(1, 0.15), opt::MetricSet::all(), false);
+  EXPECT_EQ(e.status, mech::Status::cannot_assemble);
+  EXPECT_NE(e.message.find("RRP (rod, ram) cannot assemble at crank angle"), std::string::npos) << e.message;
+  // A rod longer than the crank by 1e-13 of it: at 90 deg it stands
+  // 4.5e-7 rad off perpendicular to the line, a pressure angle within
+  // 1e-6 of 90 deg: singular (its branch could flip there), though no
+  // grid angle shows it (the phase puts 90 deg between grid points).
+  const auto q = make(replace_phase(slider_crank("", "variables: {links.rod.length: {min: 0.1 m, max: 1 m}}\n")));
+  e = q->evaluate(Eigen::VectorXd::Constant(1, 0.2 * (1 + 1e-13)), opt::MetricSet::all(), false);
+  EXPECT_EQ(e.status, mech::Status::singular_position) << e.message;
+  EXPECT_NE(e.message.find("RRP (rod, ram) passes a singular position"), std::string::npos) << e.message;
+}
+
+}  // namespace
