@@ -6,8 +6,10 @@
 // becomes a row named by its address.
 #include "problems/linkage/description.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <stdexcept>
 
 #include "mech/linkage/kinematics.hpp"
@@ -47,7 +49,7 @@ class Reader {
   explicit Reader(const ConfigNode& model) : model_(model) {}
 
   Description read() {
-    model_.allow_only({"gravity", "cycle_points", "ground", "crank", "links", "groups", "outputs"});
+    model_.allow_only({"gravity", "cycle_points", "ground", "crank", "links", "groups", "loads", "outputs"});
     if (model_.has("gravity")) {
       const std::string g = model_.at("gravity").choice({"on", "off", "true", "false"});
       d_.chain.set_gravity(g == "on" || g == "true" ? 9.80665 : 0.0);
@@ -69,6 +71,10 @@ class Reader {
       if (d_.chain.links()[k].origin == kNone)
         links.at(d_.chain.links()[k].name).fail("no group or crank solves this link");
     choose_branches();
+    if (model_.has("loads")) {
+      const ConfigNode loads = model_.at("loads");
+      for (const auto& name : loads.keys()) read_load(loads.at(name), name);
+    }
     if (model_.has("outputs"))
       for (const auto& o : model_.at("outputs").items()) {
         const int k = link(o);
@@ -246,6 +252,91 @@ class Reader {
       return 1;
     }
     return g.at("branch").choice({"1", "+1", "-1"}) == "-1" ? -1 : 1;
+  }
+
+  // A load (docs/design/linkage.md, "Loads"): on a slider a force, on a
+  // link a torque, at a point a friction torque between the two bodies
+  // that meet there.
+  void read_load(const ConfigNode& n, const std::string& name) {
+    if (!identifier(name)) n.fail("a name is letters, digits and _ (not starting with a digit); got '" + name + "'");
+    const std::string at = "loads." + name;
+    mech::linkage::Load l;
+    if (n.has("at")) {
+      n.allow_only({"at", "friction_torque"});
+      l.kind = mech::linkage::Load::Kind::friction;
+      std::tie(l.link, l.other) = bodies_at(n.at("at"));
+      l.value = number_at(n, "friction_torque", at, Dimension::torque, opt::kNonNegative,
+                          "a friction torque against the relative rotation");
+      d_.chain.add_load(std::move(l));
+      return;
+    }
+    n.allow_only({"on", "force", "torque", "table", "when", "opposing"});
+    l.link = link(n.at("on"));
+    const bool slider = d_.chain.links()[static_cast<size_t>(l.link)].length == kNone;
+    l.kind = slider ? mech::linkage::Load::Kind::force : mech::linkage::Load::Kind::torque;
+    const char* size_key = slider ? "force" : "torque";
+    const Dimension size_dim = slider ? Dimension::force : Dimension::torque;
+    for (const char* wrong : {"force", "torque"})
+      if (n.has(wrong) && std::string(wrong) != size_key)
+        n.at(wrong).fail(std::string("'") + n.at("on").text() + "' is " +
+                         (slider ? "a slider: a force along its line" : "a link: a torque on it"));
+    if (n.has("table") == n.has(size_key)) n.fail(std::string("give ") + size_key + " or table, one of them");
+    if (n.has(size_key)) {
+      l.value = number_at(n, size_key, at, size_dim, opt::kAnyValue, std::string("a ") + size_key + " load");
+    } else {
+      const ConfigNode t = n.at("table");
+      t.allow_only({"over", "unit", "rows"});
+      const bool position = t.at("over").choice({"position", "crank_angle"}) == "position";
+      l.over = position ? mech::linkage::Load::Over::position : mech::linkage::Load::Over::crank_angle;
+      const auto units = t.at("unit").items();
+      if (units.size() != 2) t.at("unit").fail("expected the two columns' units, e.g. [m, kN]");
+      const Dimension x_dim = position ? (slider ? Dimension::length : Dimension::angle) : Dimension::angle;
+      const double xs = scale(units[0], x_dim), ys = scale(units[1], size_dim);
+      for (const auto& row : t.at("rows").items()) {
+        const auto xy = row.items();
+        if (xy.size() != 2) row.fail("expected a row [x, value]");
+        l.xs.push_back(xy[0].number() * xs);
+        l.ys.push_back(xy[1].number() * ys);
+        if (l.xs.size() > 1 && !(l.xs.back() > l.xs[l.xs.size() - 2])) row.fail("the rows' x must increase");
+      }
+      if (l.xs.empty()) t.at("rows").fail("expected at least one row");
+    }
+    if (n.has("when")) {
+      const std::string w = n.at("when").choice({"forward", "return", "always"});
+      l.when = w == "forward" ? 1 : w == "return" ? -1 : 0;
+    }
+    if (n.has("opposing")) l.opposing = n.at("opposing").boolean();
+    d_.chain.add_load(std::move(l));
+  }
+  // The SI value of one `unit` (a table column's), of dimension d.
+  static double scale(const ConfigNode& unit, Dimension d) {
+    const opt::ParsedQuantity q = opt::parse_quantity("1 " + unit.text(), d);
+    if (!q.error.empty()) unit.fail("expected a unit of " + opt::to_string(d) + ": " + q.error);
+    return q.value;
+  }
+  // The two bodies (links, kNone for the ground) that meet at a point.
+  std::pair<int, int> bodies_at(const ConfigNode& n) {
+    const int p = point(n);
+    const auto& c = d_.chain;
+    std::vector<int> bodies;
+    auto add = [&](int b) {
+      if (std::find(bodies.begin(), bodies.end(), b) == bodies.end()) bodies.push_back(b);
+    };
+    for (const auto& g : c.ground_points())
+      if (g.first == p) add(kNone);
+    if (c.crank().joint == p) add(c.crank().link);
+    for (size_t k = 0; k < c.links().size(); ++k) {
+      if (c.links()[k].origin == p) add(static_cast<int>(k));
+      for (const auto& lp : c.links()[k].points)
+        if (lp.point == p) add(static_cast<int>(k));
+    }
+    for (const auto& g : c.groups())
+      if (g.joint == p) add(g.first), add(g.second);
+    if (bodies.size() != 2)
+      n.fail(std::to_string(bodies.size()) + " bodies meet at '" + n.text() +
+             "'; a joint's friction needs exactly two (a pin between two links, or a link and the ground)");
+    if (bodies[0] == kNone) std::swap(bodies[0], bodies[1]);  // the ground second
+    return {bodies[0], bodies[1]};
   }
 
   // Each `near:` group takes the branch whose joint lies nearer the given

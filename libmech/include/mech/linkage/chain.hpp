@@ -59,6 +59,23 @@ struct Group {
   int branch = 1;     // RRR: +1 joint left of p -> q; RRP: +1 ahead of p's foot along the line
 };
 
+// A load on the mechanism: a force on a slider along its line, a torque
+// on a link, or a friction torque between two links (kNone: the ground)
+// against their relative rotation. Its size: a value slot, or a table over
+// the slider's coordinate or the crank angle (linear between rows,
+// constant outside). `when`: +1 only while the coordinate (the slider's s,
+// the link's angle) grows (ds/dphi > 0), -1 only while it falls, 0 always;
+// `opposing`: the size against the motion, whatever its sign.
+struct Load {
+  enum class Kind { force, torque, friction } kind = Kind::force;
+  int link = kNone, other = kNone;  // other: a friction's second link
+  Slot value = kNone;
+  enum class Over { none, position, crank_angle } over = Over::none;
+  std::vector<double> xs, ys;  // the table, SI, xs increasing
+  int when = 0;
+  bool opposing = false;
+};
+
 struct Crank {
   int link = kNone, pivot = kNone, joint = kNone;
   Slot phase = kNone, speed = kNone;
@@ -106,6 +123,8 @@ class Chain {
     need(links_.at(link).length != kNone, "a uniform bar needs a length");
     links_[link].mass_per_length = mass_per_length;
   }
+  void add_load(Load l) { loads_.push_back(std::move(l)); }
+  const std::vector<Load>& loads() const { return loads_; }
   // Gravity's acceleration along -y (0: off).
   void set_gravity(double g) { gravity_ = g; }
   double gravity() const { return gravity_; }
@@ -221,6 +240,7 @@ class Chain {
   std::vector<Link> links_;
   std::vector<Group> groups_;
   Crank crank_;
+  std::vector<Load> loads_;
   double gravity_ = 0;
 };
 

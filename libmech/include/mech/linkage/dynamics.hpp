@@ -2,10 +2,17 @@
 // its solved state (kinematics.hpp) at constant crank speed w: each body's
 // centre of mass G and angle t carry their transfer functions, so
 //   T / w^2 = sum (m |G'|^2 + J t'^2) / 2,
-//   M = w^2 sum (m G'' . G' + J t'' t') + g sum m G'_y,
-// the torque the crank needs (virtual power: M w = dT/dt + dV/dt;
-// positive resists the drive). docs/design/linkage.md, section 3.
+//   M = w^2 sum (m G'' . G' + J t'' t') + g sum m G'_y - sum Q_load,
+// the torque the crank needs in its sense of rotation (virtual power:
+// M w = dT/dt + dV/dt + the loads' power taken; positive resists the
+// drive), a load's generalised force Q its power per unit crank speed: a
+// force F along a slider's line u at its pin B, F u . B'; a torque T on a
+// link, T t'; a friction torque, -|T| |t_i' - t_j'|. docs/design/linkage.md,
+// section 3.
 #pragma once
+#include <cmath>
+
+#include "mech/angles.hpp"
 #include "mech/linkage/kinematics.hpp"
 
 namespace mech::linkage {
@@ -37,6 +44,50 @@ bool inertial(const Link& l, const S* v, const State<S>& st, int k, Inertial<S>&
   return true;
 }
 
+// A table's value at x (linear between rows, constant outside).
+template <class S>
+S interpolate(const Load& l, const S& x) {
+  const auto& xs = l.xs;
+  const double xv = value(x);
+  if (xv <= xs.front()) return S(l.ys.front());
+  if (xv >= xs.back()) return S(l.ys.back());
+  size_t i = 1;
+  while (xs[i] < xv) ++i;
+  const double slope = (l.ys[i] - l.ys[i - 1]) / (xs[i] - xs[i - 1]);
+  return S(l.ys[i - 1] + slope * (x - xs[i - 1]));
+}
+
+// The loads' generalised force at crank angle phi (their power per unit
+// crank speed).
+template <class S>
+S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi) {
+  using std::abs;
+  S sum(0.0);
+  for (const Load& l : c.loads()) {
+    const size_t k = static_cast<size_t>(l.link);
+    S rate, coordinate;  // the rate the load's power takes, and the coordinate a table reads
+    if (l.kind == Load::Kind::force) {
+      const Vec<S>& u = st.axis[k];
+      const Vec<S>& B = st.point[static_cast<size_t>(c.links()[k].origin)];
+      rate = S(u.x.v * B.x.d + u.y.v * B.y.d);
+      coordinate = st.slide[k].v;
+    } else {
+      rate = st.angle(l.link).d;
+      if (l.other != kNone) rate = S(rate - st.angle(l.other).d);
+      coordinate = st.angle(l.link).v;
+    }
+    const double along = l.kind == Load::Kind::force ? value(st.slide[k].d) : value(rate);
+    if ((l.when > 0 && !(along > 0)) || (l.when < 0 && !(along < 0))) continue;
+    S size;
+    if (l.over == Load::Over::none) size = v[l.value];
+    else if (l.over == Load::Over::position) size = interpolate(l, coordinate);
+    else size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
+    if (l.kind == Load::Kind::friction || l.opposing) sum -= abs(size) * abs(rate);
+    else sum += size * rate;
+  }
+  return sum;
+}
+
 template <class S>
 struct DrivePoint {
   S energy;  // T / w^2 [kg m^2]: the reduced moment of inertia over 2
@@ -45,6 +96,7 @@ struct DrivePoint {
 
 template <class S>
 DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
+  const S& phi = st.phi;
   const S& w = v[c.crank().speed];
   S energy(0.0), inertia(0.0), weight(0.0);
   Inertial<S> b;
@@ -57,7 +109,7 @@ DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
     inertia += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
     weight += b.m * y.d;
   }
-  return {S(energy / 2.0), S(w * w * inertia + c.gravity() * weight)};
+  return {S(energy / 2.0), S(w * w * inertia + c.gravity() * weight - load_power(c, v, st, phi))};
 }
 
 }  // namespace mech::linkage

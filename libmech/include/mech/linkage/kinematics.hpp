@@ -22,6 +22,7 @@ struct State {
   std::vector<Jet<S>> slide;   // a slider's (block's) coordinate along its line; 0 for other links
   std::vector<double> margin;  // per group, its distance from a singular position (see solve)
   int failed = kNone;          // the group that could not assemble, when solve returned false
+  S phi = S(0.0);              // the crank angle it was solved at
 
   void resize(const Chain& c) {
     point.resize(c.point_names().size());
@@ -65,6 +66,7 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
   using std::sin;
   using std::sqrt;
   st.failed = kNone;
+  st.phi = phi;
   for (const auto& [p, xy] : c.ground_points())
     st.point[static_cast<size_t>(p)] = detail::constant_point(v[xy.first], v[xy.second]);
   const auto& links = c.links();

@@ -1,0 +1,105 @@
+// The general linkage against an independent reference: tests/ref/
+// linkage_ref.py reads the same configs (a Watt II six-bar, a Stephenson III
+// six-bar with a position-dependent process force, a Whitworth shaper with
+// a forward-stroke cutting force) and solves them another way: every link's
+// pose from the loop-closure equations by Newton at 30 digits, the transfer
+// functions from the constraint Jacobian's linear systems, the driving
+// torque by virtual power and by a global Newton-Euler solve (they agree to
+// ~1e-29), maxima refined to ~1e-27 rad. Its output, tests/ref/
+// linkage_ref.json, is read here: positions, transfer functions, slider
+// coordinates, link rates, the driving torque, the kinetic energy and the
+// angles at five crank angles, and the cycle maxima. Run it again with
+//   /usr/bin/python3 tests/ref/linkage_ref.py > tests/ref/linkage_ref.json   (~100 s)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+
+#include "mech/linkage/dynamics.hpp"
+#include "opt/registry.hpp"
+#include "problems/linkage/description.hpp"
+
+namespace {
+
+const std::string kSource = MECHOPT_SOURCE_DIR;
+
+nlohmann::json reference() {
+  std::ifstream in(kSource + "/tests/ref/linkage_ref.json");
+  return nlohmann::json::parse(in);
+}
+
+double num(const nlohmann::json& j) { return std::stod(j.get<std::string>()); }
+
+class Reference : public testing::TestWithParam<std::string> {};
+
+TEST_P(Reference, StatesAtFiveCrankAngles) {
+  const auto ref = reference()["configs"][GetParam()];
+  const auto root = opt::ConfigNode::load(kSource + "/configs/linkage/" + GetParam() + ".yaml");
+  const problems::linkage::Description d = problems::linkage::read_description(root);
+  const auto& c = d.chain;
+  mech::linkage::State<double> st;
+  st.resize(c);
+  const double w = c.defaults()[static_cast<size_t>(c.crank().speed)];
+  for (const auto& [deg, at] : ref["at_deg"].items()) {
+    SCOPED_TRACE(GetParam() + " at " + deg + " deg");
+    const double phi = std::stod(deg) * std::numbers::pi / 180;
+    ASSERT_TRUE(mech::linkage::solve(c, c.defaults().data(), phi, st));
+    for (const auto& [name, p] : at["points"].items()) {
+      const auto& q = st.point[static_cast<size_t>(c.find_point(name))];
+      EXPECT_NEAR(q.x.v, num(p["x"]), 1e-13) << name;
+      EXPECT_NEAR(q.y.v, num(p["y"]), 1e-13) << name;
+      EXPECT_NEAR(q.x.d, num(p["dx"]), 1e-13) << name;
+      EXPECT_NEAR(q.y.d, num(p["dy"]), 1e-13) << name;
+      EXPECT_NEAR(q.x.dd, num(p["ddx"]), 1e-12) << name;
+      EXPECT_NEAR(q.y.dd, num(p["ddy"]), 1e-12) << name;
+    }
+    for (const auto& [name, l] : at["links"].items()) {
+      const auto t = st.angle(c.find_link(name));
+      EXPECT_NEAR(std::remainder(t.v - num(l["angle"]), 2 * std::numbers::pi), 0, 1e-13) << name;
+      EXPECT_NEAR(t.d, num(l["d"]), 1e-12) << name;
+      EXPECT_NEAR(t.dd, num(l["dd"]), 1e-11) << name;
+    }
+    for (const auto& [name, s] : at["sliders"].items()) {
+      const auto& x = st.slide[static_cast<size_t>(c.find_link(name))];
+      EXPECT_NEAR(x.v, num(s["s"]), 1e-13) << name;
+      EXPECT_NEAR(x.d, num(s["d"]), 1e-13) << name;
+      EXPECT_NEAR(x.dd, num(s["dd"]), 1e-12) << name;
+    }
+    const auto p = mech::linkage::drive_point(c, c.defaults().data(), st);
+    const double torque = num(at["drive_torque_virtual_power"]);
+    EXPECT_NEAR(p.torque, torque, 1e-12 * std::max(1.0, std::abs(torque)));
+    const double energy = num(at["kinetic_energy"]);
+    EXPECT_NEAR(p.energy * w * w, energy, 1e-12 * std::max(1.0, energy));
+  }
+}
+
+TEST_P(Reference, CycleMaxima) {
+  const auto ref = reference()["configs"][GetParam()];
+  const auto p = opt::make_problem(opt::ConfigNode::load(kSource + "/configs/linkage/" + GetParam() + ".yaml"));
+  const auto e = p->evaluate(p->initial_point(), opt::MetricSet::all(), false);
+  ASSERT_TRUE(e.ok()) << e.message;
+  auto expect = [&](const std::string& metric, double value) {
+    EXPECT_NEAR(e.at(metric), value, 1e-12 * std::max(1.0, std::abs(value))) << metric;
+  };
+  for (const auto& [name, o] : ref["outputs"].items()) {
+    expect(name + "_stroke", num(o["stroke"]));
+    expect(name + "_peak_velocity", num(o["peak_velocity"]["value"]));
+    expect(name + "_peak_acceleration", num(o["peak_acceleration"]["value"]));
+  }
+  const auto& cycle = ref["cycle"];
+  expect("peak_drive_torque", num(cycle["peak_drive_torque"]["value"]));
+  expect("peak_kinetic_energy", num(cycle["peak_kinetic_energy"]["value"]));
+  double top = -1, least = 10;
+  for (const auto& [group, a] : cycle["max_pressure_angle"].items()) top = std::max(top, num(a["value"]));
+  for (const auto& [group, a] : cycle["min_transmission_angle"].items()) least = std::min(least, num(a["value"]));
+  if (top >= 0) expect("max_pressure_angle", top);
+  if (least < 10) expect("min_transmission_angle", least);
+}
+
+INSTANTIATE_TEST_SUITE_P(Linkages, Reference,
+                         testing::Values("watt2_sixbar", "stephenson3_sixbar", "whitworth_shaper"));
+
+}  // namespace
