@@ -41,7 +41,7 @@ constexpr double kSingular = 1e-6;
 // A function of the crank angle whose cycle maximum the metrics need.
 enum class Kind {
   margin,          // -(a group's distance from a singular position)^2
-  coordinate,      // an output's coordinate (a rocker's angle from its direction at phi = 0)
+  coordinate,      // an output's coordinate (a rocker's angle unwrapped about its direction at phi = 0)
   neg_coordinate,  // minus that
   speed,           // |an output's velocity|
   acceleration,    // |an output's acceleration|
@@ -55,37 +55,57 @@ struct Quantity {
   int index;  // the output or the group; none for torque and energy
 };
 
-// A metric: the maxima it is made of (the second for a stroke's minimum).
+// A metric: its form, over quantity q (and q2: a range's or a time
+// ratio's minimum, as the maximum of minus the coordinate).
+enum class Form {
+  peak,      // the cycle maximum of q (minus it for a transmission angle: its minimum)
+  range,     // max q + max q2: a stroke
+  ratio,     // the crank angle from q2's maximum to q's over the rest: the time ratio
+  mean,      // cycle means of q (the torque or the energy) ...
+  mean_abs,  // ... of |q|
+  rms,       // ... and its root mean square
+};
 struct Metric {
   MetricSpec spec;
+  Form form;
   Quantity q, q2 = {Kind::margin, kNone};
 };
 
 std::vector<Metric> metrics_of(const Description& d) {
   std::vector<Metric> out;
-  auto add = [&](const std::string& name, const std::string& unit, Quantity q, Quantity q2 = {Kind::margin, kNone}) {
-    out.push_back({MetricSpec(static_cast<int>(out.size()), name, unit), q, q2});
+  auto add = [&](const std::string& name, const std::string& unit, Form f, Quantity q,
+                 Quantity q2 = {Kind::margin, kNone}) {
+    out.push_back({MetricSpec(static_cast<int>(out.size()), name, unit), f, q, q2});
   };
   for (size_t o = 0; o < d.outputs.size(); ++o) {
     const auto& out_o = d.outputs[o];
     const int i = static_cast<int>(o);
     const std::string u = out_o.slides ? "m" : "rad";
-    add(out_o.name + "_stroke", u, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
-    add(out_o.name + "_peak_velocity", u + "/s", {Kind::speed, i});
-    add(out_o.name + "_peak_acceleration", u + "/s^2", {Kind::acceleration, i});
+    add(out_o.name + "_stroke", u, Form::range, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
+    add(out_o.name + "_max", u, Form::peak, {Kind::coordinate, i});
+    add(out_o.name + "_min", u, Form::peak, {Kind::neg_coordinate, i});
+    add(out_o.name + "_peak_velocity", u + "/s", Form::peak, {Kind::speed, i});
+    add(out_o.name + "_peak_acceleration", u + "/s^2", Form::peak, {Kind::acceleration, i});
+    add(out_o.name + "_time_ratio", "", Form::ratio, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
   }
   const auto& groups = d.chain.groups();
   auto each_group = [&](GroupType t, Kind k, const std::string& name) {
     // one metric over the groups of type t: the largest of their maxima
     bool any = false;
     for (const auto& g : groups) any = any || g.type == t;
-    if (any) add(name, "rad", {k, kNone});
+    if (any) add(name, "rad", Form::peak, {k, kNone});
   };
   each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
   each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
+  if (d.has_mass || !d.chain.loads().empty()) {
+    add("peak_drive_torque", "N m", Form::peak, {Kind::torque, kNone});
+    add("mean_drive_torque", "N m", Form::mean, {Kind::torque, kNone});
+    add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
+    add("rms_drive_torque", "N m", Form::rms, {Kind::torque, kNone});
+  }
   if (d.has_mass) {
-    add("peak_drive_torque", "N m", {Kind::torque, kNone});
-    add("peak_kinetic_energy", "J", {Kind::energy, kNone});
+    add("peak_kinetic_energy", "J", Form::peak, {Kind::energy, kNone});
+    add("mean_kinetic_energy", "J", Form::mean, {Kind::energy, kNone});
   }
   return out;
 }
@@ -195,14 +215,23 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     // The metrics: each maximum as the search found it (double), or the
     // quantity at the maximising angle on S (Danskin).
     State<S> ss;
+    auto solved_at = [&](size_t q) -> const State<S>& {  // the chain on S at search q's angle
+      if (ss.point.size() != c.point_names().size()) ss.resize(c);
+      mech::linkage::solve(c, v.data(), S(ws.searches[q].phi), ss);
+      return ss;
+    };
     auto at_max = [&](size_t q) -> S {
-      const auto& s = ws.searches[q];
+      if constexpr (!mech::is_dual<S>) return ws.searches[q].value;
+      else return quantity(ws.asked[q], v.data(), solved_at(q), ws);
+    };
+    // The angle of search q's maximum; on S, moved with the design: phi -
+    // f'/f'' at it (f' ~ 0 there, its design derivatives kept).
+    auto at_angle = [&](size_t q) -> S {
       if constexpr (!mech::is_dual<S>) {
-        return s.value;
+        return ws.searches[q].phi;
       } else {
-        if (ss.point.size() != c.point_names().size()) ss.resize(c);
-        mech::linkage::solve(c, v.data(), S(s.phi), ss);
-        return quantity(ws.asked[q], v.data(), ss, ws);
+        const Jet<S> f = coordinate_jet(ws.asked[q], solved_at(q), ws);
+        return S(ws.searches[q].phi - f.d / mech::value(f.dd));
       }
     };
     auto find = [&](Quantity q) {  // the search of q; over all groups of its kind where q names none
@@ -213,27 +242,52 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           best = i;
       return best;
     };
+    bool means = false;
     for (size_t m = 0; m < metrics_.size(); ++m) {
       if (!out.want(static_cast<int>(m))) continue;
       const Metric& mt = metrics_[m];
-      const S top = at_max(find(mt.q));
-      if (mt.q2.kind != Kind::margin) out.put(static_cast<int>(m), S(top + at_max(find(mt.q2))));
-      else out.put(static_cast<int>(m), mt.q.kind == Kind::transmission ? S(-top) : top);
+      switch (mt.form) {
+        case Form::peak: {
+          const S top = at_max(find(mt.q));
+          const bool least = mt.q.kind == Kind::transmission || mt.q.kind == Kind::neg_coordinate;
+          out.put(static_cast<int>(m), least ? S(-top) : top);
+          break;
+        }
+        case Form::range: out.put(static_cast<int>(m), S(at_max(find(mt.q)) + at_max(find(mt.q2)))); break;
+        case Form::ratio: {
+          // The forward stroke, from the minimum to the maximum in phi,
+          // over the return; each angle moves with the design by the
+          // implicit function theorem on f'(phi) = 0.
+          const S forward = S(at_angle(find(mt.q)) - at_angle(find(mt.q2)));
+          const double wrapped = mech::wrap_angle(mech::value(forward));
+          const S fwd = S(forward + (wrapped - mech::value(forward)));
+          out.put(static_cast<int>(m), S(fwd / (mech::kTwoPi - fwd)));
+          break;
+        }
+        default: means = true;
+      }
     }
+    if (means) put_means(v, out, ws);
   }
 
  private:
   // The quantities metric m needs: a group kind's metric one per group of that type.
   void ask(const Metric& m, std::vector<Quantity>& asked) const {
+    if (m.form >= Form::mean) return;  // a mean asks for no maximum
+    auto once = [&](Quantity q) {
+      for (const Quantity& a : asked)
+        if (a.kind == q.kind && a.index == q.index) return;
+      asked.push_back(q);
+    };
     for (const Quantity& q : {m.q, m.q2}) {
       if (q.kind == Kind::margin) continue;
       if (q.index != kNone || (q.kind != Kind::pressure && q.kind != Kind::transmission)) {
-        asked.push_back(q);
+        once(q);
         continue;
       }
       const GroupType t = q.kind == Kind::pressure ? GroupType::RRP : GroupType::RRR;
       for (size_t g = 0; g < d_.chain.groups().size(); ++g)
-        if (d_.chain.groups()[g].type == t) asked.push_back({q.kind, static_cast<int>(g)});
+        if (d_.chain.groups()[g].type == t) once({q.kind, static_cast<int>(g)});
     }
   }
 
@@ -251,6 +305,109 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     out.result.status = mech::Status::cannot_assemble;
     out.result.message = d_.chain.group_name(st.failed) + " cannot assemble at crank angle " + degrees(phi) + " deg";
     return false;
+  }
+
+  // Output q.index's coordinate (minus it for neg_coordinate) with its
+  // transfer functions: a slider's s, or a link's angle, unwrapped about
+  // its direction at phi = 0 (while it swings less than half a turn either
+  // side of that).
+  template <class T>
+  Jet<T> coordinate_jet(const Quantity& q, const State<T>& st, const Workspace& ws) const {
+    using std::atan2;
+    const auto& o = d_.outputs[static_cast<size_t>(q.index)];
+    Jet<T> x;
+    if (o.slides) {
+      x = st.slide[static_cast<size_t>(o.link)];
+    } else {
+      const auto& e = st.axis[static_cast<size_t>(o.link)];
+      const double rx = ws.ref[2 * static_cast<size_t>(q.index)], ry = ws.ref[2 * static_cast<size_t>(q.index) + 1];
+      x = mech::linkage::angle_of(e);
+      x.v = T(atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v)) + std::atan2(ry, rx));
+    }
+    return q.kind == Kind::neg_coordinate ? -x : x;
+  }
+
+  // The angles where the driving torque is zero or bends (a load switches
+  // on or off, turns against a motion that reverses, or crosses a table's
+  // row): the arcs of its means.
+  std::vector<double> torque_kinks(Workspace& ws) const {
+    const Chain& c = d_.chain;
+    const double* v = ws.plain.data();
+    struct Fn {
+      int load, row;  // load -1: the torque itself; row -1: the load's rate
+    };
+    std::vector<Fn> fns = {{-1, -1}};
+    for (size_t i = 0; i < c.loads().size(); ++i) {
+      const auto& l = c.loads()[i];
+      const int li = static_cast<int>(i);
+      if (l.when != 0 || l.opposing || l.kind == mech::linkage::Load::Kind::friction) fns.push_back({li, -1});
+      if (l.over == mech::linkage::Load::Over::position)
+        for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({li, static_cast<int>(r)});
+    }
+    auto value_of = [&](const Fn& f, const State<double>& st) {
+      if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
+      const auto& l = c.loads()[static_cast<size_t>(f.load)];
+      const size_t k = static_cast<size_t>(l.link);
+      if (f.row >= 0) return st.slide[k].v - l.xs[static_cast<size_t>(f.row)];
+      if (l.kind == mech::linkage::Load::Kind::force) return st.slide[k].d;
+      return st.angle(l.link).d - (l.other == kNone ? 0.0 : st.angle(l.other).d);
+    };
+    const int n = d_.cycle_points;
+    const size_t un = static_cast<size_t>(n);
+    ws.grids.resize(fns.size() * un);
+    for (int i = 0; i < n; ++i) {
+      mech::linkage::solve(c, v, mech::kTwoPi * i / n, ws.sd);
+      for (size_t f = 0; f < fns.size(); ++f) ws.grids[f * un + static_cast<size_t>(i)] = value_of(fns[f], ws.sd);
+    }
+    std::vector<std::span<const double>> grids;
+    for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(ws.grids.data() + f * un, un);
+    std::vector<double> kinks = mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
+      for (mech::AngleQuery& q : qs) {
+        mech::linkage::solve(c, v, q.phi, ws.sd);
+        q.out = value_of(fns[static_cast<size_t>(q.fn)], ws.sd);
+      }
+    });
+    for (const auto& l : c.loads())
+      if (l.over == mech::linkage::Load::Over::crank_angle)
+        for (double x : l.xs) kinks.push_back(mech::wrap_angle(x));
+    return kinks;
+  }
+
+  // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
+  // the torque's kinks (2 n nodes a revolution; the energy is smooth).
+  template <class S>
+  void put_means(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
+    const Chain& c = d_.chain;
+    State<S> ss;
+    ss.resize(c);
+    auto at = [&](double phi) -> const State<S>& {
+      mech::linkage::solve(c, v.data(), S(phi), ss);
+      return ss;
+    };
+    const int nodes = 2 * d_.cycle_points;
+    const S& w = v[static_cast<size_t>(c.crank().speed)];
+    bool torque = false, energy = false;
+    for (size_t m = 0; m < metrics_.size(); ++m)
+      if (out.want(static_cast<int>(m)) && metrics_[m].form >= Form::mean)
+        (metrics_[m].q.kind == Kind::torque ? torque : energy) = true;
+    mech::ArcMeans<S> mt{}, me{};
+    if (torque)
+      mt = mech::piecewise_means<S>(
+          [&](double phi, double, double) { return mech::linkage::drive_point(c, v.data(), at(phi)).torque; },
+          torque_kinks(ws), nodes, ws.cycle);
+    if (energy)
+      me = mech::piecewise_means<S>(
+          [&](double phi, double, double) { return S(mech::linkage::drive_point(c, v.data(), at(phi)).energy * w * w); },
+          {}, nodes, ws.cycle);
+    for (size_t m = 0; m < metrics_.size(); ++m) {
+      const Metric& mt_m = metrics_[m];
+      if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
+      const auto& a = mt_m.q.kind == Kind::torque ? mt : me;
+      using std::sqrt;
+      out.put(static_cast<int>(m), mt_m.form == Form::mean ? a.mean
+                                   : mt_m.form == Form::mean_abs ? a.mean_abs
+                                                                 : S(sqrt(a.mean_square)));
+    }
   }
 
   // Quantity q of the solved state st (values v), on its scalar T.
@@ -284,31 +441,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         return T(-(s * s) / (dx * dx + dy * dy));
       }
       case Kind::coordinate:
-      case Kind::neg_coordinate: {
-        const auto& o = d_.outputs[static_cast<size_t>(q.index)];
-        T x;
-        if (o.slides) {
-          x = st.slide[static_cast<size_t>(o.link)].v;
-        } else {
-          const auto& e = axis(o.link);
-          const double rx = ws.ref[2 * static_cast<size_t>(q.index)], ry = ws.ref[2 * static_cast<size_t>(q.index) + 1];
-          x = atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v));
-        }
-        return q.kind == Kind::coordinate ? x : T(-x);
-      }
+      case Kind::neg_coordinate: return coordinate_jet(q, st, ws).v;
       case Kind::speed:
       case Kind::acceleration: {
-        const auto& o = d_.outputs[static_cast<size_t>(q.index)];
-        const bool first = q.kind == Kind::speed;
-        T r;
-        if (o.slides) {
-          const Jet<T>& s = st.slide[static_cast<size_t>(o.link)];
-          r = first ? s.d : s.dd;
-        } else {
-          const Jet<T> t = mech::linkage::angle_of(axis(o.link));
-          r = first ? t.d : t.dd;
-        }
-        return T(abs(r) * (first ? w : T(w * w)));
+        const Jet<T> x = coordinate_jet({Kind::coordinate, q.index}, st, ws);
+        return q.kind == Kind::speed ? T(abs(x.d) * w) : T(abs(x.dd) * (w * w));
       }
       case Kind::pressure: {
         const auto& g = c.groups()[static_cast<size_t>(q.index)];
