@@ -186,20 +186,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     // margins (a singular design stops there), then the metrics'.
     ws.searches.resize(nq);
     for (size_t q = 0; q < nq; ++q) ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un));
-    auto search = [&](size_t from, size_t to) {
-      mech::find_cycle_maxima(std::span(ws.searches.data() + from, to - from), [&](std::span<mech::AngleQuery> qs) {
-        for (mech::AngleQuery& a : qs) {
-          const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
-          if (!mech::linkage::solve(c, ws.vdual.data(), Dual(a.phi, 1.0), ws.sdual) &&
-              (q.kind != Kind::margin || ws.sdual.failed <= q.index)) {
-            a.out = a.slope ? 0.0 : 1.0;  // past a failure: above every margin
-            continue;
-          }
-          const Dual f = quantity(q, ws.vdual.data(), ws.sdual, ws);
-          a.out = a.slope ? f.d : f.v;
-        }
-      }, ws.cycle);
-    };
+    auto search = [&](size_t from, size_t to) { run_searches(ws, from, to); };
     search(0, n_margins);
     for (size_t g = 0; g < n_margins; ++g) {
       const auto& s = ws.searches[g];
@@ -271,6 +258,46 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   }
 
  private:
+  // Runs searches [from, to) of ws (their quantities ws.asked[from, to)),
+  // slopes from the chain on a Dual in phi.
+  void run_searches(Workspace& ws, size_t from, size_t to) const {
+    const Chain& c = d_.chain;
+    mech::find_cycle_maxima(std::span(ws.searches.data() + from, to - from), [&](std::span<mech::AngleQuery> qs) {
+      for (mech::AngleQuery& a : qs) {
+        const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
+        if (!mech::linkage::solve(c, ws.vdual.data(), Dual(a.phi, 1.0), ws.sdual) &&
+            (q.kind != Kind::margin || ws.sdual.failed <= q.index)) {
+          a.out = a.slope ? 0.0 : 1.0;  // past a failure: above every margin
+          continue;
+        }
+        const Dual f = quantity(q, ws.vdual.data(), ws.sdual, ws);
+        a.out = a.slope ? f.d : f.v;
+      }
+    }, ws.cycle);
+  }
+
+  // Where the driving torque has singularities near the real axis: each
+  // local minimum m0 of a group's margin^2 (at phi_k, its second
+  // derivative m2 there) is zero at about phi_k +- i sqrt(2 m0 / m2), a
+  // toggle off the real line, whose transfer functions blow up there. The
+  // margins' searches are ws.searches[0, groups) over their grids.
+  std::vector<mech::NearPole> poles(Workspace& ws) const {
+    const size_t groups = d_.chain.groups().size();
+    for (size_t g = 0; g < groups; ++g) {
+      ws.searches[g].reset(ws.searches[g].v);
+      ws.searches[g].global = false;
+    }
+    run_searches(ws, 0, groups);
+    std::vector<mech::NearPole> out;
+    for (size_t g = 0; g < groups; ++g)
+      for (double phi : ws.searches[g].maxima) {
+        mech::linkage::solve(d_.chain, ws.plain.data(), phi, ws.sd);
+        const Jet<double> m = margin2(static_cast<int>(g), ws.sd);
+        if (m.dd > 0) out.push_back({phi, std::sqrt(2 * m.v / m.dd)});
+      }
+    return out;
+  }
+
   // The quantities metric m needs: a group kind's metric one per group of that type.
   void ask(const Metric& m, std::vector<Quantity>& asked) const {
     if (m.form >= Form::mean) return;  // a mean asks for no maximum
@@ -386,28 +413,59 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     };
     const int nodes = 2 * d_.cycle_points;
     const S& w = v[static_cast<size_t>(c.crank().speed)];
-    bool torque = false, energy = false;
-    for (size_t m = 0; m < metrics_.size(); ++m)
-      if (out.want(static_cast<int>(m)) && metrics_[m].form >= Form::mean)
-        (metrics_[m].q.kind == Kind::torque ? torque : energy) = true;
-    mech::ArcMeans<S> mt{}, me{};
+    // Which integrals the wanted means need: the torque's (|M|, M^2), the
+    // loads' (the mean torque: inertia, gravity and springs give back over
+    // a cycle what they take, so the mean is the loads' work alone, free of
+    // the cancellation of a large periodic torque), the energy's.
+    bool torque = false, work = false, energy = false;
+    for (size_t m = 0; m < metrics_.size(); ++m) {
+      if (!out.want(static_cast<int>(m)) || metrics_[m].form < Form::mean) continue;
+      if (metrics_[m].q.kind == Kind::energy) energy = true;
+      else (metrics_[m].form == Form::mean ? work : torque) = true;
+    }
+    const mech::ArcMeans<S> none{S(0.0), S(0.0), S(0.0)};
+    mech::ArcMeans<S> mt = none, ml = none, me = none;
+    const std::vector<mech::NearPole> near = poles(ws);
+    const std::vector<double> kinks = torque || work ? torque_kinks(ws) : std::vector<double>{};
     if (torque)
       mt = mech::piecewise_means<S>(
           [&](double phi, double, double) { return mech::linkage::drive_point(c, v.data(), at(phi)).torque; },
-          torque_kinks(ws), nodes, ws.cycle);
+          kinks, nodes, ws.cycle, near);
+    if (work)
+      ml = mech::piecewise_means<S>(
+          [&](double phi, double, double) { return S(-mech::linkage::load_power(c, v.data(), at(phi), S(phi))); },
+          kinks, nodes, ws.cycle, near);
     if (energy)
       me = mech::piecewise_means<S>(
           [&](double phi, double, double) { return S(mech::linkage::drive_point(c, v.data(), at(phi)).energy * w * w); },
-          {}, nodes, ws.cycle);
+          {}, nodes, ws.cycle, near);
     for (size_t m = 0; m < metrics_.size(); ++m) {
       const Metric& mt_m = metrics_[m];
       if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
-      const auto& a = mt_m.q.kind == Kind::torque ? mt : me;
       using std::sqrt;
-      out.put(static_cast<int>(m), mt_m.form == Form::mean ? a.mean
-                                   : mt_m.form == Form::mean_abs ? a.mean_abs
-                                                                 : S(sqrt(a.mean_square)));
+      if (mt_m.q.kind == Kind::energy) out.put(static_cast<int>(m), me.mean);
+      else if (mt_m.form == Form::mean) out.put(static_cast<int>(m), ml.mean);
+      else out.put(static_cast<int>(m), mt_m.form == Form::mean_abs ? mt.mean_abs : S(sqrt(mt.mean_square)));
     }
+  }
+
+  // Group g's squared distance from a singular position (kinematics.hpp's
+  // measure) with its transfer functions: zero where the branch could flip.
+  template <class T>
+  Jet<T> margin2(int g, const State<T>& st) const {
+    const auto& gr = d_.chain.groups()[static_cast<size_t>(g)];
+    const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
+    if (gr.type == GroupType::RRR) {
+      const Jet<T> sine = mech::linkage::cross(e1, e2);
+      return sine * sine;
+    }
+    if (gr.type == GroupType::RRP) {
+      const Jet<T> cosine = mech::linkage::dot(e1, e2);
+      return cosine * cosine;
+    }
+    const auto d = st.point[static_cast<size_t>(gr.p)] - st.point[static_cast<size_t>(gr.q)];
+    const Jet<T>& s = st.slide[static_cast<size_t>(gr.first)];
+    return s * s / mech::linkage::dot(d, d);
   }
 
   // Quantity q of the solved state st (values v), on its scalar T.
@@ -423,23 +481,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       return T(a.x.v * b.y.v - a.y.v * b.x.v);
     };
     switch (q.kind) {
-      case Kind::margin: {
-        const auto& g = c.groups()[static_cast<size_t>(q.index)];
-        const auto &e1 = axis(g.first), &e2 = axis(g.second);
-        if (g.type == GroupType::RRR) {
-          const T s = cross_v(e1, e2);
-          return T(-(s * s));
-        }
-        if (g.type == GroupType::RRP) {
-          const T k = T(e1.x.v * e2.x.v + e1.y.v * e2.y.v);
-          return T(-(k * k));
-        }
-        const auto& A = st.point[static_cast<size_t>(g.p)];
-        const auto& Q = st.point[static_cast<size_t>(g.q)];
-        const T dx = A.x.v - Q.x.v, dy = A.y.v - Q.y.v;
-        const T& s = st.slide[static_cast<size_t>(g.first)].v;
-        return T(-(s * s) / (dx * dx + dy * dy));
-      }
+      case Kind::margin: return T(-margin2(q.index, st).v);
       case Kind::coordinate:
       case Kind::neg_coordinate: return coordinate_jet(q, st, ws).v;
       case Kind::speed:
