@@ -26,7 +26,7 @@ std::string slider_crank(const std::string& extra = "", const std::string& after
          "  links:\n"
          "    crank: {length: 0.2 m}\n"
          "    rod: {length: 0.8 m}\n"
-         "    ram: {mass: 10 kg, line: {on: ground, through: S0, angle: 0 deg}}\n"
+         "    ram: {mass: 10 kg, line: {fixed_to: ground, through: S0, angle: 0 deg}}\n"
          "  groups:\n"
          "    - {type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}\n"
          "  outputs: [ram]\n" +
@@ -104,7 +104,7 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
           "from: R,"),
        "not known before this group"},  // R is on the rod, which this group solves
       {replaced("rod: {length: 0.8 m}", "rod: {length: 0 m}"), "links.rod.length"},
-      {replaced("ram: {mass: 10 kg, line: {on: ground, through: S0, angle: 0 deg}}", "ram: {mass: 10 kg}"),
+      {replaced("ram: {mass: 10 kg, line: {fixed_to: ground, through: S0, angle: 0 deg}}", "ram: {mass: 10 kg}"),
        "has no line"},
       {replaced("S0: [0 m, 0 m]", "S0: [0 m, 1 m]"), "cannot assemble at crank angle 0"},
       {replaced("S0: [0 m, 0 m]", "S0: [0 m]"), "expected a point [x, y]"},

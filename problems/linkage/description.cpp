@@ -31,7 +31,7 @@ model:
   links:
     crank: {length: 0.2 m}
     rod: {length: 0.8 m}
-    ram: {mass: 1 kg, line: {on: ground, through: S0, angle: 0 deg}}
+    ram: {mass: 1 kg, line: {fixed_to: ground, through: S0, angle: 0 deg}}
   groups:
     - {type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}
   outputs: [ram]
@@ -178,10 +178,10 @@ class Reader {
                                       "the guide's slide line left of its x axis"));
     if (n.has("line")) {
       const ConfigNode line = n.at("line");
-      line.allow_only({"on", "through", "angle", "offset"});
+      line.allow_only({"fixed_to", "through", "angle", "offset"});
       line.at("through");  // required; placed with its group
       const Slot angle = number_at(line, "angle", at + ".line", Dimension::angle, opt::kAnyValue,
-                                   "the slider's line, in the frame of `on`");
+                                   "the slider's line, in the frame of the link it is fixed to");
       const Slot offset = line.has("offset") ? number_at(line, "offset", at + ".line", Dimension::length,
                                                          opt::kAnyValue, "the pin left of the slider's line")
                                              : kNone;
@@ -224,9 +224,9 @@ class Reader {
       } else if (type == "RRP") {
         g.allow_only({"type", "links", "from", "joint", "branch", "near"});
         const auto line = lines_.find(second);
-        if (line == lines_.end()) ls[1].fail("the slider '" + ls[1].text() + "' has no line: {on, through, angle}");
+        if (line == lines_.end()) ls[1].fail("the slider '" + ls[1].text() + "' has no line: {fixed_to, through, angle}");
         const ConfigNode& ln = line->second.node;
-        const int on = ln.has("on") && ln.at("on").text() != "ground" ? link(ln.at("on")) : kNone;
+        const int on = ln.has("fixed_to") && ln.at("fixed_to").text() != "ground" ? link(ln.at("fixed_to")) : kNone;
         c.set_line(second, on, point(ln.at("through")), line->second.angle, line->second.offset);
         c.rrp(first, second, point(g.at("from")), new_joint(g), branch(g, index));
       } else {
@@ -270,15 +270,15 @@ class Reader {
       d_.chain.add_load(std::move(l));
       return;
     }
-    n.allow_only({"on", "force", "torque", "table", "when", "opposing"});
-    l.link = link(n.at("on"));
+    n.allow_only({"link", "force", "torque", "table", "when", "opposing"});
+    l.link = link(n.at("link"));
     const bool slider = d_.chain.links()[static_cast<size_t>(l.link)].length == kNone;
     l.kind = slider ? mech::linkage::Load::Kind::force : mech::linkage::Load::Kind::torque;
     const char* size_key = slider ? "force" : "torque";
     const Dimension size_dim = slider ? Dimension::force : Dimension::torque;
     for (const char* wrong : {"force", "torque"})
       if (n.has(wrong) && std::string(wrong) != size_key)
-        n.at(wrong).fail(std::string("'") + n.at("on").text() + "' is " +
+        n.at(wrong).fail(std::string("'") + n.at("link").text() + "' is " +
                          (slider ? "a slider: a force along its line" : "a link: a torque on it"));
     if (n.has("table") == n.has(size_key)) n.fail(std::string("give ") + size_key + " or table, one of them");
     if (n.has(size_key)) {

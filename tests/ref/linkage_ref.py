@@ -250,10 +250,10 @@ class Linkage:
             self.points[g["joint"]] = (b1, (rec["a"], 0))
         elif t == "RRP":
             line = on_keys(self.links[n2]["line"])
-            on = self.body[line.get("on", "ground")]
+            on = self.body[line.get("fixed_to", "ground")]
             tb, tl = self.points[line["through"]]
             if tb != on:
-                raise ValueError("line of %s: %s is not a point of %s" % (n2, line["through"], line.get("on")))
+                raise ValueError("line of %s: %s is not a point of %s" % (n2, line["through"], line.get("fixed_to")))
             rec.update(P=g["from"], a=self.length(b1), line_body=on, T=tl,
                        alpha=num(line.get("angle", 0)), off=num(line.get("offset", 0)))
             self.pin(b1, (0, 0), g["from"])
@@ -287,15 +287,15 @@ class Linkage:
 
     def read_load(self, key, d):
         d = on_keys(d)
-        if "on" not in d or d.get("opposing") or set(d) - {"on", "force", "torque", "table", "when"}:
+        if "link" not in d or d.get("opposing") or set(d) - {"link", "force", "torque", "table", "when"}:
             raise NotImplementedError("load %s: %s" % (key, d))
-        b = self.body[d["on"]]
+        b = self.body[d["link"]]
         ld = {"key": key, "body": b, "when": d.get("when", "always")}
         if "torque" in d:
             ld.update(kind="torque", value=num(d["torque"]))
         elif "force" in d or "table" in d:
             if b not in self.slider_joint:
-                raise ValueError("load %s: %s is not a slider" % (key, d["on"]))
+                raise ValueError("load %s: %s is not a slider" % (key, d["link"]))
             if "force" in d:
                 ld.update(kind="force", value=num(d["force"]))
             else:
