@@ -45,8 +45,8 @@ enum class Kind {
   neg_coordinate,  // minus that
   speed,           // |an output's velocity|
   acceleration,    // |an output's acceleration|
-  pressure,        // an RRP group's pressure angle: the rod against the line
-  transmission,    // minus an RRR group's transmission angle (acute)
+  pressure,        // the sine of an RRP group's pressure angle (the rod against the line)
+  transmission,    // minus the sine of an RRR group's transmission angle (acute)
   torque,          // |driving torque|
   energy,          // kinetic energy
 };
@@ -144,7 +144,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> plain;  // the values as doubles
     std::vector<Dual> vdual;    // ... as Duals (their slope: the crank angle's)
     std::vector<double> grids;
-    std::vector<double> ref;  // each output's direction at phi = 0 (x, y)
+    std::vector<double> ref;  // each output's direction at phi = 0 (x, y, its angle)
     std::vector<mech::CycleMaxSearch> searches;
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
@@ -164,10 +164,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const double* vd = ws.plain.data();
     // The outputs' reference directions, at phi = 0.
     if (!solve_at(vd, 0.0, ws.sd, out)) return;
-    ws.ref.resize(2 * d_.outputs.size());
+    ws.ref.resize(3 * d_.outputs.size());
     for (size_t o = 0; o < d_.outputs.size(); ++o) {
       const auto& e = ws.sd.axis[static_cast<size_t>(d_.outputs[o].link)];
-      ws.ref[2 * o] = e.x.v, ws.ref[2 * o + 1] = e.y.v;
+      ws.ref[3 * o] = e.x.v, ws.ref[3 * o + 1] = e.y.v, ws.ref[3 * o + 2] = std::atan2(e.y.v, e.x.v);
     }
     // Every asked quantity on the grid: the groups' margins, then what the
     // wanted metrics need.
@@ -187,7 +187,17 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     ws.searches.resize(nq);
     for (size_t q = 0; q < nq; ++q) ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un));
     auto search = [&](size_t from, size_t to) { run_searches(ws, from, to); };
-    search(0, n_margins);
+    // A group whose grid keeps it clear of a singular position by more than
+    // twice what the margin can dip between grid points (h^2 |f''| / 8,
+    // f'' from the largest second difference, as find_cycle_maxima bounds
+    // a peak) needs no refined search.
+    bool near_singular = false;
+    for (size_t g = 0; g < n_margins; ++g) {
+      const auto [top, bend] = mech::max_and_curvature(ws.searches[g].v);
+      ws.searches[g].value = top + bend / 4;  // an upper bound of the refined maximum
+      near_singular = near_singular || ws.searches[g].value > -kSingular * kSingular;
+    }
+    if (near_singular) search(0, n_margins);
     for (size_t g = 0; g < n_margins; ++g) {
       const auto& s = ws.searches[g];
       if (s.value <= -kSingular * kSingular) continue;
@@ -235,9 +245,12 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       const Metric& mt = metrics_[m];
       switch (mt.form) {
         case Form::peak: {
+          // (the angles' searches run on their sines: the same maxima, no asin)
+          using std::asin;
           const S top = at_max(find(mt.q));
-          const bool least = mt.q.kind == Kind::transmission || mt.q.kind == Kind::neg_coordinate;
-          out.put(static_cast<int>(m), least ? S(-top) : top);
+          if (mt.q.kind == Kind::pressure) out.put(static_cast<int>(m), S(asin(top)));
+          else if (mt.q.kind == Kind::transmission) out.put(static_cast<int>(m), S(asin(S(-top))));
+          else out.put(static_cast<int>(m), mt.q.kind == Kind::neg_coordinate ? S(-top) : top);
           break;
         }
         case Form::range: out.put(static_cast<int>(m), S(at_max(find(mt.q)) + at_max(find(mt.q2)))); break;
@@ -268,6 +281,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         if (!mech::linkage::solve(c, ws.vdual.data(), Dual(a.phi, 1.0), ws.sdual) &&
             (q.kind != Kind::margin || ws.sdual.failed <= q.index)) {
           a.out = a.slope ? 0.0 : 1.0;  // past a failure: above every margin
+          continue;
+        }
+        if (a.slope && (q.kind == Kind::coordinate || q.kind == Kind::neg_coordinate)) {
+          a.out = coordinate_jet(q, ws.sdual, ws).d.v;  // the rate, without the angle's atan2
           continue;
         }
         const Dual f = quantity(q, ws.vdual.data(), ws.sdual, ws);
@@ -347,9 +364,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       x = st.slide[static_cast<size_t>(o.link)];
     } else {
       const auto& e = st.axis[static_cast<size_t>(o.link)];
-      const double rx = ws.ref[2 * static_cast<size_t>(q.index)], ry = ws.ref[2 * static_cast<size_t>(q.index) + 1];
-      x = mech::linkage::angle_of(e);
-      x.v = T(atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v)) + std::atan2(ry, rx));
+      const size_t i = static_cast<size_t>(q.index);
+      const double rx = ws.ref[3 * i], ry = ws.ref[3 * i + 1];
+      x = mech::linkage::angle_rates(e);
+      x.v = T(atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v)) + ws.ref[3 * i + 2]);
     }
     return q.kind == Kind::neg_coordinate ? -x : x;
   }
@@ -491,11 +509,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       }
       case Kind::pressure: {
         const auto& g = c.groups()[static_cast<size_t>(q.index)];
-        return T(asin(T(abs(cross_v(axis(g.second), axis(g.first))))));
+        return T(abs(cross_v(axis(g.second), axis(g.first))));
       }
       case Kind::transmission: {
         const auto& g = c.groups()[static_cast<size_t>(q.index)];
-        return T(-asin(T(abs(cross_v(axis(g.first), axis(g.second))))));
+        return T(-abs(cross_v(axis(g.first), axis(g.second))));
       }
       case Kind::torque: {
         const auto p = mech::linkage::drive_point(c, v, st);

@@ -65,16 +65,16 @@ S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi) {
   S sum(0.0);
   for (const Load& l : c.loads()) {
     const size_t k = static_cast<size_t>(l.link);
-    S rate, coordinate;  // the rate the load's power takes, and the coordinate a table reads
+    S rate(0.0), coordinate(0.0);  // the rate the load's power takes, and the coordinate a table reads
     if (l.kind == Load::Kind::force) {
       const Vec<S>& u = st.axis[k];
       const Vec<S>& B = st.point[static_cast<size_t>(c.links()[k].origin)];
       rate = S(u.x.v * B.x.d + u.y.v * B.y.d);
       coordinate = st.slide[k].v;
     } else {
-      rate = st.angle(l.link).d;
-      if (l.other != kNone) rate = S(rate - st.angle(l.other).d);
-      coordinate = st.angle(l.link).v;
+      rate = st.rates(l.link).d;
+      if (l.other != kNone) rate = S(rate - st.rates(l.other).d);
+      if (l.over == Load::Over::position) coordinate = st.angle(l.link).v;
     }
     const double along = l.kind == Load::Kind::force ? value(st.slide[k].d) : value(rate);
     if ((l.when > 0 && !(along > 0)) || (l.when < 0 && !(along < 0))) continue;
@@ -103,7 +103,7 @@ DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
   const auto& links = c.links();
   for (size_t k = 0; k < links.size(); ++k) {
     if (!inertial(links[k], v, st, static_cast<int>(k), b)) continue;
-    const Jet<S> t = st.angle(static_cast<int>(k));
+    const Jet<S> t = st.rates(static_cast<int>(k));
     const Jet<S> &x = b.G.x, &y = b.G.y;
     energy += b.m * (x.d * x.d + y.d * y.d) + b.J * t.d * t.d;
     inertia += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;

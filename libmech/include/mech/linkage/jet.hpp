@@ -8,6 +8,8 @@
 #include <cmath>
 #include <type_traits>
 
+#include "mech/inline.hpp"
+
 namespace mech::linkage {
 
 template <class S>
@@ -16,64 +18,64 @@ struct Jet {
 };
 
 template <class S>
-Jet<S> constant(const S& x) {
+MECH_INLINE Jet<S> constant(const S& x) {
   return {x, S(0.0), S(0.0)};
 }
 
 template <class S>
-Jet<S> operator+(const Jet<S>& a, const Jet<S>& b) {
+MECH_INLINE Jet<S> operator+(const Jet<S>& a, const Jet<S>& b) {
   return {S(a.v + b.v), S(a.d + b.d), S(a.dd + b.dd)};
 }
 template <class S>
-Jet<S> operator-(const Jet<S>& a, const Jet<S>& b) {
+MECH_INLINE Jet<S> operator-(const Jet<S>& a, const Jet<S>& b) {
   return {S(a.v - b.v), S(a.d - b.d), S(a.dd - b.dd)};
 }
 template <class S>
-Jet<S> operator-(const Jet<S>& a) {
+MECH_INLINE Jet<S> operator-(const Jet<S>& a) {
   return {S(-a.v), S(-a.d), S(-a.dd)};
 }
 // (f g)'' = f'' g + 2 f' g' + f g''
 template <class S>
-Jet<S> operator*(const Jet<S>& a, const Jet<S>& b) {
+MECH_INLINE Jet<S> operator*(const Jet<S>& a, const Jet<S>& b) {
   return {S(a.v * b.v), S(a.d * b.v + a.v * b.d), S(a.dd * b.v + 2.0 * (a.d * b.d) + a.v * b.dd)};
 }
 // A jet times a constant (a number converts to S: S is not deduced from it).
 template <class S>
-Jet<S> operator*(const Jet<S>& a, const std::type_identity_t<S>& k) {
+MECH_INLINE Jet<S> operator*(const Jet<S>& a, const std::type_identity_t<S>& k) {
   return {S(a.v * k), S(a.d * k), S(a.dd * k)};
 }
 template <class S>
-Jet<S> operator*(const std::type_identity_t<S>& k, const Jet<S>& a) {
+MECH_INLINE Jet<S> operator*(const std::type_identity_t<S>& k, const Jet<S>& a) {
   return a * k;
 }
 // q = a / b: q' = (a' - q b') / b, q'' = (a'' - 2 q' b' - q b'') / b
 template <class S>
-Jet<S> operator/(const Jet<S>& a, const Jet<S>& b) {
+MECH_INLINE Jet<S> operator/(const Jet<S>& a, const Jet<S>& b) {
   const S q = a.v / b.v;
   const S dq = (a.d - q * b.d) / b.v;
   return {q, dq, S((a.dd - 2.0 * (dq * b.d) - q * b.dd) / b.v)};
 }
 template <class S>
-Jet<S> operator/(const Jet<S>& a, const std::type_identity_t<S>& k) {
+MECH_INLINE Jet<S> operator/(const Jet<S>& a, const std::type_identity_t<S>& k) {
   return {S(a.v / k), S(a.d / k), S(a.dd / k)};
 }
 // r = sqrt(a): 2 r r' = a', 2 (r r'' + r'^2) = a''
 template <class S>
-Jet<S> sqrt(const Jet<S>& a) {
+MECH_INLINE Jet<S> sqrt(const Jet<S>& a) {
   using std::sqrt;
   const S r = sqrt(a.v);
   const S dr = a.d / (2.0 * r);
   return {r, dr, S((a.dd - 2.0 * (dr * dr)) / (2.0 * r))};
 }
 template <class S>
-Jet<S> sin(const Jet<S>& a) {
+MECH_INLINE Jet<S> sin(const Jet<S>& a) {
   using std::cos;
   using std::sin;
   const S s = sin(a.v), c = cos(a.v);
   return {s, S(c * a.d), S(c * a.dd - s * (a.d * a.d))};
 }
 template <class S>
-Jet<S> cos(const Jet<S>& a) {
+MECH_INLINE Jet<S> cos(const Jet<S>& a) {
   using std::cos;
   using std::sin;
   const S s = sin(a.v), c = cos(a.v);
@@ -87,40 +89,40 @@ struct Vec {
   Jet<S> x, y;
 };
 template <class S>
-Vec<S> operator+(const Vec<S>& a, const Vec<S>& b) {
+MECH_INLINE Vec<S> operator+(const Vec<S>& a, const Vec<S>& b) {
   return {a.x + b.x, a.y + b.y};
 }
 template <class S>
-Vec<S> operator-(const Vec<S>& a, const Vec<S>& b) {
+MECH_INLINE Vec<S> operator-(const Vec<S>& a, const Vec<S>& b) {
   return {a.x - b.x, a.y - b.y};
 }
 template <class S>
-Vec<S> operator*(const Jet<S>& k, const Vec<S>& a) {
+MECH_INLINE Vec<S> operator*(const Jet<S>& k, const Vec<S>& a) {
   return {k * a.x, k * a.y};
 }
 template <class S>
-Vec<S> operator*(const std::type_identity_t<S>& k, const Vec<S>& a) {
+MECH_INLINE Vec<S> operator*(const std::type_identity_t<S>& k, const Vec<S>& a) {
   return {a.x * k, a.y * k};
 }
 template <class S>
-Vec<S> operator/(const Vec<S>& a, const Jet<S>& k) {
+MECH_INLINE Vec<S> operator/(const Vec<S>& a, const Jet<S>& k) {
   return {a.x / k, a.y / k};
 }
 template <class S>
-Vec<S> operator/(const Vec<S>& a, const std::type_identity_t<S>& k) {
+MECH_INLINE Vec<S> operator/(const Vec<S>& a, const std::type_identity_t<S>& k) {
   return {a.x / k, a.y / k};
 }
 template <class S>
-Jet<S> dot(const Vec<S>& a, const Vec<S>& b) {
+MECH_INLINE Jet<S> dot(const Vec<S>& a, const Vec<S>& b) {
   return a.x * b.x + a.y * b.y;
 }
 template <class S>
-Jet<S> cross(const Vec<S>& a, const Vec<S>& b) {
+MECH_INLINE Jet<S> cross(const Vec<S>& a, const Vec<S>& b) {
   return a.x * b.y - a.y * b.x;
 }
 // a turned by +90 degrees
 template <class S>
-Vec<S> rot90(const Vec<S>& a) {
+MECH_INLINE Vec<S> rot90(const Vec<S>& a) {
   return {-a.y, a.x};
 }
 
@@ -128,9 +130,15 @@ Vec<S> rot90(const Vec<S>& a) {
 // e'' = t'' n - t'^2 e (n = rot90(e)), so t' = e x e' and t'' = e x e''.
 // The value is atan2's, in (-pi, pi].
 template <class S>
-Jet<S> angle_of(const Vec<S>& e) {
+MECH_INLINE Jet<S> angle_of(const Vec<S>& e) {
   using std::atan2;
   return {S(atan2(e.y.v, e.x.v)), S(e.x.v * e.y.d - e.y.v * e.x.d), S(e.x.v * e.y.dd - e.y.v * e.x.dd)};
+}
+// ... its rates only (t', t''; the value left 0): what energies and powers
+// need, without the atan2.
+template <class S>
+MECH_INLINE Jet<S> angle_rates(const Vec<S>& e) {
+  return {S(0.0), S(e.x.v * e.y.d - e.y.v * e.x.d), S(e.x.v * e.y.dd - e.y.v * e.x.dd)};
 }
 
 }  // namespace mech::linkage

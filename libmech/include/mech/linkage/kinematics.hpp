@@ -32,6 +32,8 @@ struct State {
   }
   // A link's angle in (-pi, pi] with its transfer functions.
   Jet<S> angle(int link) const { return angle_of(axis[static_cast<size_t>(link)]); }
+  // Its transfer functions alone (the value 0).
+  Jet<S> rates(int link) const { return angle_rates(axis[static_cast<size_t>(link)]); }
 };
 
 namespace detail {
@@ -98,9 +100,9 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         const S &a = v[first.length], &b = v[second.length];
         const Vec<S>& Q = st.point[static_cast<size_t>(gr.q)];
         const Vec<S> d = Q - P;
-        const Jet<S> d2 = dot(d, d);
-        const Jet<S> f = (d2 + constant(S(a * a - b * b))) / (d2 * 2.0);
-        const Jet<S> g2 = constant(S(a * a)) / d2 - f * f;
+        const Jet<S> inv = constant(S(1.0)) / dot(d, d);
+        const Jet<S> f = (constant(S(1.0)) + S(a * a - b * b) * inv) * 0.5;
+        const Jet<S> g2 = S(a * a) * inv - f * f;
         if (!(value(g2.v) > 0)) return st.failed = static_cast<int>(g), false;
         const Jet<S> gb = sqrt(g2) * double(gr.branch);
         const Vec<S> B = P + Vec<S>{f * d.x - gb * d.y, f * d.y + gb * d.x};

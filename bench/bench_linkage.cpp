@@ -1,0 +1,58 @@
+// The general linkage against the hand-written problems on the same
+// mechanism, in one process: one evaluation of the same metrics through the
+// Problem interface (a kept workspace, as a driver or a DOE thread holds
+// one), at the configs' designs. The ratio general / hand-written is the
+// cost of describing a mechanism instead of writing it (issue 34's target:
+// at most 3). Counters: the first metric's value, equal on both rows.
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "opt/registry.hpp"
+
+namespace {
+
+struct Case {
+  const char* config;
+  std::vector<std::string> metrics;
+};
+
+// range(0): the case; range(1): 1 with gradients.
+const Case kCases[] = {
+    {"slider_crank/stroke.yaml", {"stroke", "peak_slider_acceleration", "max_pressure_angle"}},
+    {"linkage/slider_crank.yaml", {"ram_stroke", "ram_peak_acceleration", "max_pressure_angle"}},
+    {"conveyor_swing/free_links.yaml",
+     {"peak_crank_torque", "mean_abs_crank_torque", "rms_crank_torque", "max_pressure_angle", "swing_angle",
+      "time_ratio"}},
+    {"linkage/conveyor_swing.yaml",
+     {"peak_drive_torque", "mean_abs_drive_torque", "rms_drive_torque", "min_transmission_angle", "rocker_stroke",
+      "rocker_time_ratio"}},
+    {"conveyor_swing/free_links.yaml", {"peak_crank_torque", "max_pressure_angle", "swing_angle"}},
+    {"linkage/conveyor_swing.yaml", {"peak_drive_torque", "min_transmission_angle", "rocker_stroke"}},
+};
+
+void BM_Evaluate(benchmark::State& state) {
+  const Case& c = kCases[state.range(0)];
+  const auto p = opt::make_problem(opt::ConfigNode::load(std::string(MECHOPT_SOURCE_DIR) + "/configs/" + c.config));
+  opt::MetricSet wanted;
+  for (const auto& m : c.metrics) wanted.add(p->metric_id(m));
+  const Eigen::VectorXd x = p->initial_point();
+  const bool gradient = state.range(1) != 0;
+  const auto ws = p->make_workspace();
+  opt::Evaluation e;
+  for (auto _ : state) {
+    p->evaluate(x, wanted, gradient, e, *ws);
+    benchmark::DoNotOptimize(e);
+  }
+  state.counters["value"] = e.ok() ? e[p->metric_id(c.metrics[0])].value : -1;
+  state.SetLabel(c.config);
+}
+BENCHMARK(BM_Evaluate)
+    ->Args({0, 0})->Args({1, 0})->Args({2, 0})->Args({3, 0})->Args({4, 0})->Args({5, 0})
+    ->Args({0, 1})->Args({1, 1})->Args({4, 1})->Args({5, 1})
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
