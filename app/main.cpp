@@ -21,6 +21,7 @@
 #include "opt/study.hpp"
 #include "opt/units.hpp"
 #include "opt/registry.hpp"
+#include "problems/linkage/description.hpp"
 
 namespace {
 
@@ -48,6 +49,9 @@ usage:
   mechopt check-derivatives CONFIG [--set KEY=VALUE]
                                           every metric's gradient (autodiff) against central
                                           differences at the model values, per variable
+  mechopt kinematics CONFIG [--angles "0,37,90 deg"]
+                                          a linkage's points, links, torque and energy at
+                                          crank angles, as JSON (docs/linkage.md)
   mechopt list [--markdown]               problems (every model key with its default, domain
                                           and source; variables; metrics) and algorithms
   mechopt COMMAND --help                  a command's arguments and options
@@ -83,6 +87,18 @@ options:
   --dry-run               doe: estimate the time and the store's size; writes nothing
   --shard I/N|auto        doe: run piece I of N into its own store (auto: from a Slurm
                           job array's SLURM_ARRAY_TASK_ID, _MIN and _COUNT)
+  -h, --help              this help
+)"},
+    {"kinematics", R"(usage: mechopt kinematics CONFIG [--angles LIST]
+
+Prints a `problem: linkage` config's mechanism at its model values as JSON
+(SI): every point's position, velocity and acceleration, every link's angle,
+rate and acceleration, each slider's motion along its line, the groups'
+transmission and pressure angles, the driving torque and kinetic energy.
+
+options:
+  --angles LIST           crank angles, e.g. "0,37,90 deg" (a unit after the
+                          last applies to those without one); default every 30 deg
   -h, --help              this help
 )"},
     {"eval", R"(usage: mechopt eval CONFIG [--set KEY=VALUE]...
@@ -186,6 +202,7 @@ struct Args {
   bool doe_only_flags = false;  // --progress, --shard, --new, --dry-run (a sweep takes --threads, --force)
   std::string export_format;               // export: csv | json | canonical
   std::vector<std::string> stores;         // export, merge, check, recover
+  std::string angles = "0,30,60,90,120,150,180,210,240,270,300,330 deg";  // kinematics
 };
 
 
@@ -272,6 +289,8 @@ Args parse_args(int argc, char** argv) {
         if (eq == std::string::npos || eq == 0) usage_error("--set expects KEY=VALUE, got '" + val + "'");
         a.sets.emplace_back(val.substr(0, eq), val.substr(eq + 1));
       }
+    } else if (v[i] == "--angles" && a.command == "kinematics" && i + 1 < v.size()) {
+      a.angles = v[++i];
     } else if (v[i] == "--markdown" && a.command == "list") {
       a.markdown = true;
     } else if (a.config.empty() && v[i][0] != '-') {
@@ -280,7 +299,8 @@ Args parse_args(int argc, char** argv) {
       usage_error("unexpected argument '" + v[i] + "'");
     }
   }
-  const bool takes_config = a.command == "run" || a.command == "eval" || a.command == "check-derivatives";
+  const bool takes_config =
+      a.command == "run" || a.command == "eval" || a.command == "check-derivatives" || a.command == "kinematics";
   if (takes_config && a.config.empty())
     usage_error(a.command + " needs a CONFIG file");
   if (!a.sets.empty() && a.command != "eval" && a.command != "check-derivatives")
@@ -518,6 +538,18 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (a.command == "run" || a.command == "eval" || a.command == "check-derivatives") return run(a);
+    if (a.command == "kinematics") {
+      const opt::ConfigNode root = opt::ConfigNode::load(a.config);
+      if (root.at("problem").text() != "linkage") root.at("problem").fail("kinematics takes a `problem: linkage` config");
+      std::vector<double> angles;
+      try {
+        angles = problems::linkage::crank_angles(a.angles);
+      } catch (const std::invalid_argument& e) {
+        usage_error(std::string("--angles: ") + e.what());
+      }
+      std::cout << problems::linkage::kinematics_report(root, angles).dump(2) << "\n";
+      return 0;
+    }
     if (a.command == "export") {
       try {
         if (a.export_format == "json") opt::doe::export_json(a.stores[0], std::cout);

@@ -21,6 +21,7 @@
 #include "mech/linkage/dynamics.hpp"
 #include "opt/registry.hpp"
 #include "problems/linkage/description.hpp"
+#include "cli.hpp"
 
 namespace {
 
@@ -111,6 +112,28 @@ TEST_P(Reference, CycleMaxima) {
   for (const auto& [group, a] : cycle["min_transmission_angle"].items()) least = std::min(least, num(a["value"]));
   if (top >= 0) expect("max_pressure_angle", top);
   if (least < 10) expect("min_transmission_angle", least);
+}
+
+// `mechopt kinematics` prints the same state the reference has.
+TEST(Kinematics, PrintsTheStateAtTheAskedAngles) {
+  const auto ref = reference()["configs"]["whitworth_shaper"]["at_deg"];
+  const auto r = cli::run("kinematics " + kSource + "/configs/linkage/whitworth_shaper.yaml --angles '0, 37 deg'");
+  ASSERT_TRUE(r.exited(0)) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  ASSERT_EQ(j["angles"].size(), 2u);
+  const double w = j["crank_speed"];
+  for (const auto& [i, deg] : {std::pair{0, "0"}, {1, "37"}}) {
+    const auto& a = j["angles"][static_cast<size_t>(i)];
+    const auto& at = ref[deg];
+    EXPECT_NEAR(a["drive_torque"].get<double>(), num(at["drive_torque_virtual_power"]), 1e-9);
+    EXPECT_NEAR(a["points"]["C"]["x"].get<double>(), num(at["points"]["C"]["x"]), 1e-13);
+    EXPECT_NEAR(a["points"]["C"]["vx"].get<double>(), num(at["points"]["C"]["dx"]) * w, 1e-12);
+    EXPECT_NEAR(a["sliders"]["ram"]["acceleration"].get<double>(), num(at["sliders"]["ram"]["dd"]) * w * w, 1e-11);
+  }
+  const auto wrong = cli::run("kinematics " + kSource + "/configs/slider_crank/stroke.yaml");
+  EXPECT_TRUE(wrong.exited(2));
+  EXPECT_NE(wrong.output.find("key 'problem': kinematics takes a `problem: linkage` config"), std::string::npos)
+      << wrong.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(Linkages, Reference,

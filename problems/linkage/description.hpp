@@ -3,6 +3,7 @@
 // address: docs/design/linkage.md, sections 1-2). Bad input is an
 // opt::ConfigError naming the file, line and key.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -31,5 +32,21 @@ struct Description {
 // The description under root's `model` (a built-in slider-crank when the
 // config has none: `mechopt list` shows its metrics).
 Description read_description(const opt::ConfigNode& root);
+
+}  // namespace problems::linkage
+
+namespace problems::linkage {
+
+// `mechopt kinematics`: the linkage of a `problem: linkage` config at its
+// model values, at each crank angle (rad): every point's position,
+// velocity and acceleration, every link's angle, rate and acceleration,
+// each slider's coordinate, speed and acceleration along its line, the
+// groups' transmission and pressure angles, the driving torque and the
+// kinetic energy, SI. An angle where a group cannot assemble says so.
+nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<double>& angles);
+
+// "0,37,90 deg": the angles in radians; a unit after the last item applies
+// to the items written without one. std::invalid_argument names a bad item.
+std::vector<double> crank_angles(const std::string& list);
 
 }  // namespace problems::linkage

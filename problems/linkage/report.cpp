@@ -1,0 +1,85 @@
+// `mechopt kinematics`: a linkage's state at chosen crank angles as JSON,
+// for checking a description against a drawing or a hand calculation.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "mech/linkage/dynamics.hpp"
+#include "problems/linkage/description.hpp"
+
+namespace problems::linkage {
+
+std::vector<double> crank_angles(const std::string& list) {
+  std::vector<std::string> items;
+  for (size_t from = 0, comma; from <= list.size(); from = comma + 1) {
+    comma = std::min(list.find(',', from), list.size());
+    items.push_back(list.substr(from, comma - from));
+  }
+  const char* number = "0123456789.+-eE ";
+  const std::string& last = items.back();
+  const size_t cut = last.find_first_not_of(number, last.find_first_not_of(' '));
+  const std::string unit = cut == std::string::npos ? "" : last.substr(cut);
+  std::vector<double> out;
+  for (const auto& item : items) {
+    const bool bare = item.find_first_not_of(number) == std::string::npos;
+    const auto q = opt::parse_quantity(bare ? item + " " + unit : item, opt::Dimension::angle);
+    if (!q.error.empty()) throw std::invalid_argument("'" + item + "': " + q.error);
+    out.push_back(q.value);
+  }
+  return out;
+}
+
+nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<double>& angles) {
+  const Description d = read_description(root);
+  const auto& c = d.chain;
+  const double* v = c.defaults().data();
+  const double w = v[static_cast<size_t>(c.crank().speed)], w2 = w * w;
+  mech::linkage::State<double> st;
+  st.resize(c);
+  nlohmann::json out = {{"problem", "linkage"},
+                        {"units", "SI: m, m/s, m/s^2, rad, rad/s, rad/s^2, N m, J"},
+                        {"crank_speed", w},
+                        {"angles", nlohmann::json::array()}};
+  const bool dynamics = d.has_mass || !c.loads().empty();
+  for (double phi : angles) {
+    nlohmann::json a = {{"crank_angle", phi}, {"crank_angle_deg", phi * 180 / std::numbers::pi}};
+    if (!mech::linkage::solve(c, v, phi, st)) {
+      a["status"] = "cannot_assemble";
+      a["group"] = c.group_name(st.failed);
+      out["angles"].push_back(a);
+      continue;
+    }
+    a["status"] = "ok";
+    for (size_t p = 0; p < c.point_names().size(); ++p) {
+      const auto& q = st.point[p];
+      a["points"][c.point_names()[p]] = {{"x", q.x.v}, {"y", q.y.v}, {"vx", q.x.d * w}, {"vy", q.y.d * w},
+                                         {"ax", q.x.dd * w2}, {"ay", q.y.dd * w2}};
+    }
+    for (size_t k = 0; k < c.links().size(); ++k) {
+      const auto t = st.angle(static_cast<int>(k));
+      a["links"][c.links()[k].name] = {{"angle", t.v}, {"rate", t.d * w}, {"acceleration", t.dd * w2}};
+      if (c.links()[k].length == mech::linkage::kNone) {
+        const auto& s = st.slide[k];
+        a["sliders"][c.links()[k].name] = {{"position", s.v}, {"velocity", s.d * w}, {"acceleration", s.dd * w2}};
+      }
+    }
+    for (size_t g = 0; g < c.groups().size(); ++g) {
+      const auto& gr = c.groups()[g];
+      const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
+      const double sine = std::abs(e1.x.v * e2.y.v - e1.y.v * e2.x.v);
+      if (gr.type == mech::linkage::GroupType::RRR) a["transmission_angles"][c.group_name(static_cast<int>(g))] = std::asin(sine);
+      if (gr.type == mech::linkage::GroupType::RRP) a["pressure_angles"][c.group_name(static_cast<int>(g))] = std::asin(sine);
+    }
+    if (dynamics) {
+      const auto p = mech::linkage::drive_point(c, v, st);
+      a["drive_torque"] = p.torque;
+      a["load_torque"] = -mech::linkage::load_power(c, v, st, phi);
+      a["kinetic_energy"] = p.energy * w2;
+    }
+    out["angles"].push_back(a);
+  }
+  return out;
+}
+
+}  // namespace problems::linkage
