@@ -11,7 +11,9 @@
 #include <numbers>
 #include <string>
 
+#include "mech/linkage/dynamics.hpp"
 #include "opt/registry.hpp"
+#include "problems/linkage/description.hpp"
 
 namespace {
 
@@ -147,6 +149,38 @@ TEST(LinkageProblem, FourBarTransmissionAngle) {
     return std::acos((1 + c * c - ab * ab) / (2 * c));
   };
   EXPECT_NEAR(e.at("rocker_stroke"), rocker(b + 0.3) - rocker(b - 0.3), 1e-13);
+}
+
+// A spring between the ram's pin and a ground point, no masses: the torque
+// the crank needs is the slope of the spring's potential k (L - L0)^2 / 2
+// (central differences of positions), and its cycle mean is zero.
+TEST(LinkageProblem, SpringTorqueIsItsPotentialsSlope) {
+  const std::string yaml = slider_crank("  springs: {buffer: {between: [B, S1], rate: 20 kN/m, free_length: 0.5 m}}\n");
+  std::string text = yaml;
+  text.replace(text.find("S0: [0 m, 0 m]"), 14, "S0: [0 m, 0 m], S1: [1.6 m, 0.3 m]");
+  text.replace(text.find("mass: 10 kg, "), 13, "");  // no masses: the spring alone
+  const auto root = opt::ConfigNode::parse(text, "<linkage>");
+  const auto d = problems::linkage::read_description(root);
+  const auto& c = d.chain;
+  mech::linkage::State<double> st;
+  st.resize(c);
+  auto potential = [&](double phi) {
+    EXPECT_TRUE(mech::linkage::solve(c, c.defaults().data(), phi, st));
+    const auto& b = st.point[static_cast<size_t>(c.find_point("B"))];
+    const double stretch = std::hypot(b.x.v - 1.6, b.y.v - 0.3) - 0.5;
+    return 20e3 * stretch * stretch / 2;
+  };
+  const double h = 1e-5;
+  for (double phi : {0.3, 1.7, 2.9, 4.2, 5.5}) {
+    const double slope = (potential(phi + h) - potential(phi - h)) / (2 * h);
+    mech::linkage::solve(c, c.defaults().data(), phi, st);
+    EXPECT_NEAR(mech::linkage::drive_point(c, c.defaults().data(), st).torque, slope, 1e-6 * std::abs(slope) + 1e-6);
+  }
+  const auto p = make(text);
+  const auto e = p->evaluate(p->initial_point(), opt::MetricSet::all(), false);
+  ASSERT_TRUE(e.ok()) << e.message;
+  EXPECT_NEAR(e.at("mean_drive_torque"), 0, 1e-12);  // conservative: no work a revolution
+  EXPECT_GT(e.at("peak_drive_torque"), 100);
 }
 
 TEST(LinkageProblem, TypedStatuses) {

@@ -49,7 +49,8 @@ class Reader {
   explicit Reader(const ConfigNode& model) : model_(model) {}
 
   Description read() {
-    model_.allow_only({"gravity", "cycle_points", "ground", "crank", "links", "groups", "loads", "outputs"});
+    model_.allow_only(
+        {"gravity", "cycle_points", "ground", "crank", "links", "groups", "loads", "springs", "outputs"});
     if (model_.has("gravity")) {
       const std::string g = model_.at("gravity").choice({"on", "off", "true", "false"});
       d_.chain.set_gravity(g == "on" || g == "true" ? 9.80665 : 0.0);
@@ -74,6 +75,10 @@ class Reader {
     if (model_.has("loads")) {
       const ConfigNode loads = model_.at("loads");
       for (const auto& name : loads.keys()) read_load(loads.at(name), name);
+    }
+    if (model_.has("springs")) {
+      const ConfigNode springs = model_.at("springs");
+      for (const auto& name : springs.keys()) read_spring(springs.at(name), name);
     }
     if (model_.has("outputs"))
       for (const auto& o : model_.at("outputs").items()) {
@@ -308,6 +313,19 @@ class Reader {
     if (n.has("opposing")) l.opposing = n.at("opposing").boolean();
     d_.chain.add_load(std::move(l));
   }
+  // A spring between two points (each a ground point or fixed on a link).
+  void read_spring(const ConfigNode& n, const std::string& name) {
+    if (!identifier(name)) n.fail("a name is letters, digits and _ (not starting with a digit); got '" + name + "'");
+    n.allow_only({"between", "rate", "free_length"});
+    const auto ends = n.at("between").items();
+    if (ends.size() != 2) n.at("between").fail("expected the spring's two points [P, Q]");
+    const std::string at = "springs." + name;
+    d_.chain.add_spring({point(ends[0]), point(ends[1]),
+                         number_at(n, "rate", at, Dimension::linear_stiffness, opt::kNonNegative, "a spring's rate"),
+                         number_at(n, "free_length", at, Dimension::length, opt::kNonNegative,
+                                   "a spring's free length")});
+  }
+
   // The SI value of one `unit` (a table column's), of dimension d.
   static double scale(const ConfigNode& unit, Dimension d) {
     const opt::ParsedQuantity q = opt::parse_quantity("1 " + unit.text(), d);

@@ -97,7 +97,7 @@ std::vector<Metric> metrics_of(const Description& d) {
   };
   each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
   each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
-  if (d.has_mass || !d.chain.loads().empty()) {
+  if (d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) {
     add("peak_drive_torque", "N m", Form::peak, {Kind::torque, kNone});
     add("mean_drive_torque", "N m", Form::mean, {Kind::torque, kNone});
     add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
@@ -146,7 +146,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     State<double> st;
     st.resize(c);
     if (!mech::linkage::solve(c, v.data(), 0.0, st)) return {};
-    const bool dynamics = d_.has_mass || !c.loads().empty();
+    const bool dynamics = d_.has_mass || !c.loads().empty() || !c.springs().empty();
     opt::CycleCurves out;
     out.names = {"crank_angle"};
     out.units = {"rad"};
@@ -475,9 +475,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const int nodes = 2 * d_.cycle_points;
     const S& w = v[static_cast<size_t>(c.crank().speed)];
     // Which integrals the wanted means need: the torque's (|M|, M^2), the
-    // loads' (the mean torque: inertia, gravity and springs give back over
-    // a cycle what they take, so the mean is the loads' work alone, free of
-    // the cancellation of a large periodic torque), the energy's.
+    // loads' and springs' power (the mean torque: inertia and gravity give
+    // back over a cycle what they take, so the mean is the loads' work,
+    // free of the cancellation of a large periodic torque; the springs'
+    // share integrates to zero), the energy's.
     bool torque = false, work = false, energy = false;
     for (size_t m = 0; m < metrics_.size(); ++m) {
       if (!out.want(static_cast<int>(m)) || metrics_[m].form < Form::mean) continue;

@@ -41,7 +41,7 @@ nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<
                         {"units", "SI: m, m/s, m/s^2, rad, rad/s, rad/s^2, N m, J"},
                         {"crank_speed", w},
                         {"angles", nlohmann::json::array()}};
-  const bool dynamics = d.has_mass || !c.loads().empty();
+  const bool dynamics = d.has_mass || !c.loads().empty() || !c.springs().empty();
   for (double phi : angles) {
     nlohmann::json a = {{"crank_angle", phi}, {"crank_angle_deg", phi * 180 / std::numbers::pi}};
     if (!mech::linkage::solve(c, v, phi, st)) {

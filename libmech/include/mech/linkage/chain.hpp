@@ -76,6 +76,13 @@ struct Load {
   bool opposing = false;
 };
 
+// A linear spring between two points: force rate * (|PQ| - free length),
+// pulling them together when stretched.
+struct Spring {
+  int p, q;
+  Slot rate, free_length;
+};
+
 struct Crank {
   int link = kNone, pivot = kNone, joint = kNone;
   Slot phase = kNone, speed = kNone;
@@ -124,6 +131,8 @@ class Chain {
     links_[link].mass_per_length = mass_per_length;
   }
   void add_load(Load l) { loads_.push_back(std::move(l)); }
+  void add_spring(Spring s) { springs_.push_back(s); }
+  const std::vector<Spring>& springs() const { return springs_; }
   const std::vector<Load>& loads() const { return loads_; }
   // Gravity's acceleration along -y (0: off).
   void set_gravity(double g) { gravity_ = g; }
@@ -241,6 +250,7 @@ class Chain {
   std::vector<Group> groups_;
   Crank crank_;
   std::vector<Load> loads_;
+  std::vector<Spring> springs_;
   double gravity_ = 0;
 };
 

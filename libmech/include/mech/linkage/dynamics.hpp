@@ -85,6 +85,13 @@ S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi) {
     if (l.kind == Load::Kind::friction || l.opposing) sum -= abs(size) * abs(rate);
     else sum += size * rate;
   }
+  using std::sqrt;
+  for (const Spring& sp : c.springs()) {
+    const Vec<S> d = st.point[static_cast<size_t>(sp.p)] - st.point[static_cast<size_t>(sp.q)];
+    const S length = sqrt(S(d.x.v * d.x.v + d.y.v * d.y.v));
+    const S stretch_rate = S((d.x.v * d.x.d + d.y.v * d.y.d) / length);
+    sum -= v[sp.rate] * (length - v[sp.free_length]) * stretch_rate;
+  }
   return sum;
 }
 
