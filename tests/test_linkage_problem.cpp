@@ -116,6 +116,8 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
       {replaced("outputs: [ram]", "outputs: [ram, rum]"), "unknown link 'rum'"},
       {replaced("    rod: {length: 0.8 m}\n", "    rod: {length: 0.8 m}\n    spare: {length: 1 m}\n"),
        "no group or crank solves this link"},
+      {in(replaced("mass: 10 kg, ", ""), "outputs: [ram]\n", "outputs: [ram]\nobjective: {minimize: peak_drive_torque}\n"),
+       "'peak_drive_torque' needs masses, loads or springs in the model"},
   };
   for (const auto& c : cases) {
     const std::string what = error_of(c.yaml);

@@ -574,6 +574,31 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   std::vector<Metric> metrics_;
 };
 
+// A torque or energy metric named by the config's objective or constraints
+// when the description gives it none (no masses, loads or springs): a
+// located error that says what is missing, not just "unknown metric".
+void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>& metrics) {
+  auto offered = [&](const std::string& name) {
+    for (const auto& m : metrics)
+      if (m.spec.name == name) return true;
+    return false;
+  };
+  auto check = [&](const opt::ConfigNode& at, const std::string& name) {
+    const bool energy = name.find("kinetic_energy") != std::string::npos;
+    if (!offered(name) && (energy || name.find("drive_torque") != std::string::npos))
+      at.fail("'" + name + "' needs " +
+              (energy ? std::string("masses (a link's mass or mass_per_length)")
+                      : std::string("masses, loads or springs")) +
+              " in the model: this description has none");
+  };
+  if (root.has("objective"))
+    for (const char* key : {"minimize", "maximize"})
+      if (root.at("objective").is_map() && root.at("objective").has(key))
+        check(root.at("objective").at(key), root.at("objective").at(key).text());
+  if (root.has("constraints") && root.at("constraints").is_map())
+    for (const auto& name : root.at("constraints").keys()) check(root.at("constraints").at(name), name);
+}
+
 std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
   Description d = read_description(root);
   std::vector<Metric> metrics = metrics_of(d);
@@ -581,6 +606,7 @@ std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
     for (size_t j = 0; j < i; ++j)
       if (metrics[i].spec.name == metrics[j].spec.name)
         root.at("model").fail("two metrics would be named '" + metrics[i].spec.name + "': rename an output");
+  check_dynamics_asked(root, metrics);
   opt::Values<double> values = d.chain.defaults();
   std::vector<opt::Variable> vars = opt::parse_variables(root, opt::with_values(d.table, values));
   return std::make_unique<LinkageProblem>(std::move(d), std::move(metrics), std::move(values), std::move(vars));
