@@ -118,7 +118,8 @@ TEST(LinkageEquivalence, ConveyorSwing) {
                                      {"rms_crank_torque", "rms_drive_torque"},
                                      {"swing_angle", "rocker_stroke"},
                                      {"max_pressure_angle", "min_transmission_angle", As::complement},
-                                     {"time_ratio", "rocker_time_ratio", As::larger_ratio}};
+                                     {"time_ratio", "rocker_time_ratio", As::larger_ratio},
+                                     {"grashof_margin", "rocker_coupler_grashof_margin"}};
   auto map = [](const Eigen::VectorXd& x, Eigen::MatrixXd& j) {
     j = Eigen::MatrixXd::Identity(3, 3);
     return x;

@@ -14,6 +14,7 @@
 // slope in the crank angle from the chain solved on a Dual in phi, its
 // design gradient (Danskin) from the chain solved at the maximising angle
 // on the evaluation's scalar.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -61,6 +62,7 @@ enum class Form {
   peak,      // the cycle maximum of q (minus it for a transmission angle: its minimum)
   range,     // max q + max q2: a stroke
   ratio,     // the crank angle from q2's maximum to q's over the rest: the time ratio
+  grashof,   // a four-bar loop's p + q - s - l (group q.index), from the lengths alone
   mean,      // cycle means of q (the torque or the energy) ...
   mean_abs,  // ... of |q|
   rms,       // ... and its root mean square
@@ -95,6 +97,18 @@ std::vector<Metric> metrics_of(const Description& d) {
     for (const auto& g : groups) any = any || g.type == t;
     if (any) add(name, "rad", Form::peak, {k, kNone});
   };
+  // A four-bar loop: an RRR group on the crank's joint and a ground point.
+  const auto& c = d.chain;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const auto& gr = groups[g];
+    const bool on_crank = gr.p == c.crank().joint || gr.q == c.crank().joint;
+    bool on_ground = false;
+    for (const auto& gp : c.ground_points()) on_ground = on_ground || gp.first == gr.p || gp.first == gr.q;
+    if (gr.type == GroupType::RRR && on_crank && on_ground)
+      add(c.links()[static_cast<size_t>(gr.first)].name + "_" + c.links()[static_cast<size_t>(gr.second)].name +
+              "_grashof_margin",
+          "m", Form::grashof, {Kind::margin, static_cast<int>(g)});
+  }
   each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
   each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
   if (d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) {
@@ -201,6 +215,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       ws.sd.resize(c);
       ws.sdual.resize(c);
     }
+    for (size_t m = 0; m < metrics_.size(); ++m)  // defined for every design: a driver's constraint
+      if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(metrics_[m].q.index, v));
     ws.plain.resize(v.size());
     ws.vdual.resize(v.size());
     for (size_t i = 0; i < v.size(); ++i) ws.vdual[i] = Dual(ws.plain[i] = mech::value(v[i]));
@@ -307,6 +323,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           out.put(static_cast<int>(m), S(fwd / (mech::kTwoPi - fwd)));
           break;
         }
+        case Form::grashof: break;  // put first
         default: means = true;
       }
     }
@@ -314,6 +331,29 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   }
 
  private:
+  // Group g's four-bar loop (the crank, its two links, the frame between
+  // the crank's pivot and the ground point): the sum of the middle two
+  // lengths less the shortest and the longest; >= 0 lets a link turn fully.
+  template <class S>
+  S grashof_margin(int g, const opt::Values<S>& v) const {
+    const Chain& c = d_.chain;
+    const auto& gr = c.groups()[static_cast<size_t>(g)];
+    const int ground = gr.p == c.crank().joint ? gr.q : gr.p;
+    auto at = [&](int p) -> std::pair<S, S> {
+      for (const auto& gp : c.ground_points())
+        if (gp.first == p) return {v[static_cast<size_t>(gp.second.first)], v[static_cast<size_t>(gp.second.second)]};
+      return {S(0.0), S(0.0)};
+    };
+    using std::sqrt;
+    const auto [ax, ay] = at(c.crank().pivot);
+    const auto [bx, by] = at(ground);
+    const auto length = [&](int link) { return v[static_cast<size_t>(c.links()[static_cast<size_t>(link)].length)]; };
+    S l[4] = {length(c.crank().link), length(gr.first), length(gr.second),
+              S(sqrt(S((bx - ax) * (bx - ax) + (by - ay) * (by - ay))))};
+    std::sort(l, l + 4, [](const S& a, const S& b) { return mech::value(a) < mech::value(b); });
+    return S((l[1] + l[2]) - (l[0] + l[3]));
+  }
+
   // Runs searches [from, to) of ws (their quantities ws.asked[from, to)),
   // slopes from the chain on a Dual in phi.
   void run_searches(Workspace& ws, size_t from, size_t to) const {
