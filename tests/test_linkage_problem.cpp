@@ -67,6 +67,13 @@ TEST(LinkageProblem, MetricsOfTheCentredSliderCrank) {
   // Kinetic energy of the ram alone: m (x' w)^2 / 2 at its peak speed.
   const double v = e.at("ram_peak_velocity");
   EXPECT_NEAR(e.at("peak_kinetic_energy"), 10 * v * v / 2, 1e-12);
+  // The torque is the energy's slope alone (no loads): the work swing is
+  // the energy's, from 0 at the dead centres to its peak, so a flywheel
+  // keeping (w_max - w_min) / w = 0.05 has J = T_max / (0.05 w^2).
+  const auto f = make(slider_crank("  speed_fluctuation: 0.05\n"));
+  const auto ef = f->evaluate(f->initial_point(), {"flywheel_inertia", "peak_kinetic_energy"}, true);
+  ASSERT_TRUE(ef.ok()) << ef.message;
+  EXPECT_NEAR(ef.at("flywheel_inertia") * 0.05 * w * w, ef.at("peak_kinetic_energy"), 1e-12 * ef.at("peak_kinetic_energy"));
 }
 
 TEST(LinkageProblem, EveryNumberIsARowByItsAddress) {

@@ -50,12 +50,16 @@ class Reader {
 
   Description read() {
     model_.allow_only(
-        {"gravity", "cycle_points", "ground", "crank", "links", "groups", "loads", "springs", "outputs"});
+        {"gravity", "cycle_points", "speed_fluctuation", "ground", "crank", "links", "groups", "loads", "springs",
+         "outputs"});
     if (model_.has("gravity")) {
       const std::string g = model_.at("gravity").choice({"on", "off", "true", "false"});
       d_.chain.set_gravity(g == "on" || g == "true" ? 9.80665 : 0.0);
     }
     if (model_.has("cycle_points")) d_.cycle_points = model_.at("cycle_points").integer(8, 100000);
+    if (model_.has("speed_fluctuation"))
+      d_.speed_fluctuation = number(model_.at("speed_fluctuation"), "speed_fluctuation", Dimension::dimensionless,
+                                    {0, 1, true, false}, "the coefficient of speed fluctuation a flywheel keeps");
     const ConfigNode ground = model_.at("ground");
     for (const auto& name : ground.keys()) {
       const ConfigNode p = ground.at(name);

@@ -27,6 +27,9 @@ struct Description {
   std::vector<Output> outputs;
   int cycle_points = 64;
   bool has_mass = false;
+  // The coefficient of speed fluctuation a flywheel must keep, (w_max -
+  // w_min) / w (model.speed_fluctuation, a table row), or kNone.
+  mech::linkage::Slot speed_fluctuation = mech::linkage::kNone;
 };
 
 // The description under root's `model` (a built-in slider-crank when the

@@ -66,6 +66,7 @@ enum class Form {
   mean,      // cycle means of q (the torque or the energy) ...
   mean_abs,  // ... of |q|
   rms,       // ... and its root mean square
+  flywheel,  // the flywheel inertia that keeps the speed fluctuation: the torque's work swing / (delta w^2)
 };
 struct Metric {
   MetricSpec spec;
@@ -117,6 +118,8 @@ std::vector<Metric> metrics_of(const Description& d) {
     add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
     add("rms_drive_torque", "N m", Form::rms, {Kind::torque, kNone});
   }
+  if ((d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) && d.speed_fluctuation != kNone)
+    add("flywheel_inertia", "kg m^2", Form::flywheel, {Kind::torque, kNone});
   if (d.has_mass) {
     add("peak_kinetic_energy", "J", Form::peak, {Kind::energy, kNone});
     add("mean_kinetic_energy", "J", Form::mean, {Kind::energy, kNone});
@@ -519,10 +522,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     // back over a cycle what they take, so the mean is the loads' work,
     // free of the cancellation of a large periodic torque; the springs'
     // share integrates to zero), the energy's.
-    bool torque = false, work = false, energy = false;
+    bool torque = false, work = false, energy = false, flywheel = false;
     for (size_t m = 0; m < metrics_.size(); ++m) {
       if (!out.want(static_cast<int>(m)) || metrics_[m].form < Form::mean) continue;
       if (metrics_[m].q.kind == Kind::energy) energy = true;
+      else if (metrics_[m].form == Form::flywheel) flywheel = work = true;
       else (metrics_[m].form == Form::mean ? work : torque) = true;
     }
     const mech::ArcMeans<S> none{S(0.0), S(0.0), S(0.0)};
@@ -541,14 +545,69 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       me = mech::piecewise_means<S>(
           [&](double phi, double, double) { return S(mech::linkage::drive_point(c, v.data(), at(phi)).energy * w * w); },
           {}, nodes, ws.cycle, near);
+    S swing(0.0);
+    if (flywheel) swing = work_swing(v, ml.mean, kinks, near, ws);
     for (size_t m = 0; m < metrics_.size(); ++m) {
       const Metric& mt_m = metrics_[m];
       if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
       using std::sqrt;
-      if (mt_m.q.kind == Kind::energy) out.put(static_cast<int>(m), me.mean);
+      if (mt_m.form == Form::flywheel)
+        out.put(static_cast<int>(m), S(swing / (v[static_cast<size_t>(d_.speed_fluctuation)] * w * w)));
+      else if (mt_m.q.kind == Kind::energy) out.put(static_cast<int>(m), me.mean);
       else if (mt_m.form == Form::mean) out.put(static_cast<int>(m), ml.mean);
       else out.put(static_cast<int>(m), mt_m.form == Form::mean_abs ? mt.mean_abs : S(sqrt(mt.mean_square)));
     }
+  }
+
+  // The largest swing of the work W(phi) = integral from 0 to phi of (M -
+  // mean M): W at the zeros of M - mean M (its extremes, found on the grid
+  // and refined) by Gauss on the arcs between them and the torque's kinks
+  // (a kink inside an arc would cost Gauss its accuracy), the largest less
+  // the smallest (W' = 0 at the extremes: holding them is exact for the
+  // gradient; W at a kink lies between them).
+  template <class S>
+  S work_swing(const opt::Values<S>& v, const S& mean, const std::vector<double>& kinks,
+               const std::vector<mech::NearPole>& near, Workspace& ws) const {
+    const Chain& c = d_.chain;
+    const int n = d_.cycle_points;
+    const double mean_d = mech::value(mean);
+    auto excess = [&](const State<double>& st) { return mech::linkage::drive_point(c, ws.plain.data(), st).torque - mean_d; };
+    ws.grids.resize(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      mech::linkage::solve(c, ws.plain.data(), mech::kTwoPi * i / n, ws.sd);
+      ws.grids[static_cast<size_t>(i)] = excess(ws.sd);
+    }
+    const std::span<const double> grid[1] = {std::span<const double>(ws.grids.data(), static_cast<size_t>(n))};
+    std::vector<double> zeros = mech::periodic_roots_together(std::span(grid), [&](std::span<mech::AngleQuery> qs) {
+      for (mech::AngleQuery& q : qs) {
+        mech::linkage::solve(c, ws.plain.data(), q.phi, ws.sd);
+        q.out = excess(ws.sd);
+      }
+    });
+    if (zeros.size() < 2) return S(0.0);
+    zeros.insert(zeros.end(), kinks.begin(), kinks.end());
+    std::sort(zeros.begin(), zeros.end());
+    State<S> ss;
+    ss.resize(c);
+    S work(0.0), top(0.0), bottom(0.0);
+    for (size_t j = 0; j < zeros.size(); ++j) {
+      const double a = zeros[j], b = j + 1 < zeros.size() ? zeros[j + 1] : zeros[0] + mech::kTwoPi;
+      mech::for_each_panel(a, b, 2 * n, near, [&](double mid, double half, int nodes) {
+        const mech::GaussRule& rule = mech::gauss_rule(nodes);
+        for (size_t i = 0; i < static_cast<size_t>(rule.m + 1) / 2; ++i) {
+          const bool centre = 2 * i + 1 == static_cast<size_t>(rule.m);
+          const double t = centre ? 0.0 : half * rule.nodes[i].first, weight = rule.nodes[i].second * half;
+          for (double phi : {mid + t, mid - t}) {
+            mech::linkage::solve(c, v.data(), S(phi), ss);
+            work += weight * (mech::linkage::drive_point(c, v.data(), ss).torque - mean);
+            if (centre) break;
+          }
+        }
+      });
+      if (mech::value(work) > mech::value(top)) top = work;
+      if (mech::value(work) < mech::value(bottom)) bottom = work;
+    }
+    return S(top - bottom);
   }
 
   // Group g's squared distance from a singular position (kinematics.hpp's
