@@ -67,7 +67,7 @@ void expect_same(const opt::Problem& hand, const opt::Problem& general, const st
     const Eigen::VectorXd gb = jacobian.transpose() * b.gradient;
     const double scale = std::max(1e-300, a.gradient.cwiseAbs().maxCoeff());
     for (int i = 0; i < x.size(); ++i)
-      EXPECT_NEAR(gb[i], a.gradient[i], 1e-12 * std::max(scale, std::abs(a.value))) << m.hand << " d/dx" << i;
+      EXPECT_NEAR(gb[i], a.gradient[i], 1e-12 * std::max({scale, std::abs(a.value), 1.0})) << m.hand << " d/dx" << i;
   }
 }
 
@@ -87,7 +87,9 @@ TEST(LinkageEquivalence, SliderCrank) {
   auto map = [](const Eigen::VectorXd& x, Eigen::MatrixXd& j) {  // (r, l, e) -> (-e, r, l)
     j = Eigen::MatrixXd::Zero(3, 3);
     j(0, 2) = -1, j(1, 0) = 1, j(2, 1) = 1;
-    return Eigen::VectorXd(Eigen::Vector3d(-x[2], x[0], x[1]));
+    Eigen::VectorXd g(3);
+    g << -x[2], x[0], x[1];
+    return g;
   };
   expect_same(*hand, *general, metrics, hand->initial_point(), map, "the config's design");
   std::mt19937_64 rng(34);
@@ -135,6 +137,59 @@ TEST(LinkageEquivalence, ConveyorSwing) {
   }
   EXPECT_GT(ok, 10);  // metrics were compared, not only statuses
   EXPECT_LT(ok, 90);
+}
+
+}  // namespace
+
+namespace {
+
+// recuperative_drive with the rods' rotation (fidelity.rod: full) and
+// the resistance against the motion, its rod length and phase shift free:
+// the linkage's two rods carry the length (rod1, rod2: the same value)
+// and the second crank pin A2 the phase, [r cos psi, r sin psi] in the
+// crank's frame.
+TEST(LinkageEquivalence, RecuperativeDrive) {
+  const auto hand = opt::make_problem(opt::ConfigNode::parse(R"(
+problem: recuperative_drive
+model: {fidelity: {rod: full}, crank_radius: 0.2 m, crank_speed: 100 rpm, cart_mass: 1000 kg,
+        rod_mass_per_length: 80 kg/m, efficiency: 0.9, cart_resistance: 3562 N,
+        phase_shift: 90 deg, rod_length: 0.8 m, layout: opposed, resistance: opposes_motion}
+variables: {rod_length: {min: 0.5 m, max: 1.5 m}, phase_shift: {min: 0 deg, max: 360 deg}}
+)", "<recuperative>"));
+  const auto root = opt::ConfigNode::load(std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage/recuperative_drive.yaml");
+  YAML::Node over;
+  for (const char* xy : {"x", "y"}) {
+    over["variables"][std::string("links.crank.points.A2.") + xy]["min"] = "-0.2 m";
+    over["variables"][std::string("links.crank.points.A2.") + xy]["max"] = "0.2 m";
+  }
+  const auto general = opt::make_problem(root.with(over, "<recuperative linkage>"));
+  ASSERT_EQ(hand->variables()[0].name, "rod_length");
+  ASSERT_EQ(general->variables()[0].name, "links.crank.points.A2.x");
+  ASSERT_EQ(general->variables()[3].name, "links.rod2.length");
+  const std::vector<Same> metrics = {{"peak_kinetic_energy", "peak_kinetic_energy"},
+                                     {"mean_kinetic_energy", "mean_kinetic_energy"},
+                                     {"k1", "k1"},
+                                     {"peak_crank_torque", "peak_drive_torque"},
+                                     {"mean_crank_torque", "mean_drive_torque"},
+                                     {"rms_crank_torque", "rms_drive_torque"}};
+  auto map = [](const Eigen::VectorXd& x, Eigen::MatrixXd& j) {  // (l, psi) -> (r cos psi, r sin psi, l, l)
+    const double r = 0.2, c = std::cos(x[1]), s = std::sin(x[1]);
+    j = Eigen::MatrixXd::Zero(4, 2);
+    j(0, 1) = -r * s, j(1, 1) = r * c, j(2, 0) = 1, j(3, 0) = 1;
+    Eigen::VectorXd g(4);
+    g << r * c, r * s, x[0], x[0];
+    return g;
+  };
+  expect_same(*hand, *general, metrics, hand->initial_point(), map, "the config's design");
+  std::mt19937_64 rng(34);
+  std::uniform_real_distribution<double> length(0.15, 1.5), phase(0.0, 2 * std::numbers::pi);
+  int infeasible = 0;
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector2d x(length(rng), phase(rng));
+    infeasible += x[0] <= 0.2;
+    expect_same(*hand, *general, metrics, x, map, "random design " + std::to_string(i));
+  }
+  EXPECT_GT(infeasible, 0);
 }
 
 }  // namespace

@@ -279,7 +279,7 @@ class Reader {
       d_.chain.add_load(std::move(l));
       return;
     }
-    n.allow_only({"link", "force", "torque", "table", "when", "opposing"});
+    n.allow_only({"link", "force", "torque", "table", "when", "opposing", "efficiency"});
     l.link = link(n.at("link"));
     const bool slider = d_.chain.links()[static_cast<size_t>(l.link)].length == kNone;
     l.kind = slider ? mech::linkage::Load::Kind::force : mech::linkage::Load::Kind::torque;
@@ -315,6 +315,9 @@ class Reader {
       l.when = w == "forward" ? 1 : w == "return" ? -1 : 0;
     }
     if (n.has("opposing")) l.opposing = n.at("opposing").boolean();
+    if (n.has("efficiency"))
+      l.efficiency = number_at(n, "efficiency", at, Dimension::dimensionless, {0, 1, true, false},
+                               "the drive supplies the load's power over this");
     d_.chain.add_load(std::move(l));
   }
   // A spring between two points (each a ground point or fixed on a link).

@@ -66,6 +66,7 @@ enum class Form {
   mean,      // cycle means of q (the torque or the energy) ...
   mean_abs,  // ... of |q|
   rms,       // ... and its root mean square
+  k1,        // seed 000's k1: the peak kinetic energy over the mean
   flywheel,  // the flywheel inertia that keeps the speed fluctuation: the torque's work swing / (delta w^2)
 };
 struct Metric {
@@ -123,6 +124,7 @@ std::vector<Metric> metrics_of(const Description& d) {
   if (d.has_mass) {
     add("peak_kinetic_energy", "J", Form::peak, {Kind::energy, kNone});
     add("mean_kinetic_energy", "J", Form::mean, {Kind::energy, kNone});
+    add("k1", "", Form::k1, {Kind::energy, kNone});  // seed 000 eq. (15): peak over mean energy
   }
   return out;
 }
@@ -330,7 +332,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         default: means = true;
       }
     }
-    if (means) put_means(v, out, ws);
+    if (!means) return;
+    const S mean_energy = put_means(v, out, ws);
+    for (size_t m = 0; m < metrics_.size(); ++m)
+      if (metrics_[m].form == Form::k1 && out.want(static_cast<int>(m)))
+        out.put(static_cast<int>(m), S(at_max(find({Kind::energy, kNone})) / mean_energy));
   }
 
  private:
@@ -403,6 +409,12 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
   // The quantities metric m needs: a group kind's metric one per group of that type.
   void ask(const Metric& m, std::vector<Quantity>& asked) const {
+    if (m.form == Form::k1) {  // the peak energy (and the mean, in put_means)
+      for (const Quantity& a : asked)
+        if (a.kind == Kind::energy) return;
+      asked.push_back({Kind::energy, kNone});
+      return;
+    }
     if (m.form >= Form::mean) return;  // a mean asks for no maximum
     auto once = [&](Quantity q) {
       for (const Quantity& a : asked)
@@ -506,8 +518,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
   // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
   // the torque's kinks (2 n nodes a revolution; the energy is smooth).
+  // Returns the mean kinetic energy (0 when not computed).
   template <class S>
-  void put_means(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
+  S put_means(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
     const Chain& c = d_.chain;
     State<S> ss;
     ss.resize(c);
@@ -525,7 +538,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     bool torque = false, work = false, energy = false, flywheel = false;
     for (size_t m = 0; m < metrics_.size(); ++m) {
       if (!out.want(static_cast<int>(m)) || metrics_[m].form < Form::mean) continue;
-      if (metrics_[m].q.kind == Kind::energy) energy = true;
+      if (metrics_[m].q.kind == Kind::energy) energy = true;  // (k1 too)
       else if (metrics_[m].form == Form::flywheel) flywheel = work = true;
       else (metrics_[m].form == Form::mean ? work : torque) = true;
     }
@@ -551,12 +564,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       const Metric& mt_m = metrics_[m];
       if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
       using std::sqrt;
+      if (mt_m.form == Form::k1) continue;  // put by the caller
       if (mt_m.form == Form::flywheel)
         out.put(static_cast<int>(m), S(swing / (v[static_cast<size_t>(d_.speed_fluctuation)] * w * w)));
       else if (mt_m.q.kind == Kind::energy) out.put(static_cast<int>(m), me.mean);
       else if (mt_m.form == Form::mean) out.put(static_cast<int>(m), ml.mean);
       else out.put(static_cast<int>(m), mt_m.form == Form::mean_abs ? mt.mean_abs : S(sqrt(mt.mean_square)));
     }
+    return me.mean;
   }
 
   // The largest swing of the work W(phi) = integral from 0 to phi of (M -

@@ -74,6 +74,7 @@ struct Load {
   std::vector<double> xs, ys;  // the table, SI, xs increasing
   int when = 0;
   bool opposing = false;
+  Slot efficiency = kNone;  // the drive supplies the load's power over it (seed 000's eta)
 };
 
 // A linear spring between two points: force rate * (|PQ| - free length),

@@ -82,8 +82,9 @@ S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi) {
     if (l.over == Load::Over::none) size = v[l.value];
     else if (l.over == Load::Over::position) size = interpolate(l, coordinate);
     else size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
-    if (l.kind == Load::Kind::friction || l.opposing) sum -= abs(size) * abs(rate);
-    else sum += size * rate;
+    S power = l.kind == Load::Kind::friction || l.opposing ? S(-(abs(size) * abs(rate))) : S(size * rate);
+    if (l.efficiency != kNone) power = S(power / v[l.efficiency]);
+    sum += power;
   }
   using std::sqrt;
   for (const Spring& sp : c.springs()) {
