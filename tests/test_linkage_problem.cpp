@@ -116,6 +116,7 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
       {replaced("ram: {mass: 10 kg, line: {fixed_to: ground, through: S0, angle: 0 deg}}", "ram: {mass: 10 kg}"),
        "has no line"},
       {replaced("S0: [0 m, 0 m]", "S0: [0 m, 1 m]"), "cannot assemble at crank angle 0"},
+      {replaced("through: S0", "through: A"), "its point 'A' must be fixed there too"},  // A moves with the crank
       {replaced("S0: [0 m, 0 m]", "S0: [0 m]"), "expected a point [x, y]"},
       {replaced("S0: [0 m, 0 m]", "S0: [0 kg, 0 m]"), "ground.S0[0]"},
       {replaced("rod: {length", "r.od: {length"), "a name is letters"},

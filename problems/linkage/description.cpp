@@ -236,7 +236,13 @@ class Reader {
         if (line == lines_.end()) ls[1].fail("the slider '" + ls[1].text() + "' has no line: {fixed_to, through, angle}");
         const ConfigNode& ln = line->second.node;
         const int on = ln.has("fixed_to") && ln.at("fixed_to").text() != "ground" ? link(ln.at("fixed_to")) : kNone;
-        c.set_line(second, on, point(ln.at("through")), line->second.angle, line->second.offset);
+        const int through = point(ln.at("through"));
+        if (!fixed_on(through, on)) {
+          const std::string body = on == kNone ? "the ground" : "'" + ln.at("fixed_to").text() + "'";
+          ln.at("through").fail("the line is fixed to " + body + "; its point '" + ln.at("through").text() +
+                                "' must be fixed there too");
+        }
+        c.set_line(second, on, through, line->second.angle, line->second.offset);
         c.rrp(first, second, point(g.at("from")), new_joint(g), branch(g, index));
       } else {
         g.allow_only({"type", "links", "from", "pivot"});
@@ -246,6 +252,24 @@ class Reader {
       g.fail(e.what());
     }
     nodes_.push_back(g);
+  }
+  // Whether point p is fixed on link k (kNone: the ground): a ground point;
+  // the link's origin, one of its points, or the joint its group or the
+  // crank gives it.
+  bool fixed_on(int p, int k) const {
+    const auto& c = d_.chain;
+    if (k == kNone) {
+      for (const auto& g : c.ground_points())
+        if (g.first == p) return true;
+      return false;
+    }
+    const auto& l = c.links()[static_cast<size_t>(k)];
+    if (l.origin == p || (c.crank().link == k && c.crank().joint == p)) return true;
+    for (const auto& lp : l.points)
+      if (lp.point == p) return true;
+    for (const auto& g : c.groups())
+      if ((g.first == k || g.second == k) && g.joint == p) return true;
+    return false;
   }
   std::string new_joint(const ConfigNode& g) {
     const std::string name = g.at("joint").text();
