@@ -238,9 +238,10 @@ class Reader {
         const int on = ln.has("fixed_to") && ln.at("fixed_to").text() != "ground" ? link(ln.at("fixed_to")) : kNone;
         const int through = point(ln.at("through"));
         if (!fixed_on(through, on)) {
-          const std::string body = on == kNone ? "the ground" : "'" + ln.at("fixed_to").text() + "'";
-          ln.at("through").fail("the line is fixed to " + body + "; its point '" + ln.at("through").text() +
-                                "' must be fixed there too");
+          std::string what = "the line is fixed to ";
+          what += on == kNone ? std::string("the ground") : "link " + ln.at("fixed_to").text();
+          what += "; its point '" + ln.at("through").text() + "' must be fixed there too";
+          ln.at("through").fail(what);
         }
         c.set_line(second, on, through, line->second.angle, line->second.offset);
         c.rrp(first, second, point(g.at("from")), new_joint(g), branch(g, index));
