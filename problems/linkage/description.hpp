@@ -10,6 +10,7 @@
 #include "mech/linkage/chain.hpp"
 #include "opt/config.hpp"
 #include "opt/parameters.hpp"
+#include "opt/problem.hpp"
 
 namespace problems::linkage {
 
@@ -47,6 +48,12 @@ namespace problems::linkage {
 // groups' transmission and pressure angles, the driving torque and the
 // kinetic energy, SI. An angle where a group cannot assemble says so.
 nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<double>& angles);
+
+// The curves of a run's cycle.csv and cycle.svg at the values v (empty
+// where the design cannot assemble): the driving torque, its loads' and
+// its inertia's and gravity's shares, the kinetic energy, and each
+// output's position or angle (unwrapped from its direction at phi = 0).
+opt::CycleCurves cycle_curves(const Description& d, const std::vector<double>& v, int n);
 
 // "0,37,90 deg": the angles in radians; a unit after the last item applies
 // to the items written without one. std::invalid_argument names a bad item.

@@ -23,6 +23,7 @@
 #include "mech/cycle.hpp"
 #include "mech/linkage/dynamics.hpp"
 #include "problems/linkage/description.hpp"
+#include "problems/linkage/metrics.hpp"
 #include "problems/model_problem.hpp"
 
 namespace problems::linkage {
@@ -38,102 +39,6 @@ using mech::linkage::State;
 // A group closer than this to a singular position (the sine measure of
 // kinematics.hpp) is singular_position.
 constexpr double kSingular = 1e-6;
-
-// A function of the crank angle whose cycle maximum the metrics need.
-enum class Kind {
-  margin,          // -(a group's distance from a singular position)^2
-  coordinate,      // an output's coordinate (a rocker's angle unwrapped about its direction at phi = 0)
-  neg_coordinate,  // minus that
-  speed,           // |an output's velocity|
-  acceleration,    // |an output's acceleration|
-  pressure,        // the sine of an RRP group's pressure angle (the rod against the line)
-  transmission,    // minus the sine of an RRR group's transmission angle (acute)
-  torque,          // |driving torque|
-  energy,          // kinetic energy
-};
-struct Quantity {
-  Kind kind;
-  int index;  // the output or the group; none for torque and energy
-};
-
-// A metric: its form, over quantity q (and q2: a range's or a time
-// ratio's minimum, as the maximum of minus the coordinate).
-enum class Form {
-  peak,      // the cycle maximum of q (minus it for a transmission angle: its minimum)
-  range,     // max q + max q2: a stroke
-  ratio,     // the crank angle from q2's maximum to q's over the rest: the time ratio
-  grashof,   // a four-bar loop's p + q - s - l (group q.index), from the lengths alone
-  mean,      // cycle means of q (the torque or the energy) ...
-  mean_abs,  // ... of |q|
-  rms,       // ... and its root mean square
-  k1,        // seed 000's k1: the peak kinetic energy over the mean
-  flywheel,  // the flywheel inertia that keeps the speed fluctuation: the torque's work swing / (delta w^2)
-};
-struct Metric {
-  MetricSpec spec;
-  Form form;
-  Quantity q, q2 = {Kind::margin, kNone};
-};
-
-std::vector<Metric> metrics_of(const Description& d) {
-  std::vector<Metric> out;
-  auto add = [&](const std::string& name, const std::string& unit, Form f, Quantity q,
-                 Quantity q2 = {Kind::margin, kNone}) {
-    out.push_back({MetricSpec(static_cast<int>(out.size()), name, unit), f, q, q2});
-  };
-  for (size_t o = 0; o < d.outputs.size(); ++o) {
-    const auto& out_o = d.outputs[o];
-    const int i = static_cast<int>(o);
-    const std::string u = out_o.slides ? "m" : "rad";
-    add(out_o.name + "_stroke", u, Form::range, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
-    add(out_o.name + "_max", u, Form::peak, {Kind::coordinate, i});
-    add(out_o.name + "_min", u, Form::peak, {Kind::neg_coordinate, i});
-    add(out_o.name + "_peak_velocity", u + "/s", Form::peak, {Kind::speed, i});
-    add(out_o.name + "_peak_acceleration", u + "/s^2", Form::peak, {Kind::acceleration, i});
-    add(out_o.name + "_time_ratio", "", Form::ratio, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
-  }
-  const auto& groups = d.chain.groups();
-  auto each_group = [&](GroupType t, Kind k, const std::string& name) {
-    // one metric over the groups of type t: the largest of their maxima
-    bool any = false;
-    for (const auto& g : groups) any = any || g.type == t;
-    if (any) add(name, "rad", Form::peak, {k, kNone});
-  };
-  // A four-bar loop: an RRR group on the crank's joint and a ground point.
-  const auto& c = d.chain;
-  for (size_t g = 0; g < groups.size(); ++g) {
-    const auto& gr = groups[g];
-    const bool on_crank = gr.p == c.crank().joint || gr.q == c.crank().joint;
-    bool on_ground = false;
-    for (const auto& gp : c.ground_points()) on_ground = on_ground || gp.first == gr.p || gp.first == gr.q;
-    if (gr.type == GroupType::RRR && on_crank && on_ground)
-      add(c.links()[static_cast<size_t>(gr.first)].name + "_" + c.links()[static_cast<size_t>(gr.second)].name +
-              "_grashof_margin",
-          "m", Form::grashof, {Kind::margin, static_cast<int>(g)});
-  }
-  each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
-  each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
-  if (d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) {
-    add("peak_drive_torque", "N m", Form::peak, {Kind::torque, kNone});
-    add("mean_drive_torque", "N m", Form::mean, {Kind::torque, kNone});
-    add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
-    add("rms_drive_torque", "N m", Form::rms, {Kind::torque, kNone});
-  }
-  if ((d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) && d.speed_fluctuation != kNone)
-    add("flywheel_inertia", "kg m^2", Form::flywheel, {Kind::torque, kNone});
-  if (d.has_mass) {
-    add("peak_kinetic_energy", "J", Form::peak, {Kind::energy, kNone});
-    add("mean_kinetic_energy", "J", Form::mean, {Kind::energy, kNone});
-    add("k1", "", Form::k1, {Kind::energy, kNone});  // seed 000 eq. (15): peak over mean energy
-  }
-  return out;
-}
-
-std::vector<MetricSpec> specs_of(const std::vector<Metric>& ms) {
-  std::vector<MetricSpec> out;
-  for (const auto& m : ms) out.push_back(m.spec);
-  return out;
-}
 
 class LinkageProblem : public ModelProblem<LinkageProblem> {
  public:
@@ -160,44 +65,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // The driving torque and its loads' share, the kinetic energy and the
   // outputs' coordinates over a revolution (cycle.svg draws the torques).
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    const Chain& c = d_.chain;
-    const opt::Values<double> v = values_at(x);
-    State<double> st;
-    st.resize(c);
-    if (!mech::linkage::solve(c, v.data(), 0.0, st)) return {};
-    const bool dynamics = d_.has_mass || !c.loads().empty() || !c.springs().empty();
-    opt::CycleCurves out;
-    out.names = {"crank_angle"};
-    out.units = {"rad"};
-    if (dynamics) {
-      out.names.insert(out.names.end(), {"drive_torque", "load_torque", "inertia_gravity_torque", "kinetic_energy"});
-      out.units.insert(out.units.end(), {"N m", "N m", "N m", "J"});
-    }
-    std::vector<double> ref;  // each rocker's angle unwrapped from phi = 0
-    for (const auto& o : d_.outputs) {
-      out.names.push_back(o.name + (o.slides ? "_position" : "_angle"));
-      out.units.push_back(o.slides ? "m" : "rad");
-      ref.push_back(st.angle(o.link).v);
-    }
-    const double w = v[static_cast<size_t>(c.crank().speed)];
-    out.columns.resize(out.names.size());
-    for (int i = 0; i <= n; ++i) {
-      const double phi = mech::kTwoPi * i / n;
-      if (!mech::linkage::solve(c, v.data(), phi, st)) return {};
-      std::vector<double> row = {phi};
-      if (dynamics) {
-        const auto p = mech::linkage::drive_point(c, v.data(), st);
-        const double loads = -mech::linkage::load_power(c, v.data(), st, phi);
-        row.insert(row.end(), {p.torque, loads, p.torque - loads, p.energy * w * w});
-      }
-      for (size_t o = 0; o < d_.outputs.size(); ++o) {
-        const auto& out_o = d_.outputs[o];
-        row.push_back(out_o.slides ? st.slide[static_cast<size_t>(out_o.link)].v
-                                   : ref[o] + std::remainder(st.angle(out_o.link).v - ref[o], mech::kTwoPi));
-      }
-      for (size_t k = 0; k < row.size(); ++k) out.columns[k].push_back(row[k]);
-    }
-    return out;
+    return linkage::cycle_curves(d_, values_at(x), n);
   }
 
   struct Workspace : opt::ModelWorkspace {
@@ -688,30 +556,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   std::vector<Metric> metrics_;
 };
 
-// A torque or energy metric named by the config's objective or constraints
-// when the description gives it none (no masses, loads or springs): a
-// located error that says what is missing, not just "unknown metric".
-void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>& metrics) {
-  auto offered = [&](const std::string& name) {
-    for (const auto& m : metrics)
-      if (m.spec.name == name) return true;
-    return false;
-  };
-  auto check = [&](const opt::ConfigNode& at, const std::string& name) {
-    const bool energy = name.find("kinetic_energy") != std::string::npos;
-    if (!offered(name) && (energy || name.find("drive_torque") != std::string::npos))
-      at.fail("'" + name + "' needs " +
-              (energy ? std::string("masses (a link's mass or mass_per_length)")
-                      : std::string("masses, loads or springs")) +
-              " in the model: this description has none");
-  };
-  if (root.has("objective"))
-    for (const char* key : {"minimize", "maximize"})
-      if (root.at("objective").is_map() && root.at("objective").has(key))
-        check(root.at("objective").at(key), root.at("objective").at(key).text());
-  if (root.has("constraints") && root.at("constraints").is_map())
-    for (const auto& name : root.at("constraints").keys()) check(root.at("constraints").at(name), name);
-}
 
 std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
   Description d = read_description(root);

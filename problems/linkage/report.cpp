@@ -82,4 +82,44 @@ nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<
   return out;
 }
 
+opt::CycleCurves cycle_curves(const Description& d, const std::vector<double>& v, int n) {
+  const auto& c = d.chain;
+  mech::linkage::State<double> st;
+  st.resize(c);
+  if (!mech::linkage::solve(c, v.data(), 0.0, st)) return {};
+  const bool dynamics = d.has_mass || !c.loads().empty() || !c.springs().empty();
+  opt::CycleCurves out;
+  out.names = {"crank_angle"};
+  out.units = {"rad"};
+  if (dynamics) {
+    out.names.insert(out.names.end(), {"drive_torque", "load_torque", "inertia_gravity_torque", "kinetic_energy"});
+    out.units.insert(out.units.end(), {"N m", "N m", "N m", "J"});
+  }
+  std::vector<double> ref;  // each rocker's angle unwrapped from phi = 0
+  for (const auto& o : d.outputs) {
+    out.names.push_back(o.name + (o.slides ? "_position" : "_angle"));
+    out.units.push_back(o.slides ? "m" : "rad");
+    ref.push_back(st.angle(o.link).v);
+  }
+  const double w = v[static_cast<size_t>(c.crank().speed)];
+  out.columns.resize(out.names.size());
+  for (int i = 0; i <= n; ++i) {
+    const double phi = mech::kTwoPi * i / n;
+    if (!mech::linkage::solve(c, v.data(), phi, st)) return {};
+    std::vector<double> row = {phi};
+    if (dynamics) {
+      const auto p = mech::linkage::drive_point(c, v.data(), st);
+      const double loads = -mech::linkage::load_power(c, v.data(), st, phi);
+      row.insert(row.end(), {p.torque, loads, p.torque - loads, p.energy * w * w});
+    }
+    for (size_t o = 0; o < d.outputs.size(); ++o) {
+      const auto& out_o = d.outputs[o];
+      row.push_back(out_o.slides ? st.slide[static_cast<size_t>(out_o.link)].v
+                                 : ref[o] + std::remainder(st.angle(out_o.link).v - ref[o], mech::kTwoPi));
+    }
+    for (size_t k = 0; k < row.size(); ++k) out.columns[k].push_back(row[k]);
+  }
+  return out;
+}
+
 }  // namespace problems::linkage

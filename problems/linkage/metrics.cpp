@@ -1,0 +1,93 @@
+// The metrics a linkage description offers, and the check that a torque
+// or energy metric a config asks for has the masses or loads it needs.
+#include "problems/linkage/metrics.hpp"
+
+namespace problems::linkage {
+
+using mech::linkage::GroupType;
+using mech::linkage::kNone;
+using opt::MetricSpec;
+
+std::vector<Metric> metrics_of(const Description& d) {
+  std::vector<Metric> out;
+  auto add = [&](const std::string& name, const std::string& unit, Form f, Quantity q,
+                 Quantity q2 = {Kind::margin, kNone}) {
+    out.push_back({MetricSpec(static_cast<int>(out.size()), name, unit), f, q, q2});
+  };
+  for (size_t o = 0; o < d.outputs.size(); ++o) {
+    const auto& out_o = d.outputs[o];
+    const int i = static_cast<int>(o);
+    const std::string u = out_o.slides ? "m" : "rad";
+    add(out_o.name + "_stroke", u, Form::range, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
+    add(out_o.name + "_max", u, Form::peak, {Kind::coordinate, i});
+    add(out_o.name + "_min", u, Form::peak, {Kind::neg_coordinate, i});
+    add(out_o.name + "_peak_velocity", u + "/s", Form::peak, {Kind::speed, i});
+    add(out_o.name + "_peak_acceleration", u + "/s^2", Form::peak, {Kind::acceleration, i});
+    add(out_o.name + "_time_ratio", "", Form::ratio, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
+  }
+  const auto& groups = d.chain.groups();
+  auto each_group = [&](GroupType t, Kind k, const std::string& name) {
+    // one metric over the groups of type t: the largest of their maxima
+    bool any = false;
+    for (const auto& g : groups) any = any || g.type == t;
+    if (any) add(name, "rad", Form::peak, {k, kNone});
+  };
+  // A four-bar loop: an RRR group on the crank's joint and a ground point.
+  const auto& c = d.chain;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const auto& gr = groups[g];
+    const bool on_crank = gr.p == c.crank().joint || gr.q == c.crank().joint;
+    bool on_ground = false;
+    for (const auto& gp : c.ground_points()) on_ground = on_ground || gp.first == gr.p || gp.first == gr.q;
+    if (gr.type == GroupType::RRR && on_crank && on_ground)
+      add(c.links()[static_cast<size_t>(gr.first)].name + "_" + c.links()[static_cast<size_t>(gr.second)].name +
+              "_grashof_margin",
+          "m", Form::grashof, {Kind::margin, static_cast<int>(g)});
+  }
+  each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
+  each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
+  if (d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) {
+    add("peak_drive_torque", "N m", Form::peak, {Kind::torque, kNone});
+    add("mean_drive_torque", "N m", Form::mean, {Kind::torque, kNone});
+    add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
+    add("rms_drive_torque", "N m", Form::rms, {Kind::torque, kNone});
+  }
+  if ((d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) && d.speed_fluctuation != kNone)
+    add("flywheel_inertia", "kg m^2", Form::flywheel, {Kind::torque, kNone});
+  if (d.has_mass) {
+    add("peak_kinetic_energy", "J", Form::peak, {Kind::energy, kNone});
+    add("mean_kinetic_energy", "J", Form::mean, {Kind::energy, kNone});
+    add("k1", "", Form::k1, {Kind::energy, kNone});  // seed 000 eq. (15): peak over mean energy
+  }
+  return out;
+}
+
+std::vector<MetricSpec> specs_of(const std::vector<Metric>& ms) {
+  std::vector<MetricSpec> out;
+  for (const auto& m : ms) out.push_back(m.spec);
+  return out;
+}
+
+void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>& metrics) {
+  auto offered = [&](const std::string& name) {
+    for (const auto& m : metrics)
+      if (m.spec.name == name) return true;
+    return false;
+  };
+  auto check = [&](const opt::ConfigNode& at, const std::string& name) {
+    const bool energy = name.find("kinetic_energy") != std::string::npos;
+    if (!offered(name) && (energy || name.find("drive_torque") != std::string::npos))
+      at.fail("'" + name + "' needs " +
+              (energy ? std::string("masses (a link's mass or mass_per_length)")
+                      : std::string("masses, loads or springs")) +
+              " in the model: this description has none");
+  };
+  if (root.has("objective"))
+    for (const char* key : {"minimize", "maximize"})
+      if (root.at("objective").is_map() && root.at("objective").has(key))
+        check(root.at("objective").at(key), root.at("objective").at(key).text());
+  if (root.has("constraints") && root.at("constraints").is_map())
+    for (const auto& name : root.at("constraints").keys()) check(root.at("constraints").at(name), name);
+}
+
+}  // namespace problems::linkage
