@@ -33,7 +33,8 @@ struct Quantity {
 // A metric: its form, over quantity q (and q2: a range's or a time
 // ratio's minimum, as the maximum of minus the coordinate).
 enum class Form {
-  peak,      // the cycle maximum of q (minus it for a transmission angle: its minimum)
+  peak,      // the cycle maximum of q (a coordinate's minimum and the least transmission angle
+             // as minus the maximum of minus them; the angles as the asin of their sines')
   range,     // max q + max q2: a stroke
   ratio,     // the crank angle from q2's maximum to q's over the rest: the time ratio
   grashof,   // a four-bar loop's p + q - s - l (group q.index), from the lengths alone
