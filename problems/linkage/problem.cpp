@@ -572,7 +572,8 @@ std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
 
 const opt::Registration kRegistration{{"linkage",
                                        "any planar linkage of a crank and class II groups, described in the config "
-                                       "(docs/design/linkage.md)",
+                                       "(docs/linkage.md): its model keys are the description's numbers by address, "
+                                       "its metrics named by its outputs (listed here for a slider-crank)",
                                        {},
                                        make_linkage,
                                        [](const opt::ConfigNode& root) { return read_description(root).table; }}};
