@@ -2,15 +2,16 @@
 // chain and its table, in this order: ground points; links with their
 // numbers and local points; the crank; the groups (each slider's line is
 // placed where its group is read, when its points are known); the branches
-// given by `near:`; the outputs. Every number is read with its unit and
-// becomes a row named by its address.
+// given by `near:`; the loads and springs; the outputs. Every number is
+// read with its unit and becomes a row named by its address.
 #include "problems/linkage/description.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
-#include <tuple>
 #include <stdexcept>
+#include <tuple>
 
 #include "mech/linkage/kinematics.hpp"
 
