@@ -28,6 +28,8 @@ struct Description {
   std::vector<Output> outputs;
   int cycle_points = 64;
   bool has_mass = false;
+  // Whether anything takes a torque from the crank: masses, loads, springs.
+  bool has_dynamics() const { return has_mass || !chain.loads().empty() || !chain.springs().empty(); }
   // The coefficient of speed fluctuation a flywheel must keep, (w_max -
   // w_min) / w (model.speed_fluctuation, a table row), or kNone.
   mech::linkage::Slot speed_fluctuation = mech::linkage::kNone;

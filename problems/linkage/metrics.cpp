@@ -46,13 +46,13 @@ std::vector<Metric> metrics_of(const Description& d) {
   }
   each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
   each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
-  if (d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) {
+  if (d.has_dynamics()) {
     add("peak_drive_torque", "N m", Form::peak, {Kind::torque, kNone});
     add("mean_drive_torque", "N m", Form::mean, {Kind::torque, kNone});
     add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
     add("rms_drive_torque", "N m", Form::rms, {Kind::torque, kNone});
   }
-  if ((d.has_mass || !d.chain.loads().empty() || !d.chain.springs().empty()) && d.speed_fluctuation != kNone)
+  if (d.has_dynamics() && d.speed_fluctuation != kNone)
     add("flywheel_inertia", "kg m^2", Form::flywheel, {Kind::torque, kNone});
   if (d.has_mass) {
     add("peak_kinetic_energy", "J", Form::peak, {Kind::energy, kNone});

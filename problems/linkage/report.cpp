@@ -41,7 +41,7 @@ nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<
                         {"units", "SI: m, m/s, m/s^2, rad, rad/s, rad/s^2, N m, J"},
                         {"crank_speed", w},
                         {"angles", nlohmann::json::array()}};
-  const bool dynamics = d.has_mass || !c.loads().empty() || !c.springs().empty();
+  const bool dynamics = d.has_dynamics();
   for (double phi : angles) {
     nlohmann::json a = {{"crank_angle", phi}, {"crank_angle_deg", phi * 180 / std::numbers::pi}};
     if (!mech::linkage::solve(c, v, phi, st)) {
@@ -87,7 +87,7 @@ opt::CycleCurves cycle_curves(const Description& d, const std::vector<double>& v
   mech::linkage::State<double> st;
   st.resize(c);
   if (!mech::linkage::solve(c, v.data(), 0.0, st)) return {};
-  const bool dynamics = d.has_mass || !c.loads().empty() || !c.springs().empty();
+  const bool dynamics = d.has_dynamics();
   opt::CycleCurves out;
   out.names = {"crank_angle"};
   out.units = {"rad"};
