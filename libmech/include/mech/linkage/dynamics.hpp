@@ -57,41 +57,66 @@ S interpolate(const Load& l, const S& x) {
   return S(l.ys[i - 1] + slope * (x - xs[i - 1]));
 }
 
+// A load at crank angle phi as `size`, its generalised force per unit of
+// `rate`, so that its power per unit crank speed is size * rate. A force:
+// size along its slider's line u at the pin B, rate u . B'; a torque or a
+// friction: size a couple on the link (minus on `other`), rate t' - t_o'.
+// Opposing loads and friction take the size's sign against the rate; an
+// efficiency divides it. False while `when` holds the load off.
+template <class S>
+bool load_action(const Chain& c, const Load& l, const S* v, const State<S>& st, const S& phi, S& size, S& rate) {
+  using std::abs;
+  const size_t k = static_cast<size_t>(l.link);
+  S coordinate(0.0);  // what a table reads
+  if (l.kind == Load::Kind::force) {
+    const Vec<S>& u = st.axis[k];
+    const Vec<S>& B = st.point[static_cast<size_t>(c.links()[k].origin)];
+    rate = S(u.x.v * B.x.d + u.y.v * B.y.d);
+    coordinate = st.slide[k].v;
+  } else {
+    rate = st.rates(l.link).d;
+    if (l.other != kNone) rate = S(rate - st.rates(l.other).d);
+    if (l.over == Load::Over::position) coordinate = st.angle(l.link).v;
+  }
+  const double along = l.kind == Load::Kind::force ? value(st.slide[k].d) : value(rate);
+  if ((l.when > 0 && !(along > 0)) || (l.when < 0 && !(along < 0))) return false;
+  if (l.over == Load::Over::none) size = v[l.value];
+  else if (l.over == Load::Over::position) size = interpolate(l, coordinate);
+  else size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
+  if (l.kind == Load::Kind::friction || l.opposing) {
+    const double r = value(rate);  // -|size| |rate|: its sign against the rate's
+    size = S(-(abs(size) * double((r > 0) - (r < 0))));
+  }
+  if (l.efficiency != kNone) size = S(size / v[l.efficiency]);
+  return true;
+}
+
+// A spring's tension (rate times stretch: > 0 pulls p and q together), the
+// unit vector from q to p and its length's rate.
+template <class S>
+struct Tension {
+  S tension, ux, uy, length_rate;
+};
+
+template <class S>
+Tension<S> tension(const Spring& sp, const S* v, const State<S>& st) {
+  using std::sqrt;
+  const Vec<S> d = st.point[static_cast<size_t>(sp.p)] - st.point[static_cast<size_t>(sp.q)];
+  const S length = sqrt(S(d.x.v * d.x.v + d.y.v * d.y.v));
+  const S ux = d.x.v / length, uy = d.y.v / length;
+  return {S(v[sp.rate] * (length - v[sp.free_length])), ux, uy, S(ux * d.x.d + uy * d.y.d)};
+}
+
 // The loads' generalised force at crank angle phi (their power per unit
 // crank speed).
 template <class S>
 S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi) {
-  using std::abs;
-  S sum(0.0);
-  for (const Load& l : c.loads()) {
-    const size_t k = static_cast<size_t>(l.link);
-    S rate(0.0), coordinate(0.0);  // the rate the load's power takes, and the coordinate a table reads
-    if (l.kind == Load::Kind::force) {
-      const Vec<S>& u = st.axis[k];
-      const Vec<S>& B = st.point[static_cast<size_t>(c.links()[k].origin)];
-      rate = S(u.x.v * B.x.d + u.y.v * B.y.d);
-      coordinate = st.slide[k].v;
-    } else {
-      rate = st.rates(l.link).d;
-      if (l.other != kNone) rate = S(rate - st.rates(l.other).d);
-      if (l.over == Load::Over::position) coordinate = st.angle(l.link).v;
-    }
-    const double along = l.kind == Load::Kind::force ? value(st.slide[k].d) : value(rate);
-    if ((l.when > 0 && !(along > 0)) || (l.when < 0 && !(along < 0))) continue;
-    S size;
-    if (l.over == Load::Over::none) size = v[l.value];
-    else if (l.over == Load::Over::position) size = interpolate(l, coordinate);
-    else size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
-    S power = l.kind == Load::Kind::friction || l.opposing ? S(-(abs(size) * abs(rate))) : S(size * rate);
-    if (l.efficiency != kNone) power = S(power / v[l.efficiency]);
-    sum += power;
-  }
-  using std::sqrt;
+  S sum(0.0), size(0.0), rate(0.0);
+  for (const Load& l : c.loads())
+    if (load_action(c, l, v, st, phi, size, rate)) sum += size * rate;
   for (const Spring& sp : c.springs()) {
-    const Vec<S> d = st.point[static_cast<size_t>(sp.p)] - st.point[static_cast<size_t>(sp.q)];
-    const S length = sqrt(S(d.x.v * d.x.v + d.y.v * d.y.v));
-    const S stretch_rate = S((d.x.v * d.x.d + d.y.v * d.y.d) / length);
-    sum -= v[sp.rate] * (length - v[sp.free_length]) * stretch_rate;
+    const Tension<S> t = tension(sp, v, st);
+    sum -= t.tension * t.length_rate;
   }
   return sum;
 }
