@@ -126,6 +126,10 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
        "no group or crank solves this link"},
       {in(replaced("mass: 10 kg, ", ""), "outputs: [ram]\n", "outputs: [ram]\nobjective: {minimize: peak_drive_torque}\n"),
        "'peak_drive_torque' needs masses, loads or springs in the model"},
+      {in(replaced("mass: 10 kg, ", ""), "outputs: [ram]\n", "outputs: [ram]\nconstraints: {A_rod_peak_reaction: {max: 1 kN}}\n"),
+       "'A_rod_peak_reaction' needs masses, loads or springs in the model"},
+      {in(replaced("mass: 10 kg, ", ""), "outputs: [ram]\n", "outputs: [ram]\nobjective: {minimize: peak_shaking_force}\n"),
+       "'peak_shaking_force' needs masses"},
   };
   for (const auto& c : cases) {
     const std::string what = error_of(c.yaml);

@@ -5,11 +5,14 @@
 // pose from the loop-closure equations by Newton at 30 digits, the transfer
 // functions from the constraint Jacobian's linear systems, the driving
 // torque by virtual power and by a global Newton-Euler solve (they agree to
-// ~1e-29), maxima refined to ~1e-27 rad. Its output, tests/ref/
-// linkage_ref.json, is read here: positions, transfer functions, slider
-// coordinates, link rates, the driving torque, the kinetic energy and the
-// angles at five crank angles, and the cycle maxima. Run it again with
-//   /usr/bin/python3 tests/ref/linkage_ref.py > tests/ref/linkage_ref.json   (~100 s)
+// ~1e-29; every joint's reaction comes out of that solve), maxima refined
+// to ~1e-27 rad. Its output, tests/ref/linkage_ref.json, is read here:
+// positions, transfer functions, slider coordinates, link rates, the
+// driving torque, the kinetic energy, the joint reactions and the shaking
+// force and moment at five crank angles, and the cycle maxima. Run it
+// again with (about 300 s)
+//   cd configs/linkage && /usr/bin/python3 ../../tests/ref/linkage_ref.py
+//     watt2_sixbar.yaml stephenson3_sixbar.yaml whitworth_shaper.yaml > ../../tests/ref/linkage_ref.json
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,7 +21,7 @@
 #include <numbers>
 #include <string>
 
-#include "mech/linkage/dynamics.hpp"
+#include "mech/linkage/reactions.hpp"
 #include "opt/registry.hpp"
 #include "problems/linkage/description.hpp"
 #include "cli.hpp"
@@ -74,6 +77,33 @@ TEST_P(Reference, StatesAtFiveCrankAngles) {
     EXPECT_NEAR(p.torque, torque, 1e-12 * std::max(1.0, std::abs(torque)));
     const double energy = num(at["kinetic_energy"]);
     EXPECT_NEAR(p.energy * w * w, energy, 1e-12 * std::max(1.0, energy));
+    // The reactions group by group against the reference's global solve
+    // (its reaction keys: POINT_LINK, its slides by the slider's name), to
+    // 1e-12 of the largest.
+    const mech::linkage::Joints j(c);
+    mech::linkage::Reactions<double> r;
+    r.resize(j, c);
+    mech::linkage::reactions(c, j, c.defaults().data(), st, r);
+    EXPECT_NEAR(r.torque, num(at["drive_torque_newton_euler"]), 1e-12 * std::max(1.0, std::abs(torque)));
+    double scale = 1;
+    for (const auto& [key, f] : at["reactions"].items()) scale = std::max(scale, std::hypot(num(f["x"]), num(f["y"])));
+    ASSERT_EQ(at["reactions"].size(), j.pins.size());
+    for (size_t i = 0; i < j.pins.size(); ++i) {
+      const std::string key = c.point_names()[static_cast<size_t>(j.pins[i].point)] + "_" +
+                              c.links()[static_cast<size_t>(j.pins[i].link)].name;
+      ASSERT_TRUE(at["reactions"].contains(key)) << key;
+      EXPECT_NEAR(r.x[i], num(at["reactions"][key]["x"]), 1e-12 * scale) << key;
+      EXPECT_NEAR(r.y[i], num(at["reactions"][key]["y"]), 1e-12 * scale) << key;
+    }
+    ASSERT_EQ(at["slides"].size(), j.slides.size());
+    for (size_t i = 0; i < j.slides.size(); ++i) {
+      const auto& f = at["slides"][c.links()[static_cast<size_t>(j.slides[i])].name];
+      EXPECT_NEAR(r.normal[i], num(f["normal"]), 1e-12 * scale) << i;
+      EXPECT_NEAR(r.couple[i], num(f["couple"]), 1e-12 * scale) << i;  // N m; forces times ~1 m
+    }
+    EXPECT_NEAR(r.shaking_x, num(at["shaking_force"]["x"]), 1e-12 * scale);
+    EXPECT_NEAR(r.shaking_y, num(at["shaking_force"]["y"]), 1e-12 * scale);
+    EXPECT_NEAR(r.shaking_m, num(at["shaking_moment"]), 1e-12 * scale);
   }
 }
 
@@ -112,6 +142,9 @@ TEST_P(Reference, CycleMaxima) {
   for (const auto& [group, a] : cycle["min_transmission_angle"].items()) least = std::min(least, num(a["value"]));
   if (top >= 0) expect("max_pressure_angle", top);
   if (least < 10) expect("min_transmission_angle", least);
+  for (const auto& [key, a] : cycle["peak_reaction"].items()) expect(key + "_peak_reaction", num(a["value"]));
+  expect("peak_shaking_force", num(cycle["peak_shaking_force"]["value"]));
+  expect("peak_shaking_moment", num(cycle["peak_shaking_moment"]["value"]));
 }
 
 // `mechopt kinematics` prints the same state the reference has.
@@ -129,6 +162,9 @@ TEST(Kinematics, PrintsTheStateAtTheAskedAngles) {
     EXPECT_NEAR(a["points"]["C"]["x"].get<double>(), num(at["points"]["C"]["x"]), 1e-13);
     EXPECT_NEAR(a["points"]["C"]["vx"].get<double>(), num(at["points"]["C"]["dx"]) * w, 1e-12);
     EXPECT_NEAR(a["sliders"]["ram"]["acceleration"].get<double>(), num(at["sliders"]["ram"]["dd"]) * w * w, 1e-11);
+    EXPECT_NEAR(a["reactions"]["O4_lever"]["y"].get<double>(), num(at["reactions"]["O4_lever"]["y"]), 1e-9);
+    EXPECT_NEAR(a["slides"]["ram"]["normal"].get<double>(), num(at["slides"]["ram"]["normal"]), 1e-9);
+    EXPECT_NEAR(a["shaking_moment"].get<double>(), num(at["shaking_moment"]), 1e-9);
   }
   const auto wrong = cli::run("kinematics " + kSource + "/configs/slider_crank/stroke.yaml");
   EXPECT_TRUE(wrong.exited(2));

@@ -2,6 +2,8 @@
 // or energy metric a config asks for has the masses or loads it needs.
 #include "problems/linkage/metrics.hpp"
 
+#include "mech/linkage/reactions.hpp"
+
 namespace problems::linkage {
 
 using mech::linkage::GroupType;
@@ -52,12 +54,24 @@ std::vector<Metric> metrics_of(const Description& d) {
     add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
     add("rms_drive_torque", "N m", Form::rms, {Kind::torque, kNone});
   }
+  if (d.has_dynamics()) {  // the joints' reactions: per pin POINT_LINK (reactions.hpp), per slider
+    const mech::linkage::Joints j(c);
+    for (size_t i = 0; i < j.pins.size(); ++i)
+      add(c.point_names()[static_cast<size_t>(j.pins[i].point)] + "_" +
+              c.links()[static_cast<size_t>(j.pins[i].link)].name + "_peak_reaction",
+          "N", Form::peak, {Kind::reaction, static_cast<int>(i)});
+    for (size_t i = 0; i < j.slides.size(); ++i)
+      add(c.links()[static_cast<size_t>(j.slides[i])].name + "_peak_guide_force", "N", Form::peak,
+          {Kind::guide, static_cast<int>(i)});
+  }
   if (d.has_dynamics() && d.speed_fluctuation != kNone)
     add("flywheel_inertia", "kg m^2", Form::flywheel, {Kind::torque, kNone});
   if (d.has_mass) {
     add("peak_kinetic_energy", "J", Form::peak, {Kind::energy, kNone});
     add("mean_kinetic_energy", "J", Form::mean, {Kind::energy, kNone});
     add("k1", "", Form::k1, {Kind::energy, kNone});  // seed 000 eq. (15): peak over mean energy
+    add("peak_shaking_force", "N", Form::peak, {Kind::shaking_force, kNone});
+    add("peak_shaking_moment", "N m", Form::peak, {Kind::shaking_moment, kNone});
   }
   return out;
 }
@@ -75,8 +89,9 @@ void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>
     return false;
   };
   auto check = [&](const opt::ConfigNode& at, const std::string& name) {
-    const bool energy = name.find("kinetic_energy") != std::string::npos;
-    if (!offered(name) && (energy || name.find("drive_torque") != std::string::npos))
+    auto has = [&](const char* part) { return name.find(part) != std::string::npos; };
+    const bool energy = has("kinetic_energy") || has("shaking");
+    if (!offered(name) && (energy || has("drive_torque") || has("_peak_reaction") || has("_peak_guide_force")))
       at.fail("'" + name + "' needs " +
               (energy ? std::string("masses (a link's mass or mass_per_length)")
                       : std::string("masses, loads or springs")) +

@@ -24,10 +24,14 @@ enum class Kind {
   transmission,    // minus the sine of an RRR group's transmission angle (acute)
   torque,          // |driving torque|
   energy,          // kinetic energy
+  reaction,        // |a pin's reaction| (reactions.hpp's Joints order)
+  guide,           // |a slide's normal force|
+  shaking_force,   // |the inertia forces' resultant|
+  shaking_moment,  // |their moment about the origin|
 };
 struct Quantity {
   Kind kind;
-  int index;  // the output or the group; none for torque and energy
+  int index;  // the output, the group, the pin or the slide; none for the whole mechanism's
 };
 
 // A metric: its form, over quantity q (and q2: a range's or a time

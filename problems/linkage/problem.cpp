@@ -24,6 +24,7 @@
 #include "mech/linkage/dynamics.hpp"
 #include "problems/linkage/description.hpp"
 #include "problems/linkage/metrics.hpp"
+#include "problems/linkage/quantity.hpp"
 #include "problems/model_problem.hpp"
 
 namespace problems::linkage {
@@ -74,6 +75,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> plain;  // the values as doubles
     std::vector<Dual> vdual;    // ... as Duals (their slope: the crank angle's)
     std::vector<double> grids;
+    std::vector<double> zero_grids;  // the grids zeros() searches
+    std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
     std::vector<double> ref;  // each output's direction at phi = 0 (x, y, its angle)
     std::vector<mech::CycleMaxSearch> searches;
     std::vector<Quantity> asked;
@@ -141,6 +144,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       return;
     }
     search(n_margins, nq);
+    hold_switches(ws, n_margins);
     // The metrics: each maximum as the search found it (double), or the
     // quantity at the maximising angle on S (Danskin).
     State<S> ss;
@@ -150,8 +154,21 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       return ss;
     };
     auto at_max = [&](size_t q) -> S {
-      if constexpr (!mech::is_dual<S>) return ws.searches[q].value;
-      else return quantity(ws.asked[q], v.data(), solved_at(q), ws);
+      if constexpr (!mech::is_dual<S>) {
+        return ws.searches[q].value;
+      } else {
+        const auto [load, side] = ws.held[q];
+        if (load == kNone) return quantity(ws.asked[q], v.data(), solved_at(q), ws);
+        // At a switch, which moves with the design: phi - r / r' on S
+        // (r the load's switching rate, zero there), the load held.
+        const Jet<S> r = mech::linkage::switch_rate(c.loads()[static_cast<size_t>(load)], solved_at(q));
+        const S phi = S(ws.searches[q].phi - r.v / mech::value(r.d));
+        mech::linkage::solve(c, v.data(), phi, ss);
+        ss.held_load = load, ss.held_side = side;
+        const S f = quantity(ws.asked[q], v.data(), ss, ws);
+        ss.held_load = kNone;
+        return f;
+      }
     };
     // The angle of search q's maximum; on S, moved with the design: phi -
     // f'/f'' at it (f' ~ 0 there, its design derivatives kept).
@@ -269,7 +286,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     for (size_t g = 0; g < groups; ++g)
       for (double phi : ws.searches[g].maxima) {
         mech::linkage::solve(d_.chain, ws.plain.data(), phi, ws.sd);
-        const Jet<double> m = margin2(static_cast<int>(g), ws.sd);
+        const Jet<double> m = margin2(d_.chain, static_cast<int>(g), ws.sd);
         if (m.dd > 0) out.push_back({phi, std::sqrt(2 * m.v / m.dd)});
       }
     return out;
@@ -317,25 +334,38 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return false;
   }
 
-  // Output q.index's coordinate (minus it for neg_coordinate) with its
-  // transfer functions: a slider's s, or a link's angle, unwrapped about
-  // its direction at phi = 0 (while it swings less than half a turn either
-  // side of that).
-  template <class T>
-  Jet<T> coordinate_jet(const Quantity& q, const State<T>& st, const Workspace& ws) const {
-    using std::atan2;
-    const auto& o = d_.outputs[static_cast<size_t>(q.index)];
-    Jet<T> x;
-    if (o.slides) {
-      x = st.slide[static_cast<size_t>(o.link)];
-    } else {
-      const auto& e = st.axis[static_cast<size_t>(o.link)];
-      const size_t i = static_cast<size_t>(q.index);
-      const double rx = ws.ref[3 * i], ry = ws.ref[3 * i + 1];
-      x = mech::linkage::angle_rates(e);
-      x.v = T(atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v)) + ws.ref[3 * i + 2]);
+  // A function of the crank angle whose zeros bend or break the metrics:
+  // the driving torque (load -1), a load's switching rate (row -1), its
+  // slider's coordinate less a table's row.
+  struct Fn {
+    int load, row;
+  };
+  double fn_value(const Fn& f, const State<double>& st, const double* v) const {
+    const Chain& c = d_.chain;
+    if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
+    const auto& l = c.loads()[static_cast<size_t>(f.load)];
+    if (f.row >= 0) return st.slide[static_cast<size_t>(l.link)].v - l.xs[static_cast<size_t>(f.row)];
+    return mech::linkage::switch_rate(l, st).v;
+  }
+  // The zeros of fns over the cycle, each function's by grid cell.
+  std::vector<double> zeros(Workspace& ws, const std::vector<Fn>& fns) const {
+    const Chain& c = d_.chain;
+    const double* v = ws.plain.data();
+    const int n = d_.cycle_points;
+    const size_t un = static_cast<size_t>(n);
+    ws.zero_grids.resize(fns.size() * un);
+    for (int i = 0; i < n; ++i) {
+      mech::linkage::solve(c, v, mech::kTwoPi * i / n, ws.sd);
+      for (size_t f = 0; f < fns.size(); ++f) ws.zero_grids[f * un + static_cast<size_t>(i)] = fn_value(fns[f], ws.sd, v);
     }
-    return q.kind == Kind::neg_coordinate ? -x : x;
+    std::vector<std::span<const double>> grids;
+    for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(ws.zero_grids.data() + f * un, un);
+    return mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
+      for (mech::AngleQuery& q : qs) {
+        mech::linkage::solve(c, v, q.phi, ws.sd);
+        q.out = fn_value(fns[static_cast<size_t>(q.fn)], ws.sd, v);
+      }
+    });
   }
 
   // The angles where the driving torque is zero or bends (a load switches
@@ -343,46 +373,51 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // row): the arcs of its means.
   std::vector<double> torque_kinks(Workspace& ws) const {
     const Chain& c = d_.chain;
-    const double* v = ws.plain.data();
-    struct Fn {
-      int load, row;  // load -1: the torque itself; row -1: the load's rate
-    };
     std::vector<Fn> fns = {{-1, -1}};
     for (size_t i = 0; i < c.loads().size(); ++i) {
       const auto& l = c.loads()[i];
       const int li = static_cast<int>(i);
-      if (l.when != 0 || l.opposing || l.kind == mech::linkage::Load::Kind::friction) fns.push_back({li, -1});
+      if (mech::linkage::switching(l)) fns.push_back({li, -1});
       if (l.over == mech::linkage::Load::Over::position)
         for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({li, static_cast<int>(r)});
     }
-    auto value_of = [&](const Fn& f, const State<double>& st) {
-      if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
-      const auto& l = c.loads()[static_cast<size_t>(f.load)];
-      const size_t k = static_cast<size_t>(l.link);
-      if (f.row >= 0) return st.slide[k].v - l.xs[static_cast<size_t>(f.row)];
-      if (l.kind == mech::linkage::Load::Kind::force) return st.slide[k].d;
-      return st.angle(l.link).d - (l.other == kNone ? 0.0 : st.angle(l.other).d);
-    };
-    const int n = d_.cycle_points;
-    const size_t un = static_cast<size_t>(n);
-    ws.grids.resize(fns.size() * un);
-    for (int i = 0; i < n; ++i) {
-      mech::linkage::solve(c, v, mech::kTwoPi * i / n, ws.sd);
-      for (size_t f = 0; f < fns.size(); ++f) ws.grids[f * un + static_cast<size_t>(i)] = value_of(fns[f], ws.sd);
-    }
-    std::vector<std::span<const double>> grids;
-    for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(ws.grids.data() + f * un, un);
-    std::vector<double> kinks = mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
-      for (mech::AngleQuery& q : qs) {
-        mech::linkage::solve(c, v, q.phi, ws.sd);
-        q.out = value_of(fns[static_cast<size_t>(q.fn)], ws.sd);
-      }
-    });
+    std::vector<double> kinks = zeros(ws, fns);
     for (const auto& l : c.loads())
       if (l.over == mech::linkage::Load::Over::crank_angle)
         for (double x : l.xs) kinks.push_back(mech::wrap_angle(x));
     return kinks;
   }
+
+  // A load that switches makes the forces it enters jump where its rate
+  // changes sign (the torque does not: the load's power is zero there), so
+  // the peak of a reaction can be a one-sided limit at a switch: each
+  // switch's two limits join the searches of the reactions [from, end).
+  // ws.held[q]: the load and side of search q's maximum when one won.
+  void hold_switches(Workspace& ws, size_t from) const {
+    const Chain& c = d_.chain;
+    ws.held.assign(ws.asked.size(), {kNone, 0});
+    bool jumps = false;
+    for (size_t q = from; q < ws.asked.size(); ++q) jumps = jumps || jumps_at_switches(ws.asked[q].kind);
+    if (!jumps) return;
+    for (size_t i = 0; i < c.loads().size(); ++i) {
+      if (!mech::linkage::switching(c.loads()[i])) continue;
+      for (double phi : zeros(ws, {{static_cast<int>(i), -1}})) {
+        mech::linkage::solve(c, ws.plain.data(), phi, ws.sd);
+        for (int side : {-1, 1}) {
+          ws.sd.held_load = static_cast<int>(i), ws.sd.held_side = side;
+          for (size_t q = from; q < ws.asked.size(); ++q) {
+            if (!jumps_at_switches(ws.asked[q].kind)) continue;
+            const double f = quantity(ws.asked[q], ws.plain.data(), ws.sd, ws);
+            if (!(f > ws.searches[q].value)) continue;
+            ws.searches[q].value = f, ws.searches[q].phi = phi;
+            ws.held[q] = {static_cast<int>(i), side};
+          }
+        }
+        ws.sd.held_load = kNone;
+      }
+    }
+  }
+  static bool jumps_at_switches(Kind k) { return k == Kind::reaction || k == Kind::guide; }
 
   // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
   // the torque's kinks (2 n nodes a revolution; the energy is smooth).
@@ -493,66 +528,16 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return S(top - bottom);
   }
 
-  // Group g's squared distance from a singular position (kinematics.hpp's
-  // measure) with its transfer functions: zero where the branch could flip.
   template <class T>
-  Jet<T> margin2(int g, const State<T>& st) const {
-    const auto& gr = d_.chain.groups()[static_cast<size_t>(g)];
-    const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
-    if (gr.type == GroupType::RRR) {
-      const Jet<T> sine = mech::linkage::cross(e1, e2);
-      return sine * sine;
-    }
-    if (gr.type == GroupType::RRP) {
-      const Jet<T> cosine = mech::linkage::dot(e1, e2);
-      return cosine * cosine;
-    }
-    const auto d = st.point[static_cast<size_t>(gr.p)] - st.point[static_cast<size_t>(gr.q)];
-    const Jet<T>& s = st.slide[static_cast<size_t>(gr.first)];
-    return s * s / mech::linkage::dot(d, d);
+  Jet<T> coordinate_jet(const Quantity& q, const State<T>& st, const Workspace& ws) const {
+    return linkage::coordinate_jet(d_, q, st, ws.ref);
   }
-
-  // Quantity q of the solved state st (values v), on its scalar T.
   template <class T>
   T quantity(const Quantity& q, const T* v, const State<T>& st, const Workspace& ws) const {
-    using std::abs;
-    using std::asin;
-    using std::atan2;
-    const Chain& c = d_.chain;
-    const T& w = v[c.crank().speed];
-    auto axis = [&](int link) -> const mech::linkage::Vec<T>& { return st.axis[static_cast<size_t>(link)]; };
-    auto cross_v = [](const mech::linkage::Vec<T>& a, const mech::linkage::Vec<T>& b) {
-      return T(a.x.v * b.y.v - a.y.v * b.x.v);
-    };
-    switch (q.kind) {
-      case Kind::margin: return T(-margin2(q.index, st).v);
-      case Kind::coordinate:
-      case Kind::neg_coordinate: return coordinate_jet(q, st, ws).v;
-      case Kind::speed:
-      case Kind::acceleration: {
-        const Jet<T> x = coordinate_jet({Kind::coordinate, q.index}, st, ws);
-        return q.kind == Kind::speed ? T(abs(x.d) * w) : T(abs(x.dd) * (w * w));
-      }
-      case Kind::pressure: {
-        const auto& g = c.groups()[static_cast<size_t>(q.index)];
-        return T(abs(cross_v(axis(g.second), axis(g.first))));
-      }
-      case Kind::transmission: {
-        const auto& g = c.groups()[static_cast<size_t>(q.index)];
-        return T(-abs(cross_v(axis(g.first), axis(g.second))));
-      }
-      case Kind::torque: {
-        const auto p = mech::linkage::drive_point(c, v, st);
-        return T(abs(p.torque));
-      }
-      case Kind::energy: {
-        const auto p = mech::linkage::drive_point(c, v, st);
-        return T(p.energy * w * w);
-      }
-    }
-    return T(0.0);
+    return linkage::quantity(d_, joints_, q, v, st, ws.ref);
   }
   Description d_;
+  mech::linkage::Joints joints_{d_.chain};
   std::vector<Metric> metrics_;
 };
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "mech/linkage/dynamics.hpp"
+#include "mech/linkage/reactions.hpp"
 #include "problems/linkage/description.hpp"
 
 namespace problems::linkage {
@@ -38,10 +38,16 @@ nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<
   mech::linkage::State<double> st;
   st.resize(c);
   nlohmann::json out = {{"problem", "linkage"},
-                        {"units", "SI: m, m/s, m/s^2, rad, rad/s, rad/s^2, N m, J"},
+                        {"units", "SI: m, m/s, m/s^2, rad, rad/s, rad/s^2, N, N m, J"},
+                        {"reactions", "POINT_LINK: the force on LINK from the body that carries POINT; slides: on "
+                                      "the slider (block) from its line's body (guide), normal along the line "
+                                      "turned +90 deg, and a couple"},
                         {"crank_speed", w},
                         {"angles", nlohmann::json::array()}};
   const bool dynamics = d.has_dynamics();
+  const mech::linkage::Joints joints(c);
+  mech::linkage::Reactions<double> r;
+  r.resize(joints, c);
   for (double phi : angles) {
     nlohmann::json a = {{"crank_angle", phi}, {"crank_angle_deg", phi * 180 / std::numbers::pi}};
     if (!mech::linkage::solve(c, v, phi, st)) {
@@ -76,6 +82,18 @@ nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<
       a["drive_torque"] = p.torque;
       a["load_torque"] = -mech::linkage::load_power(c, v, st, phi);
       a["kinetic_energy"] = p.energy * w2;
+      mech::linkage::reactions(c, joints, v, st, r);
+      a["drive_torque_newton_euler"] = r.torque;
+      for (size_t i = 0; i < joints.pins.size(); ++i) {
+        const auto& pin = joints.pins[i];
+        a["reactions"][c.point_names()[static_cast<size_t>(pin.point)] + "_" +
+                       c.links()[static_cast<size_t>(pin.link)].name] = {{"x", r.x[i]}, {"y", r.y[i]}};
+      }
+      for (size_t i = 0; i < joints.slides.size(); ++i)
+        a["slides"][c.links()[static_cast<size_t>(joints.slides[i])].name] = {{"normal", r.normal[i]},
+                                                                              {"couple", r.couple[i]}};
+      a["shaking_force"] = {{"x", r.shaking_x}, {"y", r.shaking_y}};
+      a["shaking_moment"] = r.shaking_m;
     }
     out["angles"].push_back(a);
   }
@@ -88,6 +106,9 @@ opt::CycleCurves cycle_curves(const Description& d, const std::vector<double>& v
   st.resize(c);
   if (!mech::linkage::solve(c, v.data(), 0.0, st)) return {};
   const bool dynamics = d.has_dynamics();
+  const mech::linkage::Joints joints(c);
+  mech::linkage::Reactions<double> r;
+  r.resize(joints, c);
   opt::CycleCurves out;
   out.names = {"crank_angle"};
   out.units = {"rad"};

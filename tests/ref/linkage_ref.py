@@ -189,6 +189,7 @@ class Linkage:
         self.names, self.body = ["ground"], {"ground": 0}
         self.points = {p: (0, pair(xy)) for p, xy in m.get("ground", {}).items()}
         self.joints, self.slider_joint, self.groups = [], {}, []
+        self.joint_key = {}                         # rev joint -> (POINT_LINK, sign to the force on LINK)
         cr = m["crank"]
         c = self.add_link(cr["link"])
         self.crank, self.phase, self.speed = c, num(cr.get("phase", 0)), num(cr["speed"])
@@ -233,6 +234,7 @@ class Linkage:
     def pin(self, i, si, pname):
         j, sj = self.points[pname]
         self.joints.append(("rev", i, si, j, sj))
+        self.joint_key[len(self.joints) - 1] = ("%s_%s" % (pname, self.names[i]), 1)
 
     def add_group(self, g):
         t, (n1, n2) = g["type"], g["links"]
@@ -247,6 +249,7 @@ class Linkage:
             self.pin(b1, (0, 0), p)
             self.pin(b2, (0, 0), q)
             self.joints.append(("rev", b1, (rec["a"], 0), b2, (rec["b"], 0)))
+            self.joint_key[len(self.joints) - 1] = ("%s_%s" % (g["joint"], n2), -1)
             self.points[g["joint"]] = (b1, (rec["a"], 0))
         elif t == "RRP":
             line = on_keys(self.links[n2]["line"])
@@ -258,6 +261,7 @@ class Linkage:
                        alpha=num(line.get("angle", 0)), off=num(line.get("offset", 0)))
             self.pin(b1, (0, 0), g["from"])
             self.joints.append(("rev", b1, (rec["a"], 0), b2, (0, 0)))
+            self.joint_key[len(self.joints) - 1] = ("%s_%s" % (g["joint"], n1), 1)
             self.slider_joint[b2] = len(self.joints)
             self.joints.append(("pri", b2, on, rec["alpha"], tl, rec["off"]))
             self.points[g["joint"]] = (b2, (0, 0))
@@ -521,6 +525,7 @@ class Linkage:
         # bodies: centre of mass, its transfer functions; kinetic energy; virtual power
         ke = mvp = scale = MPF(0)
         ext, fsum, msum, rhs = {}, (0, 0), MPF(0), []
+        fin, mIn = (MPF(0), MPF(0)), MPF(0)            # the inertia forces' resultant and moment about O
         for b in range(1, nb):
             m, c, J = self.inertia[b]
             _, G, Gd, Gdd = self.point(st, b, c)
@@ -533,6 +538,8 @@ class Linkage:
             fsum = add(fsum, sub((0, -m * g), mul(m * w * w, Gdd)))
             msum += cross(G, sub((0, -m * g), mul(m * w * w, Gdd))) - J * w * w * al
             rhs.append((G, m * w * w, Gdd, J * w * w * al))
+            fin = sub(fin, mul(m * w * w, Gdd))
+            mIn += -cross(G, mul(m * w * w, Gdd)) - J * w * w * al
         for n, ld in enumerate(self.loads):
             b = ld["body"]
             r, v = self.point(st, b, (0, 0))[1:3]
@@ -553,7 +560,7 @@ class Linkage:
             ext[b][0] = add(ext[b][0], Fv)
             ext[b][1] += cross(sub(r, rhs[b - 1][0]), Fv)
             fsum, msum = add(fsum, Fv), msum + cross(r, Fv)
-        lk.update(M=mvp, KE=ke)
+        lk.update(M=mvp, KE=ke, Fin=fin, Min=mIn)
         if ne:
             self.newton_euler(st, lk, ext, rhs, fsum, msum, max(scale, 1))
         return lk
@@ -605,6 +612,13 @@ class Linkage:
             elif jt[0] == "pri" and jt[2] == 0:
                 fsh, msh = sub(fsh, mul(x[c], geo[1])), msh - cross(geo[0], mul(x[c], geo[1])) - x[c + 1]
         lk.update(Fsh=fsh, Msh=msh)
+        lk["reactions"], lk["slides"] = {}, {}       # acts: one per joint, in joint order
+        for ji, (jt, c, geo) in enumerate(acts):
+            if jt[0] == "rev":
+                key, sg = self.joint_key[ji]
+                lk["reactions"][key] = (sg * x[c], sg * x[c + 1])
+            elif jt[0] == "pri":
+                lk["slides"][self.names[jt[1]]] = (x[c], x[c + 1])
         bad = [(k, a, b) for k, a, b in (("torque", lk["M"], lk["M_ne"]), ("shaking Fx", fsh[0], fsum[0]),
                                          ("shaking Fy", fsh[1], fsum[1]), ("shaking M", msh, msum))
                if abs(a - b) > TOL * scale * 10]
@@ -693,8 +707,11 @@ def at_angle(lk):
                       for n, (t, d, dd) in lk["links"].items()},
             "sliders": {n: {"s": fl(s), "d": fl(d), "dd": fl(dd)} for n, (s, d, dd) in lk["sliders"].items()},
             "drive_torque_virtual_power": fl(lk["M"]), "drive_torque_newton_euler": fl(lk["M_ne"]),
-            "kinetic_energy": fl(lk["KE"]), "shaking_force": {"x": fl(lk["Fsh"][0]), "y": fl(lk["Fsh"][1])},
-            "shaking_moment": fl(lk["Msh"]),
+            "kinetic_energy": fl(lk["KE"]), "frame_force": {"x": fl(lk["Fsh"][0]), "y": fl(lk["Fsh"][1])},
+            "frame_moment": fl(lk["Msh"]),
+            "shaking_force": {"x": fl(lk["Fin"][0]), "y": fl(lk["Fin"][1])}, "shaking_moment": fl(lk["Min"]),
+            "reactions": {k: {"x": fl(f[0]), "y": fl(f[1])} for k, f in lk["reactions"].items()},
+            "slides": {k: {"normal": fl(f[0]), "couple": fl(f[1])} for k, f in lk["slides"].items()},
             "transmission_angle": {k: fl(v) for k, v in lk["trans"].items()},
             "pressure_angle": {k: fl(v) for k, v in lk["press"].items()}}
 
@@ -738,8 +755,10 @@ def analyse(path, report=True):
     if report:
         m = lk.extremum(lambda x: abs(x["M"]), 1)
         ke = lk.extremum(lambda x: x["KE"], 1)
-        fsh = lk.extremum(lambda x: mp.sqrt(dot(x["Fsh"], x["Fsh"])), 1, ne=True)
-        msh = lk.extremum(lambda x: abs(x["Msh"]), 1, ne=True)
+        fsh = lk.extremum(lambda x: mp.sqrt(dot(x["Fin"], x["Fin"])), 1)
+        msh = lk.extremum(lambda x: abs(x["Min"]), 1)
+        reac = {k: ext(*lk.extremum(lambda x, k=k: mp.sqrt(dot(x["reactions"][k], x["reactions"][k])), 1, ne=True))
+                for k in lk.looks[0]["reactions"]}
         (mean, e1), (ms, e2), (kem, e3) = lk.cycle_means([lambda x: x["M"], lambda x: x["M"] ** 2,
                                                          lambda x: x["KE"]])
         res["cycle"] = {
@@ -747,7 +766,7 @@ def analyse(path, report=True):
             "quad_error_estimate": {"mean": mp.nstr(e1, 3), "mean_square": mp.nstr(e2, 3),
                                     "mean_kinetic_energy": mp.nstr(e3, 3)},
             "peak_kinetic_energy": ext(*ke), "mean_kinetic_energy": fl(kem),
-            "peak_shaking_force": ext(*fsh), "peak_shaking_moment": ext(*msh),
+            "peak_shaking_force": ext(*fsh), "peak_shaking_moment": ext(*msh), "peak_reaction": reac,
             "min_transmission_angle": {g["key"]: ext(*lk.extremum(lambda x, k=g["key"]: x["trans"][k], -1))
                                        for g in lk.groups if g["type"] == "RRR"},
             "max_pressure_angle": {g["key"]: ext(*lk.extremum(lambda x, k=g["key"]: x["press"][k], 1))
@@ -810,9 +829,16 @@ def main():
     out = {"source": "tests/ref/linkage_ref.py (mpmath %d digits, Newton on the constraints)" % mp.mp.dps,
            "conventions": {"transfer_functions": "per radian of phi; velocity = speed * d, acceleration = speed^2 * dd",
                            "drive_torque": "on the crank, positive in the sense of rotation (sense)",
-                           "shaking": "forces of the mechanism on the frame at ground joints and slider lines;"
-                                      " moment about the origin incl. the line couples and the motor reaction -M;"
-                                      " process loads not included",
+                           "frame": "forces of the mechanism on the frame at ground joints and slider lines;"
+                                    " moment about the origin incl. the line couples and the motor reaction -M;"
+                                    " process loads not included",
+                           "shaking": "the inertia forces' resultant -sum m a_G and its moment about the origin"
+                                      " -sum (J alpha + G x m a_G)",
+                           "reactions": "POINT_LINK: force on LINK from the body that carries POINT (the link"
+                                        " defining it: the crank its joint, an RRR group's first link its joint, an"
+                                        " RRP group's slider its pin; or the ground)",
+                           "slides": "on the slider (block) from its line's body (guide): normal along rot90(u),"
+                                     " couple",
                            "angles": "rad; link angles at the listed phi wrapped to (-pi, pi], metrics unwrapped",
                            "slider_s": "(pin - line point T) . u", "grid": GRID},
            "configs": {}}

@@ -57,6 +57,21 @@ S interpolate(const Load& l, const S& x) {
   return S(l.ys[i - 1] + slope * (x - xs[i - 1]));
 }
 
+// The rate whose sign switches load l (a `when`, an opposing load, a
+// friction), with its slope in the crank angle: a force's slider's ds/dphi,
+// a torque's link's rate (less `other`'s).
+template <class S>
+Jet<S> switch_rate(const Load& l, const State<S>& st) {
+  if (l.kind == Load::Kind::force) {
+    const Jet<S>& s = st.slide[static_cast<size_t>(l.link)];
+    return {s.d, s.dd, S(0.0)};
+  }
+  Jet<S> t = st.rates(l.link);
+  if (l.other != kNone) t = t - st.rates(l.other);
+  return {t.d, t.dd, S(0.0)};
+}
+inline bool switching(const Load& l) { return l.when != 0 || l.opposing || l.kind == Load::Kind::friction; }
+
 // A load at crank angle phi as `size`, its generalised force per unit of
 // `rate`, so that its power per unit crank speed is size * rate. A force:
 // size along its slider's line u at the pin B, rate u . B'; a torque or a
@@ -78,13 +93,17 @@ bool load_action(const Chain& c, const Load& l, const S* v, const State<S>& st, 
     if (l.other != kNone) rate = S(rate - st.rates(l.other).d);
     if (l.over == Load::Over::position) coordinate = st.angle(l.link).v;
   }
-  const double along = l.kind == Load::Kind::force ? value(st.slide[k].d) : value(rate);
+  double along = l.kind == Load::Kind::force ? value(st.slide[k].d) : value(rate), sign_rate = value(rate);
+  if (st.held_load != kNone && &l == &c.loads()[static_cast<size_t>(st.held_load)]) {
+    const double slope = value(switch_rate(l, st).d);
+    along = sign_rate = st.held_side * slope;
+  }
   if ((l.when > 0 && !(along > 0)) || (l.when < 0 && !(along < 0))) return false;
   if (l.over == Load::Over::none) size = v[l.value];
   else if (l.over == Load::Over::position) size = interpolate(l, coordinate);
   else size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
   if (l.kind == Load::Kind::friction || l.opposing) {
-    const double r = value(rate);  // -|size| |rate|: its sign against the rate's
+    const double r = sign_rate;  // -|size| |rate|: its sign against the rate's
     size = S(-(abs(size) * double((r > 0) - (r < 0))));
   }
   if (l.efficiency != kNone) size = S(size / v[l.efficiency]);

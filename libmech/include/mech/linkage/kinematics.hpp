@@ -23,6 +23,11 @@ struct State {
   std::vector<double> margin;  // per group, its distance from a singular position (see solve)
   int failed = kNone;          // the group that could not assemble, when solve returned false
   S phi = S(0.0);              // the crank angle it was solved at
+  // A load held on one side of its switch (dynamics.hpp's `switching`):
+  // load `held_load` acts as it does just past the angle solved at (side
+  // +1) or just before it (-1), its rate's sign taken from the rate's
+  // slope. What the one-sided limits at a switch need; kNone: none.
+  int held_load = kNone, held_side = 0;
 
   void resize(const Chain& c) {
     point.resize(c.point_names().size());

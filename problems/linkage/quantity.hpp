@@ -1,0 +1,114 @@
+// The functions of the crank angle whose cycle maxima the linkage metrics
+// are (metrics.hpp's Kind), at one solved state on any scalar: what
+// problem.cpp puts on its grid, searches on a Dual in phi and takes again
+// on the evaluation's scalar at the maximising angle (Danskin).
+#pragma once
+#include <cmath>
+#include <vector>
+
+#include "mech/linkage/reactions.hpp"
+#include "problems/linkage/description.hpp"
+#include "problems/linkage/metrics.hpp"
+
+namespace problems::linkage {
+
+// Group g's squared distance from a singular position (kinematics.hpp's
+// measure) with its transfer functions: zero where the branch could flip.
+template <class T>
+mech::linkage::Jet<T> margin2(const mech::linkage::Chain& c, int g, const mech::linkage::State<T>& st) {
+  using mech::linkage::GroupType;
+  using mech::linkage::Jet;
+  const auto& gr = c.groups()[static_cast<size_t>(g)];
+  const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
+  if (gr.type == GroupType::RRR) {
+    const Jet<T> sine = mech::linkage::cross(e1, e2);
+    return sine * sine;
+  }
+  if (gr.type == GroupType::RRP) {
+    const Jet<T> cosine = mech::linkage::dot(e1, e2);
+    return cosine * cosine;
+  }
+  const auto d = st.point[static_cast<size_t>(gr.p)] - st.point[static_cast<size_t>(gr.q)];
+  const Jet<T>& s = st.slide[static_cast<size_t>(gr.first)];
+  return s * s / mech::linkage::dot(d, d);
+}
+
+// Output q.index's coordinate (minus it for neg_coordinate) with its
+// transfer functions: a slider's s, or a link's angle, unwrapped about
+// its direction at phi = 0 (ref: per output x, y and the angle of that
+// direction), while it swings less than half a turn either side of it.
+template <class T>
+mech::linkage::Jet<T> coordinate_jet(const Description& d, const Quantity& q, const mech::linkage::State<T>& st,
+                                     const std::vector<double>& ref) {
+  using std::atan2;
+  const auto& o = d.outputs[static_cast<size_t>(q.index)];
+  mech::linkage::Jet<T> x;
+  if (o.slides) {
+    x = st.slide[static_cast<size_t>(o.link)];
+  } else {
+    const auto& e = st.axis[static_cast<size_t>(o.link)];
+    const size_t i = static_cast<size_t>(q.index);
+    const double rx = ref[3 * i], ry = ref[3 * i + 1];
+    x = mech::linkage::angle_rates(e);
+    x.v = T(atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v)) + ref[3 * i + 2]);
+  }
+  return q.kind == Kind::neg_coordinate ? -x : x;
+}
+
+// The reactions of st, in a scratch of this thread's (one per scalar).
+template <class T>
+const mech::linkage::Reactions<T>& reactions_of(const mech::linkage::Chain& c, const mech::linkage::Joints& j,
+                                                const T* v, const mech::linkage::State<T>& st) {
+  thread_local mech::linkage::Reactions<T> r;
+  r.resize(j, c);
+  mech::linkage::reactions(c, j, v, st, r);
+  return r;
+}
+
+// Quantity q of the solved state st (values v), on its scalar T.
+template <class T>
+T quantity(const Description& d, const mech::linkage::Joints& j, const Quantity& q, const T* v,
+           const mech::linkage::State<T>& st, const std::vector<double>& ref) {
+  using std::abs;
+  using std::sqrt;
+  const mech::linkage::Chain& c = d.chain;
+  const T& w = v[c.crank().speed];
+  auto axis = [&](int link) -> const mech::linkage::Vec<T>& { return st.axis[static_cast<size_t>(link)]; };
+  auto cross_v = [](const mech::linkage::Vec<T>& a, const mech::linkage::Vec<T>& b) {
+    return T(a.x.v * b.y.v - a.y.v * b.x.v);
+  };
+  const size_t i = static_cast<size_t>(q.index);
+  switch (q.kind) {
+    case Kind::margin: return T(-margin2(c, q.index, st).v);
+    case Kind::coordinate:
+    case Kind::neg_coordinate: return coordinate_jet(d, q, st, ref).v;
+    case Kind::speed:
+    case Kind::acceleration: {
+      const auto x = coordinate_jet(d, {Kind::coordinate, q.index}, st, ref);
+      return q.kind == Kind::speed ? T(abs(x.d) * w) : T(abs(x.dd) * (w * w));
+    }
+    case Kind::pressure: {
+      const auto& g = c.groups()[i];
+      return T(abs(cross_v(axis(g.second), axis(g.first))));
+    }
+    case Kind::transmission: {
+      const auto& g = c.groups()[i];
+      return T(-abs(cross_v(axis(g.first), axis(g.second))));
+    }
+    case Kind::torque: return T(abs(mech::linkage::drive_point(c, v, st).torque));
+    case Kind::energy: return T(mech::linkage::drive_point(c, v, st).energy * w * w);
+    case Kind::reaction: {
+      const auto& r = reactions_of(c, j, v, st);
+      return T(sqrt(T(r.x[i] * r.x[i] + r.y[i] * r.y[i])));
+    }
+    case Kind::guide: return T(abs(reactions_of(c, j, v, st).normal[i]));
+    case Kind::shaking_force: {
+      const auto& r = reactions_of(c, j, v, st);
+      return T(sqrt(T(r.shaking_x * r.shaking_x + r.shaking_y * r.shaking_y)));
+    }
+    case Kind::shaking_moment: return T(abs(reactions_of(c, j, v, st).shaking_m));
+  }
+  return T(0.0);
+}
+
+}  // namespace problems::linkage

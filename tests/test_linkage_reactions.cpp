@@ -1,0 +1,150 @@
+// The joint reactions group by group (mech/linkage/reactions.hpp) against
+// what they must satisfy without reference to how they are solved:
+// - the crank's moment equation gives the driving torque the virtual power
+//   gives (dynamics.hpp), to round-off, on every shipped linkage config and
+//   on a mechanism that has every kind of force and joint (gravity, masses,
+//   a slider on a line carried by a moving link, a guide with an offset,
+//   friction between two links, an opposing torque, a table force, a
+//   spring between two moving points and one to the ground, an efficiency);
+// - a massless centred slider-crank under a constant force F on its ram:
+//   the rod is a two-force member, so every pin carries F / cos(beta) along
+//   the rod, the guide F tan(beta), and the crank's torque is F times the
+//   ram's ds/dphi (beta: the rod's angle to the line, sin beta = r sin(phi) / l).
+// The reactions themselves are checked against an independent global
+// Newton-Euler solve in test_linkage_reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include "mech/linkage/reactions.hpp"
+#include "opt/config.hpp"
+#include "problems/linkage/description.hpp"
+
+namespace {
+
+using mech::linkage::Joints;
+using mech::linkage::Reactions;
+using mech::linkage::State;
+using problems::linkage::Description;
+
+constexpr double kPi = std::numbers::pi;
+const std::string kSource = MECHOPT_SOURCE_DIR;
+
+Description read(const std::string& yaml) {
+  return problems::linkage::read_description(opt::ConfigNode::parse(yaml, "<reactions>"));
+}
+
+// Newton-Euler's torque against virtual power's at 72 crank angles: equal
+// to 1e-12 of the largest.
+void expect_torques_agree(const Description& d, const std::string& name) {
+  const auto& c = d.chain;
+  const Joints j(c);
+  State<double> st;
+  st.resize(c);
+  Reactions<double> r;
+  r.resize(j, c);
+  const double* v = c.defaults().data();
+  double scale = 1;
+  std::vector<std::pair<double, double>> torques;
+  for (int i = 0; i < 72; ++i) {
+    const double phi = 2 * kPi * (i + 0.37) / 72;
+    ASSERT_TRUE(mech::linkage::solve(c, v, phi, st)) << name << " at " << phi;
+    mech::linkage::reactions(c, j, v, st, r);
+    const double m = mech::linkage::drive_point(c, v, st).torque;
+    torques.emplace_back(m, r.torque);
+    scale = std::max(scale, std::abs(m));
+  }
+  for (size_t i = 0; i < torques.size(); ++i)
+    EXPECT_NEAR(torques[i].second, torques[i].first, 1e-12 * scale) << name << " at point " << i;
+}
+
+TEST(LinkageReactions, TorqueEqualsVirtualPowerOnEveryConfig) {
+  int n = 0;
+  for (const auto& f : std::filesystem::directory_iterator(kSource + "/configs/linkage")) {
+    const Description d = problems::linkage::read_description(opt::ConfigNode::load(f.path().string()));
+    if (!d.has_dynamics()) continue;
+    expect_torques_agree(d, f.path().filename().string());
+    ++n;
+  }
+  EXPECT_GE(n, 5);
+}
+
+// A crank-rocker whose rocker carries a slider's line, a rod from the
+// crank pin driving that slider, and a second crank-driven guide with an
+// offset: every joint type, every force.
+TEST(LinkageReactions, TorqueEqualsVirtualPowerWithEveryForce) {
+  const Description d = read(
+      "problem: linkage\nmodel:\n"
+      "  gravity: on\n"
+      "  ground: {O: [0 m, 0 m], O4: [0.3 m, 0 m], Q: [-0.25 m, 0.05 m], G0: [0.1 m, -0.4 m]}\n"
+      "  crank: {link: crank, pivot: O, joint: A, phase: 10 deg, speed: 90 rpm}\n"
+      "  links:\n"
+      "    crank: {length: 0.1 m, mass_per_length: 20 kg/m, points: {K: [0.05 m, 0.03 m]}}\n"
+      "    coupler: {length: 0.4 m, mass: 3 kg, cg: [0.2 m, 0.02 m], inertia: 0.05 kg m^2}\n"
+      "    rocker: {length: 0.3 m, mass: 4 kg, cg: [0.1 m, 0 m], inertia: 0.04 kg m^2,\n"
+      "             points: {E: [0.15 m, 0 m]}}\n"
+      "    rod: {length: 0.45 m, mass_per_length: 8 kg/m}\n"
+      "    sleeve: {mass: 1.5 kg, inertia: 0.01 kg m^2, line: {fixed_to: rocker, through: E, angle: 0 deg, offset: 0.01 m}}\n"
+      "    block: {mass: 0.8 kg}\n"
+      "    arm: {length: 0.4 m, offset: 0.02 m, mass: 2 kg, cg: [0.1 m, 0.01 m], inertia: 0.03 kg m^2}\n"
+      "  groups:\n"
+      "    - {type: RRR, links: [coupler, rocker], from: [A, O4], joint: B, branch: 1}\n"
+      "    - {type: RRP, links: [rod, sleeve], from: A, joint: S, branch: 1}\n"
+      "    - {type: RPR, links: [block, arm], from: K, pivot: Q}\n"
+      "  loads:\n"
+      "    bearing: {at: B, friction_torque: 4 N m}\n"
+      "    drag: {link: rocker, torque: 30 N m, opposing: true}\n"
+      "    work: {link: sleeve, table: {over: position, unit: [m, N], rows: [[-0.5, 200], [0, -100], [0.5, 300]]},\n"
+      "           efficiency: 0.85}\n"
+      "    brake: {link: arm, torque: -12 N m, when: forward}\n"
+      "  springs:\n"
+      "    tie: {between: [S, K], rate: 2 kN/m, free_length: 0.3 m}\n"
+      "    anchor: {between: [B, G0], rate: 1 kN/m, free_length: 0.5 m}\n");
+  expect_torques_agree(d, "every force");
+}
+
+TEST(LinkageReactions, TwoForceRodOfAMasslessSliderCrank) {
+  const double r = 0.2, l = 0.8, F = -1500;  // a force against +x on the ram
+  const Description d = read(
+      "problem: linkage\nmodel:\n"
+      "  ground: {O: [0 m, 0 m]}\n"
+      "  crank: {link: crank, pivot: O, joint: A, phase: 0 deg, speed: 60 rpm}\n"
+      "  links:\n"
+      "    crank: {length: 0.2 m}\n"
+      "    rod: {length: 0.8 m}\n"
+      "    ram: {line: {fixed_to: ground, through: O, angle: 0 deg}}\n"
+      "  groups:\n"
+      "    - {type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}\n"
+      "  loads:\n"
+      "    press: {link: ram, force: -1500 N}\n");
+  const auto& c = d.chain;
+  const Joints j(c);
+  ASSERT_EQ(j.pins.size(), 3u);  // O on the crank, A and B on the rod
+  ASSERT_EQ(j.slides.size(), 1u);
+  State<double> st;
+  st.resize(c);
+  Reactions<double> re;
+  re.resize(j, c);
+  for (int i = 0; i < 24; ++i) {
+    const double phi = 2 * kPi * (i + 0.25) / 24;
+    ASSERT_TRUE(mech::linkage::solve(c, c.defaults().data(), phi, st));
+    mech::linkage::reactions(c, j, c.defaults().data(), st, re);
+    const double beta = std::asin(r * std::sin(phi) / l);
+    const double rod = std::abs(F) / std::cos(beta);
+    for (size_t p = 0; p < 3; ++p) EXPECT_NEAR(std::hypot(re.x[p], re.y[p]), rod, 1e-12 * rod) << p << " at " << phi;
+    // F < 0 pushes the ram back toward the crank: the rod is in
+    // compression, so the crank pin pushes it along B - A.
+    const double ax = std::cos(beta), ay = -std::sin(beta);  // (B - A) / l
+    EXPECT_NEAR(re.x[1] * ax + re.y[1] * ay, rod, 1e-12 * rod) << phi;
+    EXPECT_NEAR(std::abs(re.normal[0]), std::abs(F) * std::abs(std::tan(beta)), 1e-12 * rod) << phi;
+    EXPECT_NEAR(re.couple[0], 0, 1e-12 * rod) << phi;
+    // x_B = r cos(phi) + l cos(beta): dx_B/dphi = -r sin(phi) (1 + r cos(phi) / (l cos(beta))).
+    const double xb_d = -r * std::sin(phi) * (1 + r * std::cos(phi) / (l * std::cos(beta)));
+    EXPECT_NEAR(re.torque, -F * xb_d, 1e-12 * rod) << phi;
+  }
+}
+
+}  // namespace
