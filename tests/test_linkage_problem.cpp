@@ -130,6 +130,12 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
        "'A_rod_peak_reaction' needs masses, loads or springs in the model"},
       {in(replaced("mass: 10 kg, ", ""), "outputs: [ram]\n", "outputs: [ram]\nobjective: {minimize: peak_shaking_force}\n"),
        "'peak_shaking_force' needs masses"},
+      // T_min counts the outputs' masses: a massive rod is not an output.
+      {in(in(replaced("mass: 10 kg, ", ""), "rod: {length: 0.8 m}", "rod: {length: 0.8 m, mass_per_length: 5 kg/m}"),
+          "outputs: [ram]\n", "outputs: [ram]\nobjective: {minimize: k2}\n"),
+       "'k2' needs T_min, the energy of the outputs' strokes"},
+      {in(replaced("mass: 10 kg, ", ""), "outputs: [ram]\n", "outputs: [ram]\nconstraints: {k3: {max: 2}}\n"),
+       "'k3' needs T_min"},
   };
   for (const auto& c : cases) {
     const std::string what = error_of(c.yaml);
@@ -163,6 +169,57 @@ TEST(LinkageProblem, FourBarTransmissionAngle) {
     return std::acos((1 + c * c - ab * ab) / (2 * c));
   };
   EXPECT_NEAR(e.at("rocker_stroke"), rocker(b + 0.3) - rocker(b - 0.3), 1e-13);
+}
+
+// Seed 000's T_min (eq. 14), the outputs' strokes at constant speed,
+// sum (1/2) M (stroke w / pi)^2, against closed forms: the twin drive's
+// 4 m r^2 w^2 / pi^2, which the paper prints as 1777.8 J for m = 1000 kg,
+// r = 0.2 m at 100 rpm (its printed 10.5 rad/s would give 1787.3 J);
+// the centred slider-crank's ram, stroke 2 r; a rocker's inertia about its
+// pivot (a bar's q c^3 / 3, a body's J + m |cg|^2) with its swing from
+// the law of cosines. Every output's mean energy is at least its T_min
+// (mean x'^2 >= (mean |x'|)^2), so k2 >= 1.
+TEST(LinkageProblem, LeastMeanKineticEnergy) {
+  const auto twin = opt::make_problem(
+      opt::ConfigNode::load(std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage/recuperative_drive.yaml"));
+  const std::vector<std::string> asked = {"least_mean_kinetic_energy", "k1", "k2", "k3", "peak_kinetic_energy",
+                                          "mean_kinetic_energy"};
+  auto e = twin->evaluate(twin->initial_point(), asked, false);
+  ASSERT_TRUE(e.ok()) << e.message;
+  const double w = 100 * kPi / 30, least = 4 * 1000 * 0.2 * 0.2 * w * w / (kPi * kPi);
+  EXPECT_NEAR(least, 1777.8, 0.05);
+  EXPECT_NEAR(e.at("least_mean_kinetic_energy"), least, 1e-12 * least);
+  EXPECT_NEAR(e.at("k2"), e.at("mean_kinetic_energy") / least, 1e-12);
+  EXPECT_NEAR(e.at("k3"), e.at("peak_kinetic_energy") / least, 1e-12);
+  EXPECT_GT(e.at("k2"), 1);
+  const auto ram = make(slider_crank());  // 10 kg, stroke 0.4 m, 60 rpm: (1/2) 10 (0.4 * 2 pi / pi)^2
+  e = ram->evaluate(ram->initial_point(), {"least_mean_kinetic_energy", "k2"}, false);
+  ASSERT_TRUE(e.ok()) << e.message;
+  EXPECT_NEAR(e.at("least_mean_kinetic_energy"), 3.2, 1e-14);
+  EXPECT_GT(e.at("k2"), 1);
+  // The four-bar below, its rocker (c = 0.8 m, frame 1 m, crank 0.3 m,
+  // coupler 1.1 m) the only mass; 10 rad/s.
+  const double c = 0.8, b = 1.1;
+  auto at_o4 = [&](double ab) { return std::acos((1 + c * c - ab * ab) / (2 * c)); };
+  const double swing = at_o4(b + 0.3) - at_o4(b - 0.3), speed = swing * 10 / kPi;
+  const struct {
+    std::string body;
+    double inertia;
+  } rockers[] = {{"mass_per_length: 2 kg/m", 2 * c * c * c / 3},
+                 {"mass: 5 kg, cg: [0.4 m, 0.1 m], inertia: 0.3 kg m^2", 0.3 + 5 * (0.4 * 0.4 + 0.1 * 0.1)}};
+  for (const auto& r : rockers) {
+    const auto p = make("problem: linkage\nmodel:\n"
+                        "  ground: {O2: [0 m, 0 m], O4: [1 m, 0 m]}\n"
+                        "  crank: {link: crank, pivot: O2, joint: A, speed: 10 rad/s}\n"
+                        "  links: {crank: {length: 0.3 m}, coupler: {length: 1.1 m}, rocker: {length: 0.8 m, " +
+                        r.body + "}}\n"
+                        "  groups: [{type: RRR, links: [coupler, rocker], from: [A, O4], joint: B, near: [1.2 m, 0.8 m]}]\n"
+                        "  outputs: [rocker]\n");
+    e = p->evaluate(p->initial_point(), {"least_mean_kinetic_energy", "k2"}, false);
+    ASSERT_TRUE(e.ok()) << e.message;
+    EXPECT_NEAR(e.at("least_mean_kinetic_energy"), r.inertia * speed * speed / 2, 1e-13) << r.body;
+    EXPECT_GT(e.at("k2"), 1) << r.body;
+  }
 }
 
 // A spring between the ram's pin and a ground point, no masses: the torque

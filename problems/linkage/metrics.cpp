@@ -10,6 +10,21 @@ using mech::linkage::GroupType;
 using mech::linkage::kNone;
 using opt::MetricSpec;
 
+std::vector<int> moving_masses(const Description& d) {
+  const auto& c = d.chain;
+  std::vector<int> out;
+  for (size_t o = 0; o < d.outputs.size(); ++o) {
+    const auto& l = c.links()[static_cast<size_t>(d.outputs[o].link)];
+    bool pivoted = false;  // turning about a ground point
+    for (const auto& gp : c.ground_points()) pivoted = pivoted || gp.first == l.origin;
+    const bool slider = l.length == kNone && l.line_through != kNone && l.line_on == kNone;
+    const bool rocker = l.length != kNone && pivoted && d.outputs[o].link != c.crank().link;
+    if ((slider && l.mass != kNone) || (rocker && (l.mass != kNone || l.mass_per_length != kNone)))
+      out.push_back(static_cast<int>(o));
+  }
+  return out;
+}
+
 std::vector<Metric> metrics_of(const Description& d) {
   std::vector<Metric> out;
   auto add = [&](const std::string& name, const std::string& unit, Form f, Quantity q,
@@ -73,6 +88,11 @@ std::vector<Metric> metrics_of(const Description& d) {
     add("peak_shaking_force", "N", Form::peak, {Kind::shaking_force, kNone});
     add("peak_shaking_moment", "N m", Form::peak, {Kind::shaking_moment, kNone});
   }
+  if (!moving_masses(d).empty()) {  // seed 000 eqs (14), (15)
+    add("least_mean_kinetic_energy", "J", Form::least, {Kind::energy, kNone});
+    add("k2", "", Form::k2, {Kind::energy, kNone});
+    add("k3", "", Form::k3, {Kind::energy, kNone});
+  }
   return out;
 }
 
@@ -89,9 +109,14 @@ void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>
     return false;
   };
   auto check = [&](const opt::ConfigNode& at, const std::string& name) {
+    if (offered(name)) return;
     auto has = [&](const char* part) { return name.find(part) != std::string::npos; };
-    const bool energy = has("kinetic_energy") || has("shaking");
-    if (!offered(name) && (energy || has("drive_torque") || has("_peak_reaction") || has("_peak_guide_force")))
+    const bool least = name == "least_mean_kinetic_energy" || name == "k2" || name == "k3";
+    const bool energy = has("kinetic_energy") || has("shaking") || name == "k1";
+    if (least)
+      at.fail("'" + name + "' needs T_min, the energy of the outputs' strokes: an output with a mass, a slider "
+              "on a ground line or a link turning about a ground point; this description has none");
+    if (energy || has("drive_torque") || has("_peak_reaction") || has("_peak_guide_force"))
       at.fail("'" + name + "' needs " +
               (energy ? std::string("masses (a link's mass or mass_per_length)")
                       : std::string("masses, loads or springs")) +

@@ -4,6 +4,7 @@
 // description offers, named by its outputs and loops (docs/linkage.md,
 // "The metrics"). problem.cpp evaluates them.
 #pragma once
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -45,8 +46,11 @@ enum class Form {
   mean,      // cycle means of q (the torque or the energy) ...
   mean_abs,  // ... of |q|
   rms,       // ... and its root mean square
-  k1,        // seed 000's k1: the peak kinetic energy over the mean
   flywheel,  // the flywheel inertia that keeps the speed fluctuation: the torque's work swing / (delta w^2)
+  k1,        // seed 000's k1: the peak kinetic energy over the mean
+  k2,        // ... k2: the mean over T_min (least_mean_energy below)
+  k3,        // ... k3: the peak over T_min
+  least,     // T_min itself
 };
 struct Metric {
   opt::MetricSpec spec;
@@ -58,9 +62,51 @@ struct Metric {
 std::vector<Metric> metrics_of(const Description& d);
 std::vector<opt::MetricSpec> specs_of(const std::vector<Metric>& ms);
 
+// Seed 000's T_min (eq. 14) for any linkage: the kinetic energy its
+// outputs with a mass would have if each ran its stroke at constant speed,
+// out in half a revolution and back in the other, the sum over them of
+// (1/2) M (stroke w / pi)^2. It counts the outputs whose energy is
+// (1/2) M x'^2 of their one coordinate x: a slider with a mass on a ground
+// line (M its mass; it only translates) and a link with a mass turning
+// about a ground point, not the crank (M its inertia about that pivot, x
+// its angle: a rocker; one that turns fully has no stroke). Their mean
+// energy is at least T_min (mean x'^2 >= (mean |x'|)^2 >= (stroke w /
+// pi)^2), so k2 >= 1 (the other bodies only add energy). The twin drive's two
+// carts of stroke 2 r give 2 (1/2) m (2 r w / pi)^2 = 4 m r^2 w^2 / pi^2.
+// The outputs that count, by index (none: no T_min, k2 or k3).
+std::vector<int> moving_masses(const Description& d);
+
+// Output link l's M at the values v: a slider's mass, or a link's
+// inertia about its frame's origin (a rocker's pivot): a bar's q L^3 / 3,
+// a body's J + m |cg|^2.
+template <class S>
+S moving_mass(const mech::linkage::Link& l, const S* v) {
+  using mech::linkage::kNone;
+  if (l.length == kNone) return v[l.mass];
+  if (l.mass_per_length != kNone) return S(v[l.mass_per_length] * v[l.length] * v[l.length] * v[l.length] / 3.0);
+  S m = l.inertia == kNone ? S(0.0) : v[l.inertia];
+  if (l.cg_u != kNone) m += v[l.mass] * (v[l.cg_u] * v[l.cg_u] + v[l.cg_v] * v[l.cg_v]);
+  return m;
+}
+
+// T_min at the values v over the outputs moving_masses gives, stroke(o)
+// output o's stroke on S.
+template <class S, class Stroke>
+S least_mean_energy(const Description& d, const S* v, const std::vector<int>& outputs, Stroke&& stroke) {
+  const S& w = v[d.chain.crank().speed];
+  S sum(0.0);
+  for (int o : outputs) {
+    const auto& l = d.chain.links()[static_cast<size_t>(d.outputs[static_cast<size_t>(o)].link)];
+    const S speed = stroke(o) * w / std::numbers::pi;
+    sum += 0.5 * moving_mass(l, v) * speed * speed;
+  }
+  return sum;
+}
+
 // A torque or energy metric named by the config's objective or constraints
-// when the description gives it none (no masses, loads or springs): a
-// located error that says what is missing, not just "unknown metric".
+// when the description gives it none (no masses, loads or springs; for
+// T_min, k2 and k3 no output that moving_masses counts): a located error
+// that says what is missing, not just "unknown metric".
 void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>& metrics);
 
 }  // namespace problems::linkage

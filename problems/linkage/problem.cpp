@@ -46,7 +46,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   LinkageProblem(Description d, std::vector<Metric> metrics, opt::Values<double> values,
                  std::vector<opt::Variable> vars)
       : ModelProblem("linkage", specs_of(metrics), d.table, std::move(values), std::move(vars)),
-        d_(std::move(d)), metrics_(std::move(metrics)) {}
+        d_(std::move(d)), metrics_(std::move(metrics)), masses_(moving_masses(d_)) {}
 
   nlohmann::json settings() const override {
     nlohmann::json groups = nlohmann::json::array();
@@ -214,14 +214,28 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           break;
         }
         case Form::grashof: break;  // put first
+        case Form::k3:
+        case Form::least: break;  // from maxima alone: below
         default: means = true;
       }
     }
-    if (!means) return;
-    const S mean_energy = put_means(v, out, ws);
+    // The energy's ratios, seed 000 eq. (15), over T_min from the outputs' strokes.
+    const S mean_energy = means ? put_means(v, out, ws) : S(0.0);
+    bool least_wanted = false;
     for (size_t m = 0; m < metrics_.size(); ++m)
-      if (metrics_[m].form == Form::k1 && out.want(static_cast<int>(m)))
-        out.put(static_cast<int>(m), S(at_max(find({Kind::energy, kNone})) / mean_energy));
+      least_wanted = least_wanted || (metrics_[m].form >= Form::k2 && out.want(static_cast<int>(m)));
+    const S least = !least_wanted ? S(0.0) : least_mean_energy(d_, v.data(), masses_, [&](int o) {
+      return S(at_max(find({Kind::coordinate, o})) + at_max(find({Kind::neg_coordinate, o})));
+    });
+    for (size_t m = 0; m < metrics_.size(); ++m) {
+      const Form f = metrics_[m].form;
+      if (f < Form::k1 || !out.want(static_cast<int>(m))) continue;
+      const S top = f == Form::k2 || f == Form::least ? S(0.0) : at_max(find({Kind::energy, kNone}));
+      out.put(static_cast<int>(m), f == Form::k1   ? S(top / mean_energy)
+                                   : f == Form::k2 ? S(mean_energy / least)
+                                   : f == Form::k3 ? S(top / least)
+                                                   : least);
+    }
   }
 
  private:
@@ -294,18 +308,15 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
   // The quantities metric m needs: a group kind's metric one per group of that type.
   void ask(const Metric& m, std::vector<Quantity>& asked) const {
-    if (m.form == Form::k1) {  // the peak energy (and the mean, in put_means)
-      for (const Quantity& a : asked)
-        if (a.kind == Kind::energy) return;
-      asked.push_back({Kind::energy, kNone});
-      return;
-    }
-    if (m.form >= Form::mean) return;  // a mean asks for no maximum
     auto once = [&](Quantity q) {
       for (const Quantity& a : asked)
         if (a.kind == q.kind && a.index == q.index) return;
       asked.push_back(q);
     };
+    if (m.form == Form::k1 || m.form == Form::k3) once({Kind::energy, kNone});  // the peak energy
+    if (m.form >= Form::k2)  // T_min: the strokes
+      for (int o : masses_) once({Kind::coordinate, o}), once({Kind::neg_coordinate, o});
+    if (m.form >= Form::mean) return;  // a mean asks for no maximum
     for (const Quantity& q : {m.q, m.q2}) {
       if (q.kind == Kind::margin) continue;
       if (q.index != kNone || (q.kind != Kind::pressure && q.kind != Kind::transmission)) {
@@ -441,7 +452,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     bool torque = false, work = false, energy = false, flywheel = false;
     for (size_t m = 0; m < metrics_.size(); ++m) {
       if (!out.want(static_cast<int>(m)) || metrics_[m].form < Form::mean) continue;
-      if (metrics_[m].q.kind == Kind::energy) energy = true;  // (k1 too)
+      if (metrics_[m].q.kind == Kind::energy) energy = energy || metrics_[m].form <= Form::k2;  // (k1, k2 too)
       else if (metrics_[m].form == Form::flywheel) flywheel = work = true;
       else (metrics_[m].form == Form::mean ? work : torque) = true;
     }
@@ -467,7 +478,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       const Metric& mt_m = metrics_[m];
       if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
       using std::sqrt;
-      if (mt_m.form == Form::k1) continue;  // put by the caller
+      if (mt_m.form >= Form::k1) continue;  // put by the caller
       if (mt_m.form == Form::flywheel)
         out.put(static_cast<int>(m), S(swing / (v[static_cast<size_t>(d_.speed_fluctuation)] * w * w)));
       else if (mt_m.q.kind == Kind::energy) out.put(static_cast<int>(m), me.mean);
@@ -539,6 +550,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   Description d_;
   mech::linkage::Joints joints_{d_.chain};
   std::vector<Metric> metrics_;
+  std::vector<int> masses_;  // the outputs T_min counts (moving_masses)
 };
 
 
