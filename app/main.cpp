@@ -110,8 +110,9 @@ arguments:
   CONFIG                  the YAML config
 
 options:
-  --set KEY=VALUE         sets model.KEY, and the initial value of a variable KEY
-                          (VALUE may carry a unit: --set rod_length=800mm); repeatable
+  --set KEY=VALUE         sets model.KEY (a dotted KEY walks the model: ground.O4.x), and the
+                          initial value of a variable KEY (VALUE may carry a unit:
+                          --set rod_length=800mm); repeatable
   -h, --help              this help
 )"},
     {"check-derivatives", R"(usage: mechopt check-derivatives CONFIG [--set KEY=VALUE]...
@@ -372,9 +373,10 @@ void list(bool markdown) {
     if (markdown) {
       std::cout << "### " << e.name << "\n\n" << e.summary << ".\n\n"
                 << "| key | default | domain | variable | meaning | source |\n|---|---|---|---|---|---|\n";
-      auto cell = [](std::string t) {  // a '|' inside a cell would end it
-        for (size_t i = t.find('|'); i != std::string::npos; i = t.find('|', i + 2)) t.insert(i, "\\");
-        return t;
+      auto cell = [](const std::string& t) {  // a '|' inside a cell would end it
+        std::string out;
+        for (const char ch : t) (ch == '|' ? out += "\\|" : out += ch);
+        return out;
       };
       for (const auto& r : e.parameters)
         std::cout << "| `" << r.name << "` | " << opt::value_text(r) << " | " << opt::domain_text(r) << " | "
@@ -474,14 +476,7 @@ int bad_input(const std::exception& e) {
 }
 
 int run(const Args& a) {
-  opt::ConfigNode root = opt::ConfigNode::load(a.config);
-  for (const auto& [key, value] : a.sets) {
-    YAML::Node y = root.yaml();
-    y["model"][key] = value;
-    // A variable is evaluated at its initial value (its model value where it
-    // has none): set that too, or a variable's `initial` would win silently.
-    if (y["variables"] && y["variables"][key] && y["variables"][key].IsMap()) y["variables"][key]["initial"] = value;
-  }
+  const opt::ConfigNode root = opt::with_model_values(opt::ConfigNode::load(a.config), a.sets);
   const auto problem = opt::make_problem(root);
   if (a.command == "eval") {
     nlohmann::json j = opt::metrics_json(*problem, problem->initial_point(false));

@@ -92,29 +92,53 @@ TEST(CommandLine, EvalPrintsEveryMetricAsJson) {
   EXPECT_FALSE(k["metrics"].contains("mean_kinetic_energy"));
 }
 
+// `eval CONFIG --set ...` against `eval` of the config with the same
+// values edited into its text (each `from` replaced by `to`, which must be
+// there): the same metrics. Returns the --set run's JSON.
+nlohmann::json expect_set_as_edited(const std::string& cfg, const std::string& sets,
+                                    const std::vector<std::pair<std::string, std::string>>& edits,
+                                    const std::string& dir) {
+  const Outcome set = run("eval " + cfg + " " + sets);
+  EXPECT_EQ(set.exit_code, 0) << set.output;
+  std::ifstream in(cfg);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string edited = text.str();
+  for (const auto& [from, to] : edits) {
+    const auto at = edited.find(from);
+    if (at == std::string::npos) ADD_FAILURE() << cfg << " changed ('" << from << "' is gone): update this test";
+    else edited.replace(at, from.size(), to);
+  }
+  fs::create_directories(dir);
+  std::ofstream(dir + "/config.yaml") << edited;
+  const Outcome file = run("eval " + dir + "/config.yaml");
+  EXPECT_EQ(file.exit_code, 0) << file.output;
+  const auto a = nlohmann::json::parse(set.output), b = nlohmann::json::parse(file.output);
+  EXPECT_EQ(a["metrics"], b["metrics"]);
+  return a;
+}
+
 // --set of a variable whose config gives an `initial` evaluates at the set
 // value (it used to print the initial's metrics): as the same config with
 // that initial would.
 TEST(CommandLine, EvalSetsAVariableOverItsInitial) {
   const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/balanced_slider_crank/least_torque.yaml";
-  const Outcome set = run("eval " + cfg + " --set cam_offset=25mm");
-  ASSERT_EQ(set.exit_code, 0) << set.output;
-  std::ifstream in(cfg);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string edited = text.str();
-  const auto at = edited.find("initial: 0.0219 m");
-  ASSERT_NE(at, std::string::npos) << "least_torque.yaml changed: update this test";
-  edited.replace(at, 17, "initial: 0.025 m");
-  const std::string dir = testing::TempDir() + "/eval_set_variable";
-  fs::create_directories(dir);
-  std::ofstream(dir + "/config.yaml") << edited;
-  const Outcome file = run("eval " + dir + "/config.yaml");
-  ASSERT_EQ(file.exit_code, 0) << file.output;
-  const auto a = nlohmann::json::parse(set.output), b = nlohmann::json::parse(file.output);
-  EXPECT_EQ(a["metrics"], b["metrics"]);
+  const auto a = expect_set_as_edited(cfg, "--set cam_offset=25mm", {{"initial: 0.0219 m", "initial: 0.025 m"}},
+                                      testing::TempDir() + "/eval_set_variable");
   const auto initial = nlohmann::json::parse(run("eval " + cfg).output);
   EXPECT_NE(a["metrics"]["acceleration_deviation"], initial["metrics"]["acceleration_deviation"]);
+}
+
+// --set of a linkage's address walks the description: a coordinate of a
+// ground point's pair and a spring's free length, as the same edits in the
+// file would.
+TEST(CommandLine, EvalSetsALinkageAddress) {
+  const std::string cfg = std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage/balanced_slider_crank.yaml";
+  const auto a = expect_set_as_edited(cfg, "--set ground.C.x=-25mm --set springs.balance.free_length=8.01m",
+                                      {{"C: [-0.0219 m, 0 m]", "C: [-0.025 m, 0 m]"},
+                                       {"free_length: 8 m}", "free_length: 8.01 m}"}},
+                                      testing::TempDir() + "/eval_set_linkage");
+  EXPECT_EQ(a["settings"]["model"]["ground"]["C.x"], -0.025);
 }
 
 TEST(CommandLine, CheckDerivativesReportsEveryMetric) {

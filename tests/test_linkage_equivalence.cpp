@@ -197,3 +197,53 @@ variables: {rod_length: {min: 0.5 m, max: 1.5 m}, phase_shift: {min: 0 deg, max:
 }
 
 }  // namespace
+
+namespace {
+
+// balanced_slider_crank's improved mechanism (seed 004: a fixed circular
+// cam, springs) with its cam offset and springs free: the linkage's cam
+// centre C = (-a, 0), its spring's rate, and its free length 8 m + s_n
+// (the spring to G = (10 m, 0) is free where x_B = 2 m - s_n, the
+// hand-written's s = 2.3 m - x_B at s0 = 0.3 m + s_n). The hand-written
+// side solves the crank pin on the cam by eq. (1) and the forces by its
+// own Newton-Euler (the block's slot and cam normals, the bearing); the
+// linkage by its RRP groups and reactions group by group.
+TEST(LinkageEquivalence, BalancedSliderCrank) {
+  const auto hand = opt::make_problem(opt::ConfigNode::parse(R"(
+problem: balanced_slider_crank
+model: {crank_speed: 320 rpm, crank_length: 0.3 m, original_rod_length: 2 m, rod_length: 2.0219 m,
+        rod_mass: 150 kg, rod_inertia: 0.5 kg m^2, slider_mass: 600 kg, gravity: perpendicular}
+variables:
+  cam_offset: {min: 0 m, max: 0.05 m, initial: 0.0219 m}
+  spring_rate: {min: 100 kN/m, max: 2000 kN/m, initial: 673.765 kN/m}
+  spring_neutral: {min: -0.2 m, max: 0.2 m, initial: 0 m}
+)", "<balanced>"));
+  const auto general = load("linkage/balanced_slider_crank.yaml");
+  ASSERT_EQ(general->variables()[0].name, "ground.C.x");
+  ASSERT_EQ(general->variables()[1].name, "springs.balance.rate");
+  ASSERT_EQ(general->variables()[2].name, "springs.balance.free_length");
+  const std::vector<Same> metrics = {{"peak_balancing_torque", "peak_drive_torque"},
+                                     {"peak_support_reaction", "O_crank_peak_reaction"},
+                                     {"peak_cam_force", "C_follower_peak_reaction"},
+                                     {"peak_shaking_force", "peak_shaking_force"},
+                                     {"energy_swing", "energy_swing"}};
+  auto map = [](const Eigen::VectorXd& x, Eigen::MatrixXd& j) {  // (a, c, s_n) -> (-a, c, 8 m + s_n)
+    j = Eigen::MatrixXd::Identity(3, 3);
+    j(0, 0) = -1;
+    Eigen::VectorXd g(3);
+    g << -x[0], x[1], 8 + x[2];
+    return g;
+  };
+  expect_same(*hand, *general, metrics, hand->initial_point(), map, "the config's design");
+  std::mt19937_64 rng(34);
+  std::uniform_real_distribution<double> a(0.0, 0.4), c(100e3, 2000e3), s(-0.2, 0.2);
+  int infeasible = 0;
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d x(a(rng), c(rng), s(rng));
+    infeasible += x[0] >= 0.3;  // the cam's centre outside its circle's reach
+    expect_same(*hand, *general, metrics, x, map, "random design " + std::to_string(i));
+  }
+  EXPECT_GT(infeasible, 5);
+}
+
+}  // namespace

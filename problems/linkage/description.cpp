@@ -53,9 +53,13 @@ class Reader {
     model_.allow_only(
         {"gravity", "cycle_points", "speed_fluctuation", "ground", "crank", "links", "groups", "loads", "springs",
          "outputs"});
-    if (model_.has("gravity")) {
-      const std::string g = model_.at("gravity").choice({"on", "off", "true", "false"});
-      d_.chain.set_gravity(g == "on" || g == "true" ? 9.80665 : 0.0);
+    if (model_.has("gravity")) {  // on (standard gravity), off, or an acceleration (a paper's 9.81 m/s^2)
+      const ConfigNode g = model_.at("gravity");
+      const std::string t = g.text();
+      if (t == "on" || t == "off" || t == "true" || t == "false")
+        d_.chain.set_gravity(t == "on" || t == "true" ? 9.80665 : 0.0);
+      else
+        d_.chain.set_gravity(g.quantity(Dimension::acceleration, opt::kNonNegative));
     }
     if (model_.has("cycle_points")) d_.cycle_points = model_.at("cycle_points").integer(8, 100000);
     if (model_.has("speed_fluctuation"))

@@ -68,6 +68,7 @@ std::vector<Metric> metrics_of(const Description& d) {
     add("mean_drive_torque", "N m", Form::mean, {Kind::torque, kNone});
     add("mean_abs_drive_torque", "N m", Form::mean_abs, {Kind::torque, kNone});
     add("rms_drive_torque", "N m", Form::rms, {Kind::torque, kNone});
+    add("energy_swing", "J", Form::swing, {Kind::torque, kNone});
   }
   if (d.has_dynamics()) {  // the joints' reactions: per pin POINT_LINK (reactions.hpp), per slider
     const mech::linkage::Joints j(c);
@@ -116,7 +117,7 @@ void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>
     if (least)
       at.fail("'" + name + "' needs T_min, the energy of the outputs' strokes: an output with a mass, a slider "
               "on a ground line or a link turning about a ground point; this description has none");
-    if (energy || has("drive_torque") || has("_peak_reaction") || has("_peak_guide_force"))
+    if (energy || has("drive_torque") || has("energy_swing") || has("_peak_reaction") || has("_peak_guide_force"))
       at.fail("'" + name + "' needs " +
               (energy ? std::string("masses (a link's mass or mass_per_length)")
                       : std::string("masses, loads or springs")) +

@@ -46,7 +46,8 @@ enum class Form {
   mean,      // cycle means of q (the torque or the energy) ...
   mean_abs,  // ... of |q|
   rms,       // ... and its root mean square
-  flywheel,  // the flywheel inertia that keeps the speed fluctuation: the torque's work swing / (delta w^2)
+  swing,     // the torque's work swing: the largest less the smallest of its work about its mean
+  flywheel,  // the flywheel inertia that keeps the speed fluctuation: the work swing / (delta w^2)
   k1,        // seed 000's k1: the peak kinetic energy over the mean
   k2,        // ... k2: the mean over T_min (least_mean_energy below)
   k3,        // ... k3: the peak over T_min

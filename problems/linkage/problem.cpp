@@ -445,15 +445,15 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const int nodes = 2 * d_.cycle_points;
     const S& w = v[static_cast<size_t>(c.crank().speed)];
     // Which integrals the wanted means need: the torque's (|M|, M^2), the
-    // loads' and springs' power (the mean torque: inertia and gravity give
+    // loads' power (the mean torque: inertia, gravity and springs give
     // back over a cycle what they take, so the mean is the loads' work,
-    // free of the cancellation of a large periodic torque; the springs'
-    // share integrates to zero), the energy's.
+    // free of the cancellation of a large periodic torque: exactly zero
+    // without loads), the energy's.
     bool torque = false, work = false, energy = false, flywheel = false;
     for (size_t m = 0; m < metrics_.size(); ++m) {
       if (!out.want(static_cast<int>(m)) || metrics_[m].form < Form::mean) continue;
       if (metrics_[m].q.kind == Kind::energy) energy = energy || metrics_[m].form <= Form::k2;  // (k1, k2 too)
-      else if (metrics_[m].form == Form::flywheel) flywheel = work = true;
+      else if (metrics_[m].form == Form::flywheel || metrics_[m].form == Form::swing) flywheel = work = true;
       else (metrics_[m].form == Form::mean ? work : torque) = true;
     }
     const mech::ArcMeans<S> none{S(0.0), S(0.0), S(0.0)};
@@ -466,7 +466,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           kinks, nodes, ws.cycle, near);
     if (work)
       ml = mech::piecewise_means<S>(
-          [&](double phi, double, double) { return S(-mech::linkage::load_power(c, v.data(), at(phi), S(phi))); },
+          [&](double phi, double, double) {
+            return S(-mech::linkage::load_power(c, v.data(), at(phi), S(phi), false));
+          },
           kinks, nodes, ws.cycle, near);
     if (energy)
       me = mech::piecewise_means<S>(
@@ -479,7 +481,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
       using std::sqrt;
       if (mt_m.form >= Form::k1) continue;  // put by the caller
-      if (mt_m.form == Form::flywheel)
+      if (mt_m.form == Form::swing)
+        out.put(static_cast<int>(m), swing);
+      else if (mt_m.form == Form::flywheel)
         out.put(static_cast<int>(m), S(swing / (v[static_cast<size_t>(d_.speed_fluctuation)] * w * w)));
       else if (mt_m.q.kind == Kind::energy) out.put(static_cast<int>(m), me.mean);
       else if (mt_m.form == Form::mean) out.put(static_cast<int>(m), ml.mean);

@@ -9,6 +9,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "opt/units.hpp"
@@ -91,5 +92,10 @@ std::string relative_to(const std::string& file, const std::string& name);
 // Sets KEY of map n; a dotted key names a key in sections: "motor.slip" is
 // n["motor"]["slip"].
 void set_dotted(YAML::Node n, const std::string& key, const YAML::Node& v);
+// The config with model values set by key (a dotted key walks the model's
+// maps; a pair's x or y sets that coordinate), as `mechopt eval --set` and a
+// DOE sample set them; a variable KEY's `initial` too, so that the variable
+// is evaluated at the value set rather than at its initial.
+ConfigNode with_model_values(const ConfigNode& root, const std::vector<std::pair<std::string, std::string>>& values);
 
 }  // namespace opt

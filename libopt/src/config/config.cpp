@@ -284,4 +284,15 @@ void set_dotted(YAML::Node n, const std::string& key, const YAML::Node& v) {
   else set_dotted(n[key.substr(0, dot)], key.substr(dot + 1), v);
 }
 
+ConfigNode with_model_values(const ConfigNode& root, const std::vector<std::pair<std::string, std::string>>& values) {
+  if (values.empty()) return root;
+  YAML::Node over;
+  const YAML::Node variables = root.has("variables") ? root.at("variables").yaml() : YAML::Node();
+  for (const auto& [key, value] : values) {
+    set_dotted(over["model"], key, YAML::Node(value));
+    if (variables.IsMap() && variables[key] && variables[key].IsMap()) over["variables"][key]["initial"] = value;
+  }
+  return root.with(over, "--set");  // a new node over the config: nothing written into its tree
+}
+
 }  // namespace opt

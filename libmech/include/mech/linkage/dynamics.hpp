@@ -127,16 +127,17 @@ Tension<S> tension(const Spring& sp, const S* v, const State<S>& st) {
 }
 
 // The loads' generalised force at crank angle phi (their power per unit
-// crank speed).
+// crank speed), the springs' with them unless `springs` is false.
 template <class S>
-S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi) {
+S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi, bool springs = true) {
   S sum(0.0), size(0.0), rate(0.0);
   for (const Load& l : c.loads())
     if (load_action(c, l, v, st, phi, size, rate)) sum += size * rate;
-  for (const Spring& sp : c.springs()) {
-    const Tension<S> t = tension(sp, v, st);
-    sum -= t.tension * t.length_rate;
-  }
+  if (springs)
+    for (const Spring& sp : c.springs()) {
+      const Tension<S> t = tension(sp, v, st);
+      sum -= t.tension * t.length_rate;
+    }
   return sum;
 }
 
