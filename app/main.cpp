@@ -21,7 +21,7 @@
 #include "opt/study.hpp"
 #include "opt/units.hpp"
 #include "opt/registry.hpp"
-#include "problems/linkage/description.hpp"
+#include "problems/linkage/drawing.hpp"
 
 namespace {
 
@@ -49,9 +49,9 @@ usage:
   mechopt check-derivatives CONFIG [--set KEY=VALUE]
                                           every metric's gradient (autodiff) against central
                                           differences at the model values, per variable
-  mechopt kinematics CONFIG [--angles "0,37,90 deg"]
+  mechopt kinematics CONFIG [--angles "0,37,90 deg"] [--svg FILE]
                                           a linkage's points, links, torque and energy at
-                                          crank angles, as JSON (docs/linkage.md)
+                                          crank angles, as JSON; --svg draws it (docs/linkage.md)
   mechopt list [--markdown]               problems (every model key with its default, domain
                                           and source; variables; metrics) and algorithms
   mechopt COMMAND --help                  a command's arguments and options
@@ -89,7 +89,7 @@ options:
                           job array's SLURM_ARRAY_TASK_ID, _MIN and _COUNT)
   -h, --help              this help
 )"},
-    {"kinematics", R"(usage: mechopt kinematics CONFIG [--angles LIST]
+    {"kinematics", R"(usage: mechopt kinematics CONFIG [--angles LIST] [--svg FILE]
 
 Prints a `problem: linkage` config's mechanism at its model values as JSON
 (SI): every point's position, velocity and acceleration, every link's angle,
@@ -99,6 +99,7 @@ transmission and pressure angles, the driving torque and kinetic energy.
 options:
   --angles LIST           crank angles, e.g. "0,37,90 deg" (a unit after the
                           last applies to those without one); default every 30 deg
+  --svg FILE              also draws the mechanism at those angles into FILE (SVG)
   -h, --help              this help
 )"},
     {"eval", R"(usage: mechopt eval CONFIG [--set KEY=VALUE]...
@@ -203,9 +204,8 @@ struct Args {
   bool doe_only_flags = false;  // --progress, --shard, --new, --dry-run (a sweep takes --threads, --force)
   std::string export_format;               // export: csv | json | canonical
   std::vector<std::string> stores;         // export, merge, check, recover
-  std::string angles = "0,30,60,90,120,150,180,210,240,270,300,330 deg";  // kinematics
+  std::string angles = "0,30,60,90,120,150,180,210,240,270,300,330 deg", svg;  // kinematics
 };
-
 
 [[noreturn]] void usage_error(const std::string& what) {
   std::cerr << "mechopt: " << what << "\n\n" << kUsage;
@@ -290,8 +290,8 @@ Args parse_args(int argc, char** argv) {
         if (eq == std::string::npos || eq == 0) usage_error("--set expects KEY=VALUE, got '" + val + "'");
         a.sets.emplace_back(val.substr(0, eq), val.substr(eq + 1));
       }
-    } else if (v[i] == "--angles" && a.command == "kinematics" && i + 1 < v.size()) {
-      a.angles = v[++i];
+    } else if ((v[i] == "--angles" || v[i] == "--svg") && a.command == "kinematics" && i + 1 < v.size()) {
+      (v[i] == "--svg" ? a.svg : a.angles) = v[i + 1], ++i;
     } else if (v[i] == "--markdown" && a.command == "list") {
       a.markdown = true;
     } else if (a.config.empty() && v[i][0] != '-') {
@@ -534,15 +534,13 @@ int main(int argc, char** argv) {
     }
     if (a.command == "run" || a.command == "eval" || a.command == "check-derivatives") return run(a);
     if (a.command == "kinematics") {
-      const opt::ConfigNode root = opt::ConfigNode::load(a.config);
-      if (root.at("problem").text() != "linkage") root.at("problem").fail("kinematics takes a `problem: linkage` config");
       std::vector<double> angles;
       try {
         angles = problems::linkage::crank_angles(a.angles);
       } catch (const std::invalid_argument& e) {
         usage_error(std::string("--angles: ") + e.what());
       }
-      std::cout << problems::linkage::kinematics_report(root, angles).dump(2) << "\n";
+      problems::linkage::kinematics_command(opt::ConfigNode::load(a.config), angles, a.svg, std::cout);
       return 0;
     }
     if (a.command == "export") {

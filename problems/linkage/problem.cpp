@@ -23,6 +23,7 @@
 #include "mech/cycle.hpp"
 #include "mech/linkage/dynamics.hpp"
 #include "problems/linkage/description.hpp"
+#include "problems/linkage/drawing.hpp"
 #include "problems/linkage/metrics.hpp"
 #include "problems/linkage/quantity.hpp"
 #include "problems/model_problem.hpp"
@@ -67,6 +68,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // outputs' coordinates over a revolution (cycle.svg draws the torques).
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
     return linkage::cycle_curves(d_, values_at(x), n);
+  }
+  // mechanism.svg: the design at six crank angles with its points' paths.
+  std::string mechanism_svg(const Eigen::VectorXd& x, const std::string& label) const override {
+    return linkage::mechanism_svg(d_, values_at(x), drawn_angles(), "linkage: the mechanism at " + label);
   }
 
   struct Workspace : opt::ModelWorkspace {

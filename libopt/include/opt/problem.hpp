@@ -200,6 +200,12 @@ class Problem {
     (void)x, (void)n;
     return {};
   }
+  // The mechanism drawn at x as an SVG document, `label` naming the design
+  // (mechanism.svg, beside cycle.svg); "" when the problem draws none.
+  virtual std::string mechanism_svg(const Eigen::VectorXd& x, const std::string& label) const {
+    (void)x, (void)label;
+    return "";
+  }
   // For a metric that is a maximum over the crank cycle: every local maximum
   // at x, each the integrand at one refined angle with its gradient taken at
   // that fixed angle (the local maximum's exact gradient, by the envelope

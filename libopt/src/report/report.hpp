@@ -31,7 +31,8 @@ std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
 // cycle.svg: the problem's primary cycle curve at each design in `xs`
 // (labelled) and, at the last design, every other curve in its unit, over the
 // crank angle in degrees (or time), the y axis in that unit; plus cycle.csv
-// with every column at the last design in SI, each headed "name [unit]".
+// with every column at the last design in SI, each headed "name [unit]";
+// and mechanism.svg, the problem's drawing of the last design, if it draws one.
 std::vector<std::string> write_cycle_chart(const Problem& p,
                                            const std::vector<std::pair<std::string, Eigen::VectorXd>>& xs,
                                            const std::string& dir);

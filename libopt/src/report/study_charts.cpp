@@ -5,6 +5,7 @@
 #include <map>
 
 #include "opt/chart.hpp"
+#include "opt/record.hpp"
 #include "report/report.hpp"
 
 namespace opt::report {
@@ -76,13 +77,18 @@ std::vector<std::string> write_charts(const Problem& p, const RunSpec& s,
 std::vector<std::string> write_cycle_chart(const Problem& p,
                                            const std::vector<std::pair<std::string, Eigen::VectorXd>>& xs,
                                            const std::string& dir) {
+  std::vector<std::string> files;
+  if (const std::string svg = xs.empty() ? "" : p.mechanism_svg(xs.back().second, xs.back().first); !svg.empty()) {
+    write_file_atomically(dir + "mechanism.svg", svg);
+    files.push_back(dir + "mechanism.svg");
+  }
   std::vector<std::pair<std::string, CycleCurves>> drawn;
   for (const auto& [label, x] : xs) {
     CycleCurves curves = p.cycle_curves(x, 360);
     if (!curves.plotted().empty() && !curves.columns.empty() && !curves.columns[0].empty())
       drawn.emplace_back(label, std::move(curves));
   }
-  if (drawn.empty()) return {};
+  if (drawn.empty()) return files;
   const CycleCurves& last = drawn.back().second;
   const std::vector<size_t> cols = last.plotted();
   // Every plotted column at the last design; the primary alone at the others.
@@ -106,7 +112,6 @@ std::vector<std::string> write_cycle_chart(const Problem& p,
   c.set_x(last.names[0], last.units[0]);  // the crank angle in degrees
   if (last.units[0] == "rad" && last.columns[0].back() < 3.5) c.x_tick_step = 30;  // a half turn
   c.set_y(quantities, last.units[cols[0]]);
-  std::vector<std::string> files;
   if (write_svg(c, dir + "cycle.svg")) files.push_back(dir + "cycle.svg");
   // cycle.csv: every column at the last design, in SI, each header "name [unit]".
   std::ofstream csv(dir + "cycle.csv");
