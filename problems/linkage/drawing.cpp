@@ -409,10 +409,14 @@ std::string mechanism_svg(const Description& d, const std::vector<double>& v, co
 void kinematics_command(const opt::ConfigNode& root, const std::vector<double>& angles, const std::string& svg,
                         std::ostream& out) {
   if (root.at("problem").text() != "linkage") root.at("problem").fail("kinematics takes a `problem: linkage` config");
+  std::ofstream file;  // opened first: a file that cannot be written stops before any output
+  if (!svg.empty()) {
+    file.open(svg);
+    if (!file) throw std::runtime_error("cannot write " + svg);
+  }
   out << kinematics_report(root, angles).dump(2) << "\n";
   if (svg.empty()) return;
   const Description d = read_description(root);
-  std::ofstream file(svg);
   file << mechanism_svg(d, d.chain.defaults(), angles, "linkage: the mechanism at its model values");
   if (!file.flush()) throw std::runtime_error("cannot write " + svg);
 }
