@@ -274,17 +274,17 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     mech::find_cycle_maxima(std::span(ws.searches.data() + from, to - from), [&](std::span<mech::AngleQuery> qs) {
       for (mech::AngleQuery& a : qs) {
         const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
-        if (!mech::linkage::solve(c, ws.vdual.data(), Dual(a.phi, 1.0), ws.sdual) &&
-            (q.kind != Kind::margin || ws.sdual.failed <= q.index)) {
+        // A value, or a slope the jets give, on doubles; else on a Dual in phi.
+        const bool dual = a.slope && !has_jet_slope(q.kind);
+        const bool ok = dual ? mech::linkage::solve(c, ws.vdual.data(), Dual(a.phi, 1.0), ws.sdual)
+                             : mech::linkage::solve(c, ws.plain.data(), a.phi, ws.sd);
+        if (!ok && (q.kind != Kind::margin || (dual ? ws.sdual.failed : ws.sd.failed) <= q.index)) {
           a.out = a.slope ? 0.0 : 1.0;  // past a failure: above every margin
           continue;
         }
-        if (a.slope && (q.kind == Kind::coordinate || q.kind == Kind::neg_coordinate)) {
-          a.out = coordinate_jet(q, ws.sdual, ws).d.v;  // the rate, without the angle's atan2
-          continue;
-        }
-        const Dual f = quantity(q, ws.vdual.data(), ws.sdual, ws);
-        a.out = a.slope ? f.d : f.v;
+        if (dual) a.out = quantity(q, ws.vdual.data(), ws.sdual, ws).d;
+        else if (a.slope) a.out = jet_slope(d_, q, ws.plain.data(), ws.sd);
+        else a.out = quantity(q, ws.plain.data(), ws.sd, ws);
       }
     }, ws.cycle);
   }

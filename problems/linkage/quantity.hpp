@@ -55,6 +55,57 @@ mech::linkage::Jet<T> coordinate_jet(const Description& d, const Quantity& q, co
   return q.kind == Kind::neg_coordinate ? -x : x;
 }
 
+// Output q.index's coordinate rate and its slope (a rocker's without its
+// angle's atan2), minus them for neg_coordinate.
+template <class T>
+mech::linkage::Jet<T> coordinate_rates(const Description& d, const Quantity& q, const mech::linkage::State<T>& st) {
+  const auto& o = d.outputs[static_cast<size_t>(q.index)];
+  const auto& s = st.slide[static_cast<size_t>(o.link)];
+  const mech::linkage::Jet<T> x =
+      o.slides ? mech::linkage::Jet<T>{T(0.0), s.d, s.dd} : mech::linkage::angle_rates(st.axis[static_cast<size_t>(o.link)]);
+  return q.kind == Kind::neg_coordinate ? -x : x;
+}
+
+// Whether quantity kind k's slope in the crank angle comes from a state's
+// second-order jets alone (jet_slope); the torque's, an acceleration's and
+// the forces' need the third order (the chain on a Dual in phi).
+inline bool has_jet_slope(Kind k) {
+  return k == Kind::margin || k == Kind::coordinate || k == Kind::neg_coordinate || k == Kind::speed ||
+         k == Kind::pressure || k == Kind::transmission || k == Kind::energy;
+}
+
+// Quantity q's slope in the crank angle (has_jet_slope(q.kind)).
+template <class T>
+T jet_slope(const Description& d, const Quantity& q, const T* v, const mech::linkage::State<T>& st) {
+  const mech::linkage::Chain& c = d.chain;
+  const T& w = v[c.crank().speed];
+  auto sign = [](const T& x) { return double((mech::value(x) > 0) - (mech::value(x) < 0)); };
+  auto sine = [&](bool pressure) {  // the group's pressure (transmission) sine as a jet
+    const auto& g = c.groups()[static_cast<size_t>(q.index)];
+    const auto &e1 = st.axis[static_cast<size_t>(g.first)], &e2 = st.axis[static_cast<size_t>(g.second)];
+    return pressure ? mech::linkage::cross(e2, e1) : mech::linkage::cross(e1, e2);
+  };
+  switch (q.kind) {
+    case Kind::margin: return T(-margin2(c, q.index, st).d);
+    case Kind::coordinate:
+    case Kind::neg_coordinate: return coordinate_rates(d, q, st).d;
+    case Kind::speed: {
+      const auto x = coordinate_rates(d, {Kind::coordinate, q.index}, st);
+      return T(sign(x.d) * x.dd * w);
+    }
+    case Kind::pressure: {
+      const auto s = sine(true);
+      return T(sign(s.v) * s.d);
+    }
+    case Kind::transmission: {
+      const auto s = sine(false);
+      return T(-sign(s.v) * s.d);
+    }
+    case Kind::energy: return T(mech::linkage::drive_point(c, v, st).energy_slope * w * w);
+    default: return T(0.0);
+  }
+}
+
 // The reactions of st, in a scratch of this thread's (one per scalar).
 template <class T>
 const mech::linkage::Reactions<T>& reactions_of(const mech::linkage::Chain& c, const mech::linkage::Joints& j,

@@ -145,6 +145,7 @@ template <class S>
 struct DrivePoint {
   S energy;  // T / w^2 [kg m^2]: the reduced moment of inertia over 2
   S torque;  // M [N m]
+  S energy_slope;  // d(T / w^2)/dphi: the inertia forces' share of M / w^2
 };
 
 template <class S>
@@ -162,7 +163,7 @@ DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
     inertia += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
     weight += b.m * y.d;
   }
-  return {S(energy / 2.0), S(w * w * inertia + c.gravity() * weight - load_power(c, v, st, phi))};
+  return {S(energy / 2.0), S(w * w * inertia + c.gravity() * weight - load_power(c, v, st, phi)), inertia};
 }
 
 }  // namespace mech::linkage
