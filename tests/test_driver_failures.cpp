@@ -227,3 +227,23 @@ TEST(DriverFailures, GradientDriverDoesNotStopAtAStationaryMaximum) {
 }
 
 }  // namespace
+
+namespace {
+
+// Bounds near the largest double overflow MMA's scaling: it steps to a
+// non-finite design, where it would spin to its evaluation limit (2000
+// evaluations, 40 s). The driver stops at the first such step and says
+// why; no model evaluates a non-finite design (Problem::evaluate answers
+// non_finite, naming the variable).
+TEST(DriverFailures, MmaSteppingToANonFiniteDesignStopsAndSaysSo) {
+  const auto [o, j] = run_edited("configs/linkage/balanced_slider_crank.yaml", "non_finite_step",
+                                 {{"springs.balance.free_length: {min: 7.9 m, max: 8.1 m}",
+                                   "springs.balance.free_length: {min: 7.9 m, max: 1e308 m}"}});
+  ASSERT_TRUE(o.exited(0)) << o.output;
+  EXPECT_EQ(j["status"], "failure") << j["message"];
+  EXPECT_NE(j["message"].get<std::string>().find("NLopt stepped to a non-finite design"), std::string::npos)
+      << j["message"];
+  EXPECT_LT(j["evaluations"].get<int>(), 10);
+}
+
+}  // namespace

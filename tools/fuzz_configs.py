@@ -590,12 +590,14 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated mutant ids to run (same seed)")
     ap.add_argument("--print", dest="show", type=int, default=None, help="print mutant ID and exit")
     ap.add_argument("--min-reached", type=float, default=0.5)
+    ap.add_argument("--configs", default="configs/**/*.yaml",
+                    help="the configs to mutate, a glob under the root (e.g. 'configs/linkage/*.yaml')")
     a = ap.parse_args()
 
     binary = os.path.abspath(a.binary)
-    files = sorted(glob.glob(os.path.join(ROOT, "configs/**/*.yaml"), recursive=True))
+    files = sorted(glob.glob(os.path.join(ROOT, a.configs), recursive=True))
     if not files:
-        sys.exit("fuzz_configs: no configs under configs/")
+        sys.exit("fuzz_configs: no configs match %s" % a.configs)
     bases = {}
     for path in files:
         with open(path) as f:

@@ -54,6 +54,15 @@ void Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool g
 
 void Problem::evaluate(const Eigen::VectorXd& x, const MetricSet& wanted, bool gradient, Evaluation& e,
                        Workspace& ws) const {
+  if (!x.allFinite()) {  // a driver's step past every scale (bounds near 1e308): no model sees it
+    int i = 0;
+    while (std::isfinite(x[i])) ++i;
+    if (e.names.get() != &metric_names()) e.names = shared_metric_names();
+    e.status = Status::non_finite;
+    e.message = "variable " + variables()[static_cast<size_t>(i)].name + " is not finite";
+    e.computed = MetricSet();
+    return;
+  }
   evaluate_model_with(x, wanted, gradient, e, ws);
   leave_avx();
   if (e.names.get() != &metric_names()) e.names = shared_metric_names();  // no reference count churn per design

@@ -164,6 +164,9 @@ struct Context {
   std::optional<Eigen::VectorXd> stationary;
   std::optional<double> first_change;  // the first gradient's largest |g_i| range_i
   double least = std::numeric_limits<double>::infinity();  // the least f at a design inside every constraint
+  // The library stepped to a non-finite design (its scaling overflowed:
+  // bounds near 1e308), where it would spin to its evaluation limit.
+  bool non_finite_step = false;
 
   // The evaluation at x, or nullptr once the run must stop (the library is
   // then told to stop). The time and the stop request are checked before
@@ -171,7 +174,7 @@ struct Context {
   const detail::EvaluationAt* at(unsigned n, const double* x, bool gradient) {
     Eigen::Map<const Eigen::VectorXd> xv(x, n);
     if (last.x.size() == n && last.x == xv && (last_has_gradient || !gradient)) return &last;
-    if (error || (*stop)()) {
+    if (error || (*stop)() || (non_finite_step = !xv.allFinite())) {
       nlopt_force_stop(opt);
       return nullptr;
     }
@@ -454,6 +457,8 @@ Result NloptDriver::minimize(const Problem& problem, const Objective& objective,
   result.message = c.stationary && !stop.reason
                        ? "the objective's gradient is zero to roundoff (mechopt's test; NLopt has none)"
                        : std::string("NLopt: ") + nlopt_result_to_string(code);
+  if (c.non_finite_step && !stop.reason)
+    result.message = "NLopt stepped to a non-finite design (are the variables' bounds too wide for its scaling?)";
   result.x = c.stationary && !stop.reason ? *c.stationary : x;
   if (code == NLOPT_ROUNDOFF_LIMITED && !stop.reason && !c.stationary && alg.gradient && !alg.global) {
     // NLopt: "the optimization still typically returns a useful result".
