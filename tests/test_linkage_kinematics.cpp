@@ -273,3 +273,57 @@ TEST(LinkageKinematics, TheChainRefusesABadOrder) {
 }
 
 }  // namespace
+
+namespace {
+
+// An RPP group, a scotch yoke: the crank's pin A = r (cos t, sin t) slides
+// in a slot at beta to a slider on a line through (0, h) at angle alpha;
+// solving A - T = s u + t w by Cramer's rule in the line's frame, with
+// A's coordinates x' = A - T along u and y' across it: s = x' - y' cot
+// beta. For alpha = 0 and beta = 90 deg s = r cos t, s' = -r sin t, s'' =
+// -r cos t; otherwise the jets against central differences of s.
+TEST(LinkageKinematics, ScotchYokeMatchesTheClosedForm) {
+  for (const double beta : {kPi / 2, 1.1}) {
+    for (const double alpha : {0.0, 0.4}) {
+      const double r = 0.3, h = 0.05;
+      Chain c;
+      const int O = c.ground("O", c.value("ground.O.x", 0), c.value("ground.O.y", 0));
+      const int T = c.ground("T", c.value("ground.T.x", 0), c.value("ground.T.y", h));
+      const int crank = c.link("crank"), block = c.link("block"), yoke = c.link("yoke");
+      c.set_length(crank, c.value("links.crank.length", r));
+      c.set_line(yoke, mech::linkage::kNone, T, c.value("links.yoke.line.angle", alpha), mech::linkage::kNone);
+      c.set_slot(yoke, c.value("links.yoke.slot", beta));
+      const int A = c.crank(crank, O, "A", c.value("crank.phase", 0), c.value("crank.speed", 10), 1);
+      const int P = c.rpp(block, yoke, A, "P");
+      auto s_at = [&](double t) {
+        const double x = r * std::cos(t), y = r * std::sin(t) - h;
+        const double along = x * std::cos(alpha) + y * std::sin(alpha);
+        const double across = -x * std::sin(alpha) + y * std::cos(alpha);
+        return along - across / std::tan(beta);
+      };
+      for (const double t : {0.0, 0.7, 2.0, 4.4}) {
+        const State<double> st = solved(c, c.defaults(), t);
+        const Jet<double>& s = st.slide[static_cast<size_t>(yoke)];
+        EXPECT_NEAR(s.v, s_at(t), 1e-15);
+        const double d = 1e-4;
+        EXPECT_NEAR(s.d, (s_at(t + d) - s_at(t - d)) / (2 * d), 1e-8);
+        EXPECT_NEAR(s.dd, (s_at(t + d) - 2 * s_at(t) + s_at(t - d)) / (d * d), 1e-6);
+        if (alpha == 0 && beta == kPi / 2) {
+          EXPECT_NEAR(s.d, -r * std::sin(t), 1e-15);
+          EXPECT_NEAR(s.dd, -r * std::cos(t), 1e-15);
+        }
+        // P is on the line, A on the slot through P, the block turns with the yoke.
+        const Vec<double>& p = st.point[static_cast<size_t>(P)];
+        EXPECT_NEAR(p.x.v, s.v * std::cos(alpha), 1e-15);
+        EXPECT_NEAR(p.y.v, h + s.v * std::sin(alpha), 1e-15);
+        const Vec<double>& a = st.point[static_cast<size_t>(A)];
+        const Vec<double>& w = st.axis[static_cast<size_t>(block)];
+        EXPECT_NEAR((a.x.v - p.x.v) * w.y.v - (a.y.v - p.y.v) * w.x.v, 0, 1e-15);
+        EXPECT_NEAR(std::atan2(w.y.v, w.x.v), alpha + beta, 1e-15);
+        EXPECT_NEAR(st.margin[0], std::abs(std::sin(beta)), 1e-15);
+      }
+    }
+  }
+}
+
+}  // namespace

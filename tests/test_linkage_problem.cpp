@@ -121,6 +121,12 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
       {replaced("S0: [0 m, 0 m]", "S0: [0 kg, 0 m]"), "ground.S0[0]"},
       {replaced("rod: {length", "r.od: {length"), "a name is letters"},
       {replaced("branch: 1", "branch: 2"), "expected one of"},
+      {replaced("{type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}",
+                "{type: RPP, links: [rod, ram], from: A, joint: B}"),
+       "an RPP group's slider needs a line and a slot"},
+      {replaced("outputs: [ram]", "outputs: [ram, rum]"), "unknown link 'rum'"},
+      {replaced("    rod: {length: 0.8 m}\n", "    rod: {length: 0.8 m}\n    spare: {length: 1 m}\n"),
+       "no group or crank solves this link"},
       {replaced("outputs: [ram]", "outputs: [ram, rum]"), "unknown link 'rum'"},
       {replaced("    rod: {length: 0.8 m}\n", "    rod: {length: 0.8 m}\n    spare: {length: 1 m}\n"),
        "no group or crank solves this link"},
@@ -136,6 +142,22 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
        "'k2' needs T_min, the energy of the outputs' strokes"},
       {in(replaced("mass: 10 kg, ", ""), "outputs: [ram]\n", "outputs: [ram]\nconstraints: {k3: {max: 2}}\n"),
        "'k3' needs T_min"},
+      {slider_crank("  loads: {p: {link: rod, law: exponential, a: 1 MPa, b: 0 1/m, area: 1 m^2, contact: 0 m}}\n"),
+       "a pressure law acts on a slider; 'rod' is a link"},
+      {slider_crank("  loads: {p: {link: ram, force: 1 N, a: 1 MPa}}\n"), "it goes with law: exponential"},
+      {slider_crank("  loads: {p: {link: ram, force: 1 N, law: exponential}}\n"),
+       "give force, table or law, one of them"},
+      {slider_crank("  loads: {p: {link: ram, law: quadratic, a: 1 MPa, b: 0 1/m, area: 1 m^2, contact: 0 m}}\n"),
+       "expected one of"},
+      {slider_crank("  loads: {p: {link: ram, law: exponential, a: 1 MPa, b: 0 1/m, area: 1 m^2}}\n"), "contact"},
+      {slider_crank("  loads: {p: {link: ram, law: exponential, a: 1 MPa, b: 2 m, area: 1 m^2, contact: 0 m}}\n"),
+       "loads.p.b"},
+      {slider_crank("  loads: {p: {link: ram, law: exponential, a: 1 MPa, b: 0 1/m, area: 1 m^2, contact: 0 m,"
+                    " depth: 1 mm}}\n"),
+       "give contact (the coordinate where the depth starts) or depth"},
+      {slider_crank("  loads: {p: {link: ram, law: exponential, a: 1 MPa, b: 0 1/m, area: 1 m^2, depth: 1 mm}}\n",
+                    "variables: {loads.p.contact: {min: 0 m, max: 1 m}}\n"),
+       "the contact follows the law's depth"},
   };
   for (const auto& c : cases) {
     const std::string what = error_of(c.yaml);
@@ -268,6 +290,59 @@ TEST(LinkageProblem, TypedStatuses) {
   e = q->evaluate(Eigen::VectorXd::Constant(1, 0.2 * (1 + 1e-13)), opt::MetricSet::all(), false);
   EXPECT_EQ(e.status, mech::Status::singular_position) << e.message;
   EXPECT_NE(e.message.find("RRP (rod, ram) passes a singular position"), std::string::npos) << e.message;
+}
+
+}  // namespace
+
+namespace {
+
+// Seed 003's pressure law on the ram (p = a e^(b d) over the depth d = s -
+// contact, force -p area): by virtual work the mean driving torque is the
+// law's work a stroke over 2 pi, area a (e^(b D) - 1) / b at the final
+// depth D = r + l - contact (the ram's coordinate runs from l - r to l + r),
+// with its gradient in closed form; acting both ways (when: always) it
+// gives back on the return what it took, and the mean is zero.
+std::string in_vars(std::string s, const std::string& from, const std::string& to) {
+  return s.replace(s.find(from), from.size(), to);
+}
+
+TEST(LinkageProblem, PressureLawMeanIsItsWork) {
+  const std::string vars =
+      "variables: {links.crank.length: {min: 0.1 m, max: 0.3 m}, links.rod.length: {min: 0.5 m, max: 1 m},"
+      " loads.p.a: {min: 0 Pa, max: 1 MPa}, loads.p.b: {min: 0 1/m, max: 50 1/m},"
+      " loads.p.area: {min: 0 m^2, max: 1 m^2},"
+      " loads.p.contact: {min: 0 m, max: 1 m}}\n";
+  const std::string law = "  loads: {p: {link: ram, law: exponential, a: 0.5 MPa, b: 20 1/m, area: 0.01 m^2,"
+                          " contact: 0.9 m, when: forward}}\n";
+  const auto p = make(slider_crank(law, vars));
+  ASSERT_EQ(p->variables()[5].name, "loads.p.contact");
+  const auto e = p->evaluate(p->initial_point(), {"mean_drive_torque"}, true);
+  ASSERT_TRUE(e.ok()) << e.message;
+  const double a = 0.5e6, b = 20, area = 0.01, depth = 0.2 + 0.8 - 0.9, grow = std::exp(b * depth);
+  const double work = area * a * (grow - 1) / b, end = area * a * grow;  // end: dW/dD
+  const auto& m = e[p->metric_id("mean_drive_torque")];
+  EXPECT_NEAR(m.value * 2 * kPi, work, 1e-12 * work);
+  // d/d(r, l, a, b, area, contact)
+  double expect[] = {end, end, work / a, area * a * (depth * grow / b - (grow - 1) / (b * b)), work / area, -end};
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(m.gradient[i] * 2 * kPi, expect[i], 1e-12 * end) << p->variables()[i].name;
+  std::string both = law;
+  both.replace(both.find("forward"), 7, "always");
+  const auto q = make(slider_crank(both, vars));
+  const auto eq = q->evaluate(q->initial_point(), {"mean_drive_torque"}, false);
+  ASSERT_TRUE(eq.ok()) << eq.message;
+  EXPECT_NEAR(eq.at("mean_drive_torque") * 2 * kPi, 0, 1e-12 * work);
+  // Given by its depth at the end of the stroke, the contact follows the
+  // ram's largest coordinate r + l: the work is the same, whatever r and l.
+  std::string by_depth = law;
+  by_depth.replace(by_depth.find("contact: 0.9 m"), 14, "depth: 0.1 m");
+  const auto d = make(slider_crank(by_depth, in_vars(vars, "loads.p.contact", "loads.p.depth")));
+  ASSERT_EQ(d->variables()[5].name, "loads.p.depth");
+  const auto ed = d->evaluate(d->initial_point(), {"mean_drive_torque"}, true);
+  ASSERT_TRUE(ed.ok()) << ed.message;
+  const auto& md = ed[d->metric_id("mean_drive_torque")];
+  EXPECT_NEAR(md.value * 2 * kPi, work, 1e-12 * work);
+  expect[0] = expect[1] = 0, expect[5] = end;
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(md.gradient[i] * 2 * kPi, expect[i], 1e-12 * end) << d->variables()[i].name;
 }
 
 }  // namespace

@@ -160,6 +160,9 @@ TEST(Units, EveryDimensionInSiPrefixedAndComposedSpelling) {
       {"2 W/m", Dimension::power_per_length, 2},
       {"2 kW/m", Dimension::power_per_length, 2000},
       {"1 hp/m", Dimension::power_per_length, 745.69987158227022},
+      {"0.12 m^2", Dimension::area, 0.12},
+      {"300 cm^2", Dimension::area, 0.03},
+      {"2 m²", Dimension::area, 2},
       {"0.3", Dimension::dimensionless, 0.3},
       {"5 mm/m", Dimension::dimensionless, 0.005},
   });
@@ -176,7 +179,7 @@ TEST(Units, ListedSpellingsAreTheirDimension) {
       EXPECT_TRUE(opt::parse_quantity(std::string("1 ") + e, d).error.empty())
           << e << ": " << opt::parse_quantity(std::string("1 ") + e, d).error;
   }
-  EXPECT_EQ(seen.size(), static_cast<size_t>(Dimension::power_per_length));
+  EXPECT_EQ(seen.size(), static_cast<size_t>(Dimension::area));
 }
 
 // A name is read whole, else as prefix + symbol; no name may be both, and no

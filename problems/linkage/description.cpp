@@ -14,6 +14,7 @@
 #include <tuple>
 
 #include "mech/linkage/kinematics.hpp"
+#include "problems/linkage/kinks.hpp"
 
 namespace problems::linkage {
 namespace {
@@ -89,6 +90,7 @@ class Reader {
       const ConfigNode springs = model_.at("springs");
       for (const auto& name : springs.keys()) read_spring(springs.at(name), name);
     }
+    place_defaults();
     if (model_.has("outputs"))
       for (const auto& o : model_.at("outputs").items()) {
         const int k = link(o);
@@ -154,7 +156,7 @@ class Reader {
 
   void read_link(const ConfigNode& n, const std::string& name) {
     if (!identifier(name)) n.fail("a name is letters, digits and _ (not starting with a digit); got '" + name + "'");
-    n.allow_only({"length", "points", "mass", "cg", "inertia", "mass_per_length", "line", "offset"});
+    n.allow_only({"length", "points", "mass", "cg", "inertia", "mass_per_length", "line", "offset", "slot"});
     const std::string at = "links." + name;
     auto& c = d_.chain;
     const int k = c.link(name);
@@ -187,6 +189,9 @@ class Reader {
       for (const char* key : {"cg", "inertia"})
         if (n.has(key)) n.at(key).fail("a centre of mass and an inertia need the link's mass");
     }
+    if (n.has("slot"))
+      c.set_slot(k, number_at(n, "slot", at, Dimension::angle, opt::kAnyValue,
+                              "the slider's slot, from its line (an RPP group's block slides in it)"));
     if (n.has("offset"))
       c.set_guide_offset(k, number_at(n, "offset", at, Dimension::length, opt::kAnyValue,
                                       "the guide's slide line left of its x axis"));
@@ -223,7 +228,7 @@ class Reader {
   }
 
   void read_group(const ConfigNode& g) {
-    const std::string type = g.at("type").choice({"RRR", "RRP", "RPR"});
+    const std::string type = g.at("type").choice({"RRR", "RRP", "RPR", "RPP"});
     auto& c = d_.chain;
     const auto ls = g.at("links").items();
     if (ls.size() != 2) g.at("links").fail("expected the group's two links [first, second]");
@@ -235,8 +240,9 @@ class Reader {
         const auto from = g.at("from").items();
         if (from.size() != 2) g.at("from").fail("expected the two known points [P, Q] the links start from");
         c.rrr(first, second, point(from[0]), point(from[1]), new_joint(g), branch(g, index));
-      } else if (type == "RRP") {
-        g.allow_only({"type", "links", "from", "joint", "branch", "near"});
+      } else if (type == "RRP" || type == "RPP") {
+        if (type == "RRP") g.allow_only({"type", "links", "from", "joint", "branch", "near"});
+        else g.allow_only({"type", "links", "from", "joint"});
         const auto line = lines_.find(second);
         if (line == lines_.end()) ls[1].fail("the slider '" + ls[1].text() + "' has no line: {fixed_to, through, angle}");
         const ConfigNode& ln = line->second.node;
@@ -249,7 +255,8 @@ class Reader {
           ln.at("through").fail(what);
         }
         c.set_line(second, on, through, line->second.angle, line->second.offset);
-        c.rrp(first, second, point(g.at("from")), new_joint(g), branch(g, index));
+        if (type == "RRP") c.rrp(first, second, point(g.at("from")), new_joint(g), branch(g, index));
+        else c.rpp(first, second, point(g.at("from")), new_joint(g));
       } else {
         g.allow_only({"type", "links", "from", "pivot"});
         c.rpr(first, second, point(g.at("from")), point(g.at("pivot")));
@@ -309,7 +316,8 @@ class Reader {
       d_.chain.add_load(std::move(l));
       return;
     }
-    n.allow_only({"link", "force", "torque", "table", "when", "opposing", "efficiency"});
+    n.allow_only({"link", "force", "torque", "table", "law", "a", "b", "area", "contact", "depth", "when",
+                  "opposing", "efficiency"});
     l.link = link(n.at("link"));
     const bool slider = d_.chain.links()[static_cast<size_t>(l.link)].length == kNone;
     l.kind = slider ? mech::linkage::Load::Kind::force : mech::linkage::Load::Kind::torque;
@@ -319,8 +327,15 @@ class Reader {
       if (n.has(wrong) && std::string(wrong) != size_key)
         n.at(wrong).fail(std::string("'") + n.at("link").text() + "' is " +
                          (slider ? "a slider: a force along its line" : "a link: a torque on it"));
-    if (n.has("table") == n.has(size_key)) n.fail(std::string("give ") + size_key + " or table, one of them");
-    if (n.has(size_key)) {
+    for (const char* key : {"law", "a", "b", "area", "contact", "depth"})
+      if (n.has(key) && (!slider || !n.has("law")))
+        n.at(key).fail(slider ? "a pressure law's key: it goes with law: exponential"
+                              : "a pressure law acts on a slider; '" + n.at("link").text() + "' is a link");
+    if (n.has("table") + n.has(size_key) + n.has("law") != 1)
+      n.fail(std::string("give ") + size_key + (slider ? ", table or law" : " or table") + ", one of them");
+    if (n.has("law")) {
+      read_law(n, at, l);
+    } else if (n.has(size_key)) {
       l.value = number_at(n, size_key, at, size_dim, opt::kAnyValue, std::string("a ") + size_key + " load");
     } else {
       const ConfigNode t = n.at("table");
@@ -349,6 +364,38 @@ class Reader {
       l.efficiency = number_at(n, "efficiency", at, Dimension::dimensionless, {0, 1, true, false},
                                "the drive supplies the load's power over this");
     d_.chain.add_load(std::move(l));
+  }
+  // Seed 003's pressure law p = a e^(b d) over the depth d = s - contact
+  // of the slider's coordinate s, its force -p area along the line.
+  void read_law(const ConfigNode& n, const std::string& at, mech::linkage::Load& l) {
+    n.at("law").choice({"exponential"});
+    l.law_a = number_at(n, "a", at, Dimension::pressure, opt::kAnyValue, "the pressure at zero depth, a of a e^(b d)");
+    l.law_b = number_at(n, "b", at, Dimension::inverse_length, opt::kAnyValue, "the exponent's rate, b of a e^(b d)");
+    l.law_area = number_at(n, "area", at, Dimension::area, opt::kNonNegative, "the area the pressure acts on");
+    if (n.has("contact") == n.has("depth"))
+      n.fail("give contact (the coordinate where the depth starts) or depth (the depth at the stroke's end), one");
+    if (n.has("contact")) {
+      l.law_contact = number_at(n, "contact", at, Dimension::length, opt::kAnyValue,
+                                "the slider's coordinate where the depth starts");
+      return;
+    }
+    l.law_depth = number_at(n, "depth", at, Dimension::length, opt::kAnyValue,
+                            "the depth at the end of the stroke: the contact follows the design");
+    l.law_contact = add(at + ".contact", Dimension::length, opt::kAnyValue,
+                        "the slider's largest coordinate less the depth (follows the design)", 0.0);
+    d_.derived.push_back(l.law_contact);
+  }
+  // The derived contacts at the description's own values.
+  void place_defaults() {
+    if (d_.derived.empty()) return;
+    std::vector<double> v = d_.chain.defaults(), plain, grid;
+    mech::linkage::State<double> sd;
+    sd.resize(d_.chain);
+    placed(d_.chain, d_.cycle_points, v, plain, grid, sd);
+    for (const auto s : d_.derived) {
+      d_.chain.set_default(s, v[static_cast<size_t>(s)]);
+      d_.table[static_cast<size_t>(s)].value = v[static_cast<size_t>(s)];
+    }
   }
   // A spring between two points (each a ground point or fixed on a link).
   void read_spring(const ConfigNode& n, const std::string& name) {

@@ -33,6 +33,8 @@ struct Description {
   // The coefficient of speed fluctuation a flywheel must keep, (w_max -
   // w_min) / w (model.speed_fluctuation, a table row), or kNone.
   mech::linkage::Slot speed_fluctuation = mech::linkage::kNone;
+  // The contacts of laws given by their depth: rows the problem computes.
+  std::vector<mech::linkage::Slot> derived;
 };
 
 // The description under root's `model` (a built-in slider-crank when the

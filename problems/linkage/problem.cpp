@@ -24,6 +24,7 @@
 #include "mech/linkage/dynamics.hpp"
 #include "problems/linkage/description.hpp"
 #include "problems/linkage/drawing.hpp"
+#include "problems/linkage/kinks.hpp"
 #include "problems/linkage/metrics.hpp"
 #include "problems/linkage/quantity.hpp"
 #include "problems/model_problem.hpp"
@@ -47,7 +48,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   LinkageProblem(Description d, std::vector<Metric> metrics, opt::Values<double> values,
                  std::vector<opt::Variable> vars)
       : ModelProblem("linkage", specs_of(metrics), d.table, std::move(values), std::move(vars)),
-        d_(std::move(d)), metrics_(std::move(metrics)), masses_(moving_masses(d_)) {}
+        d_(std::move(d)), metrics_(std::move(metrics)), masses_(moving_masses(d_)) {
+    for (const auto& l : d_.chain.loads()) has_law_ = has_law_ || l.law_a != kNone;
+  }
 
   nlohmann::json settings() const override {
     nlohmann::json groups = nlohmann::json::array();
@@ -67,7 +70,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // The driving torque and its loads' share, the kinetic energy and the
   // outputs' coordinates over a revolution (cycle.svg draws the torques).
   opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int n) const override {
-    return linkage::cycle_curves(d_, values_at(x), n);
+    std::vector<double> v = values_at(x), plain, grid;
+    State<double> sd;
+    sd.resize(d_.chain);
+    if (!d_.derived.empty()) placed(d_.chain, d_.cycle_points, v, plain, grid, sd);
+    return linkage::cycle_curves(d_, v, n);
   }
   // mechanism.svg: the design at six crank angles with its points' paths.
   std::string mechanism_svg(const Eigen::VectorXd& x, const std::string& label) const override {
@@ -83,19 +90,24 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> zero_grids;  // the grids zeros() searches
     std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
     std::vector<double> ref;  // each output's direction at phi = 0 (x, y, its angle)
+    std::vector<Contact> contacts;                   // the pressure laws' contacts
+    std::vector<double> contact_phis, contact_grid;  // ... their angles, and scratch
     std::vector<mech::CycleMaxSearch> searches;
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
   };
 
   template <class S>
-  void evaluate_model(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
+  void evaluate_model(const opt::Values<S>& given, MetricSink<S>& out, Workspace& ws) const {
     const Chain& c = d_.chain;
     const int n = d_.cycle_points;
     if (ws.sd.point.size() != c.point_names().size()) {
       ws.sd.resize(c);
       ws.sdual.resize(c);
     }
+    opt::Values<S> placed;  // with the contacts of the laws given by their depth
+    const opt::Values<S>& v =
+        d_.derived.empty() ? given : linkage::placed(c, n, placed = given, ws.plain, ws.contact_grid, ws.sd);
     for (size_t m = 0; m < metrics_.size(); ++m)  // defined for every design: a driver's constraint
       if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(metrics_[m].q.index, v));
     ws.plain.resize(v.size());
@@ -126,6 +138,13 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     // margins (a singular design stops there), then the metrics'.
     ws.searches.resize(nq);
     for (size_t q = 0; q < nq; ++q) ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un));
+    if (has_law_) {  // a pressure law's contacts: jumps the torque's and the forces' maxima may sit on
+      contacts(c, vd, n, ws.contacts, ws.contact_grid, ws.sd);
+      ws.contact_phis.clear();
+      for (const Contact& k : ws.contacts) ws.contact_phis.push_back(k.phi);
+      for (size_t q = n_margins; q < nq; ++q)
+        if (jumps_at_contacts(ws.asked[q].kind)) ws.searches[q].kinks = ws.contact_phis;
+    }
     auto search = [&](size_t from, size_t to) { run_searches(ws, from, to); };
     // A group whose grid keeps it clear of a singular position by more than
     // twice what the margin can dip between grid points (h^2 |f''| / 8,
@@ -163,6 +182,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         return ws.searches[q].value;
       } else {
         const auto [load, side] = ws.held[q];
+        const double at_phi = ws.searches[q].phi;
+        const auto contact = std::find_if(ws.contacts.begin(), ws.contacts.end(),
+                                          [&](const Contact& k) { return k.phi == at_phi; });
+        if (load == kNone && jumps_at_contacts(ws.asked[q].kind) && has_law_ && contact != ws.contacts.end()) {
+          if (ss.point.size() != c.point_names().size()) ss.resize(c);  // at a contact, which moves with the design
+          mech::linkage::solve(c, v.data(), S(at_phi + contact_shift(c, v.data(), *contact, ss)), ss);
+          return quantity(ws.asked[q], v.data(), ss, ws);
+        }
         if (load == kNone) return quantity(ws.asked[q], v.data(), solved_at(q), ws);
         // At a switch, which moves with the design: phi - r / r' on S
         // (r the load's switching rate, zero there), the load held.
@@ -350,58 +377,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return false;
   }
 
-  // A function of the crank angle whose zeros bend or break the metrics:
-  // the driving torque (load -1), a load's switching rate (row -1), its
-  // slider's coordinate less a table's row.
-  struct Fn {
-    int load, row;
-  };
-  double fn_value(const Fn& f, const State<double>& st, const double* v) const {
-    const Chain& c = d_.chain;
-    if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
-    const auto& l = c.loads()[static_cast<size_t>(f.load)];
-    if (f.row >= 0) return st.slide[static_cast<size_t>(l.link)].v - l.xs[static_cast<size_t>(f.row)];
-    return mech::linkage::switch_rate(l, st).v;
-  }
-  // The zeros of fns over the cycle, each function's by grid cell.
-  std::vector<double> zeros(Workspace& ws, const std::vector<Fn>& fns) const {
-    const Chain& c = d_.chain;
-    const double* v = ws.plain.data();
-    const int n = d_.cycle_points;
-    const size_t un = static_cast<size_t>(n);
-    ws.zero_grids.resize(fns.size() * un);
-    for (int i = 0; i < n; ++i) {
-      mech::linkage::solve(c, v, mech::kTwoPi * i / n, ws.sd);
-      for (size_t f = 0; f < fns.size(); ++f) ws.zero_grids[f * un + static_cast<size_t>(i)] = fn_value(fns[f], ws.sd, v);
-    }
-    std::vector<std::span<const double>> grids;
-    for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(ws.zero_grids.data() + f * un, un);
-    return mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
-      for (mech::AngleQuery& q : qs) {
-        mech::linkage::solve(c, v, q.phi, ws.sd);
-        q.out = fn_value(fns[static_cast<size_t>(q.fn)], ws.sd, v);
-      }
-    });
-  }
-
-  // The angles where the driving torque is zero or bends (a load switches
-  // on or off, turns against a motion that reverses, or crosses a table's
-  // row): the arcs of its means.
-  std::vector<double> torque_kinks(Workspace& ws) const {
-    const Chain& c = d_.chain;
-    std::vector<Fn> fns = {{-1, -1}};
-    for (size_t i = 0; i < c.loads().size(); ++i) {
-      const auto& l = c.loads()[i];
-      const int li = static_cast<int>(i);
-      if (mech::linkage::switching(l)) fns.push_back({li, -1});
-      if (l.over == mech::linkage::Load::Over::position)
-        for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({li, static_cast<int>(r)});
-    }
-    std::vector<double> kinks = zeros(ws, fns);
-    for (const auto& l : c.loads())
-      if (l.over == mech::linkage::Load::Over::crank_angle)
-        for (double x : l.xs) kinks.push_back(mech::wrap_angle(x));
-    return kinks;
+  // The zeros of fns over the cycle (kinks.hpp).
+  std::vector<double> zeros(Workspace& ws, const std::vector<KinkFn>& fns) const {
+    return zeros_of(d_.chain, ws.plain.data(), d_.cycle_points, fns, ws.zero_grids, ws.sd);
   }
 
   // A load that switches makes the forces it enters jump where its rate
@@ -434,6 +412,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     }
   }
   static bool jumps_at_switches(Kind k) { return k == Kind::reaction || k == Kind::guide; }
+  static bool jumps_at_contacts(Kind k) { return k == Kind::torque || jumps_at_switches(k); }
 
   // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
   // the torque's kinks (2 n nodes a revolution; the energy is smooth).
@@ -464,7 +443,13 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const mech::ArcMeans<S> none{S(0.0), S(0.0), S(0.0)};
     mech::ArcMeans<S> mt = none, ml = none, me = none;
     const std::vector<mech::NearPole> near = poles(ws);
-    const std::vector<double> kinks = torque || work ? torque_kinks(ws) : std::vector<double>{};
+    const std::vector<double> kinks =
+        torque || work ? torque_kinks(c, ws.plain.data(), d_.cycle_points, ws.zero_grids, ws.sd) : std::vector<double>{};
+    std::vector<Jump<S>> js;
+    if (has_law_ && (torque || work)) {
+      contacts(c, ws.plain.data(), d_.cycle_points, ws.contacts, ws.contact_grid, ws.sd);
+      js = jumps(c, v.data(), ws.plain.data(), std::span<const Contact>(ws.contacts), ws.sd);
+    }
     if (torque)
       mt = mech::piecewise_means<S>(
           [&](double phi, double, double) { return mech::linkage::drive_point(c, v.data(), at(phi)).torque; },
@@ -480,7 +465,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           [&](double phi, double, double) { return S(mech::linkage::drive_point(c, v.data(), at(phi)).energy * w * w); },
           {}, nodes, ws.cycle, near);
     S swing(0.0);
-    if (flywheel) swing = work_swing(v, ml.mean, kinks, near, ws);
+    add_jumps(js, mt, ml);
+    if (flywheel) swing = work_swing(v, ml.mean, kinks, js, near, ws);
     for (size_t m = 0; m < metrics_.size(); ++m) {
       const Metric& mt_m = metrics_[m];
       if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
@@ -504,7 +490,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // the smallest (W' = 0 at the extremes: holding them is exact for the
   // gradient; W at a kink lies between them).
   template <class S>
-  S work_swing(const opt::Values<S>& v, const S& mean, const std::vector<double>& kinks,
+  S work_swing(const opt::Values<S>& v, const S& mean, const std::vector<double>& kinks, const std::vector<Jump<S>>& js,
                const std::vector<mech::NearPole>& near, Workspace& ws) const {
     const Chain& c = d_.chain;
     const int n = d_.cycle_points;
@@ -524,12 +510,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     });
     if (zeros.size() < 2) return S(0.0);
     zeros.insert(zeros.end(), kinks.begin(), kinks.end());
-    std::sort(zeros.begin(), zeros.end());
+    std::sort(zeros.begin(), zeros.end());  // each end once (a jump is a zero and a kink: its motion once)
+    zeros.erase(std::unique(zeros.begin(), zeros.end(), [](double a, double b) { return b - a < 1e-9; }), zeros.end());
     State<S> ss;
     ss.resize(c);
     S work(0.0), top(0.0), bottom(0.0);
     for (size_t j = 0; j < zeros.size(); ++j) {
       const double a = zeros[j], b = j + 1 < zeros.size() ? zeros[j + 1] : zeros[0] + mech::kTwoPi;
+      work -= jump_term(js, a, false, mean_d);  // a pressure law's jumps move with the design
       mech::for_each_panel(a, b, 2 * n, near, [&](double mid, double half, int nodes) {
         const mech::GaussRule& rule = mech::gauss_rule(nodes);
         for (size_t i = 0; i < static_cast<size_t>(rule.m + 1) / 2; ++i) {
@@ -542,6 +530,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           }
         }
       });
+      work += jump_term(js, b, true, mean_d);
       if (mech::value(work) > mech::value(top)) top = work;
       if (mech::value(work) < mech::value(bottom)) bottom = work;
     }
@@ -560,6 +549,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   mech::linkage::Joints joints_{d_.chain};
   std::vector<Metric> metrics_;
   std::vector<int> masses_;  // the outputs T_min counts (moving_masses)
+  bool has_law_ = false;     // a pressure law: the torque jumps at its contacts
 };
 
 
@@ -573,6 +563,10 @@ std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
   check_dynamics_asked(root, metrics);
   opt::Values<double> values = d.chain.defaults();
   std::vector<opt::Variable> vars = opt::parse_variables(root, opt::with_values(d.table, values));
+  for (const auto& var : vars)
+    for (const auto s : d.derived)
+      if (var.name == d.table[static_cast<size_t>(s)].name)
+        root.at("variables").at(var.name).fail("the contact follows the law's depth: free the depth instead");
   return std::make_unique<LinkageProblem>(std::move(d), std::move(metrics), std::move(values), std::move(vars));
 }
 

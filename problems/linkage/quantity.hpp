@@ -20,7 +20,7 @@ mech::linkage::Jet<T> margin2(const mech::linkage::Chain& c, int g, const mech::
   using mech::linkage::Jet;
   const auto& gr = c.groups()[static_cast<size_t>(g)];
   const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
-  if (gr.type == GroupType::RRR) {
+  if (gr.type == GroupType::RRR || gr.type == GroupType::RPP) {
     const Jet<T> sine = mech::linkage::cross(e1, e2);
     return sine * sine;
   }

@@ -48,7 +48,7 @@ namespace opt {
 enum class Dimension {
   dimensionless, length, angle, angular_speed, mass, linear_density, force, time, torque,
   energy, rotational_stiffness, linear_stiffness, rotational_damping, inertia, power,
-  pressure, inverse_length, acceleration, volume_rate, power_per_length,
+  pressure, inverse_length, acceleration, volume_rate, power_per_length, area,
 };
 
 // Where a quantity may lie (SI), with open or closed ends.

@@ -50,6 +50,7 @@ const Kind kKinds[] = {
     {Dimension::acceleration, {0, 1, -2, 0}, "an acceleration", "m/s^2", {"mm/s^2", "m s^-2", "m/s²"}},
     {Dimension::volume_rate, {0, 3, -1, 0}, "a volume rate", "m^3/s", {"m^3/h", "mm^3/s", "м³/ч"}},
     {Dimension::power_per_length, {1, 1, -3, 0}, "a power per length", "W/m", {"kW/m", "W/mm", "hp/m"}},
+    {Dimension::area, {0, 2, 0, 0}, "an area", "m^2", {"cm^2", "mm^2", "м²"}},
 };
 
 const Kind& kind(Dimension d) { return kKinds[static_cast<size_t>(d)]; }
@@ -316,7 +317,7 @@ double to_si(long double number, const Unit& u) {
 }  // namespace
 
 std::string to_string(Dimension d) {
-  static_assert(std::size(kKinds) == static_cast<size_t>(Dimension::power_per_length) + 1);
+  static_assert(std::size(kKinds) == static_cast<size_t>(Dimension::area) + 1);
   return kind(d).d == d ? kind(d).name : "a quantity";
 }
 

@@ -23,9 +23,10 @@ enum class GroupType {
   RRR,  // two links from two known points to a new joint
   RRP,  // a rod from a known point to a slider's pin on a line
   RPR,  // a block pinned at a known point sliding along a guide that turns about another
+  RPP,  // a block pinned at a known point sliding in a slot across a slider on a line (a scotch yoke)
 };
 inline const char* to_string(GroupType t) {
-  return t == GroupType::RRR ? "RRR" : t == GroupType::RRP ? "RRP" : "RPR";
+  return t == GroupType::RRR ? "RRR" : t == GroupType::RRP ? "RRP" : t == GroupType::RPR ? "RPR" : "RPP";
 }
 
 // A point fixed on a link at local coordinates (u, v) in its frame.
@@ -45,6 +46,8 @@ struct Link {
   Slot line_angle = kNone, line_offset = kNone;
   // A guide's slide line (RPR): its x axis shifted `offset` to its left.
   Slot guide_offset = kNone;
+  // A slider's slot (RPP): its angle from the slider's line.
+  Slot slot = kNone;
   // Its body: a mass with its centre (u, v) and inertia about it; or a
   // uniform bar of mass_per_length (centre [L/2, 0], inertia m L^2 / 12).
   // A slider's mass sits at its pin. None: massless.
@@ -54,8 +57,8 @@ struct Link {
 struct Group {
   GroupType type;
   int first, second;  // links: RRR the two from p and q; RRP rod, slider; RPR block, guide
-  int p, q;           // known points: RRR from p and q; RRP p (q none); RPR the block's pin p, the pivot q
-  int joint = kNone;  // the new point (RRR, RRP)
+  int p, q;           // known points: RRR from p and q; RRP, RPP p (q none); RPR the block's pin p, the pivot q
+  int joint = kNone;  // the new point (RRR, RRP; RPP the slider's point on its line where the slot crosses it)
   int branch = 1;     // RRR: +1 joint left of p -> q; RRP: +1 ahead of p's foot along the line
 };
 
@@ -63,15 +66,23 @@ struct Group {
 // on a link, or a friction torque between two links (kNone: the ground)
 // against their relative rotation. Its size: a value slot, or a table over
 // the slider's coordinate or the crank angle (linear between rows,
-// constant outside). `when`: +1 only while the coordinate (the slider's s,
-// the link's angle) grows (ds/dphi > 0), -1 only while it falls, 0 always;
-// `opposing`: the size against the motion, whatever its sign.
+// constant outside), or seed 003's pressure law on a slider: -area a
+// e^(b d) over the depth d = s - contact while d >= 0, none before (a
+// pressure over the area resisting the depth; every parameter a slot).
+// `when`: +1 only while the coordinate (the slider's s, the link's angle)
+// grows (ds/dphi > 0), -1 only while it falls, 0 always; `opposing`: the
+// size against the motion, whatever its sign.
 struct Load {
   enum class Kind { force, torque, friction } kind = Kind::force;
   int link = kNone, other = kNone;  // other: a friction's second link
   Slot value = kNone;
   enum class Over { none, position, crank_angle } over = Over::none;
   std::vector<double> xs, ys;  // the table, SI, xs increasing
+  Slot law_a = kNone, law_b = kNone, law_area = kNone, law_contact = kNone;  // the pressure law, when law_a is set
+  // A law given by its depth at the end of the stroke instead: its contact
+  // follows the design, the slider's largest coordinate less this (the
+  // problem writes it into the contact's slot).
+  Slot law_depth = kNone;
   int when = 0;
   bool opposing = false;
   Slot efficiency = kNone;  // the drive supplies the load's power over it (seed 000's eta)
@@ -173,6 +184,22 @@ class Chain {
     solved_link(slider, j);
     return j;
   }
+  // An RPP group: `block` pinned at known point p slides in the slot of
+  // `slider` (at the slider's slot angle from its line), the slider along
+  // its line; the new joint is where the slot crosses the line.
+  int rpp(int block, int slider, int p, std::string joint) {
+    const Link& s = links_.at(slider);
+    need(s.line_through != kNone && s.slot != kNone, "an RPP group's slider needs a line and a slot");
+    need(s.line_on == kNone || links_.at(s.line_on).origin != kNone,
+         "the line of '" + s.name + "' is on a link not solved before it");
+    need_known({p, s.line_through});
+    const int j = new_point(std::move(joint));
+    groups_.push_back({GroupType::RPP, block, slider, p, kNone, j, 1});
+    solved_link(block, p);
+    solved_link(slider, j);
+    return j;
+  }
+  void set_slot(int slider, Slot angle) { links_.at(slider).slot = angle; }
   // An RPR group: `block` pinned at known point a slides along `guide`,
   // which turns about known point pivot.
   void set_branch(int group, int branch) { groups_.at(group).branch = branch; }
@@ -185,6 +212,7 @@ class Chain {
 
   const std::vector<std::string>& value_names() const { return names_; }
   const std::vector<double>& defaults() const { return defaults_; }
+  void set_default(Slot s, double v) { defaults_.at(static_cast<size_t>(s)) = v; }
   const std::vector<std::string>& point_names() const { return points_; }
   const std::vector<std::pair<int, std::pair<Slot, Slot>>>& ground_points() const { return ground_; }
   const std::vector<Link>& links() const { return links_; }

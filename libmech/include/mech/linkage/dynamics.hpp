@@ -77,10 +77,12 @@ inline bool switching(const Load& l) { return l.when != 0 || l.opposing || l.kin
 // size along its slider's line u at the pin B, rate u . B'; a torque or a
 // friction: size a couple on the link (minus on `other`), rate t' - t_o'.
 // Opposing loads and friction take the size's sign against the rate; an
-// efficiency divides it. False while `when` holds the load off.
+// efficiency divides it. False while `when` holds the load off, or a
+// pressure law's depth is below zero.
 template <class S>
 bool load_action(const Chain& c, const Load& l, const S* v, const State<S>& st, const S& phi, S& size, S& rate) {
   using std::abs;
+  using std::exp;
   const size_t k = static_cast<size_t>(l.link);
   S coordinate(0.0);  // what a table reads
   if (l.kind == Load::Kind::force) {
@@ -99,9 +101,19 @@ bool load_action(const Chain& c, const Load& l, const S* v, const State<S>& st, 
     along = sign_rate = st.held_side * slope;
   }
   if ((l.when > 0 && !(along > 0)) || (l.when < 0 && !(along < 0))) return false;
-  if (l.over == Load::Over::none) size = v[l.value];
-  else if (l.over == Load::Over::position) size = interpolate(l, coordinate);
-  else size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
+  if (l.law_a != kNone) {
+    const S depth = S(coordinate - v[l.law_contact]);
+    if (!(value(depth) >= 0)) return false;
+    const S growth = exp(S(v[l.law_b] * depth));  // named: AutoDiff's products of temporaries
+    const S pressure = S(v[l.law_a] * growth);
+    size = S(-(v[l.law_area] * pressure));
+  } else if (l.over == Load::Over::none) {
+    size = v[l.value];
+  } else if (l.over == Load::Over::position) {
+    size = interpolate(l, coordinate);
+  } else {
+    size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
+  }
   if (l.kind == Load::Kind::friction || l.opposing) {
     const double r = sign_rate;  // -|size| |rate|: its sign against the rate's
     size = S(-(abs(size) * double((r > 0) - (r < 0))));

@@ -64,7 +64,8 @@ void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
 // group g's distance from a singular position, where its branch could flip:
 // |sin| of the angle between the links at the joint (RRR), |cos| of the
 // rod's angle to the line (RRP), s / |A - Q| (RPR: the cosine of the angle
-// between the guide and the line from its pivot to the block). Past the failing group the state is
+// between the guide and the line from its pivot to the block), |sin| of the
+// slot's angle to the line (RPP). Past the failing group the state is
 // stale; nothing reads it.
 template <class S>
 bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
@@ -92,6 +93,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
     const Group& gr = groups[g];
     const Link &first = links[static_cast<size_t>(gr.first)], &second = links[static_cast<size_t>(gr.second)];
     const Vec<S>& P = st.point[static_cast<size_t>(gr.p)];
+    // A slider's line direction, fixed on the ground or on a solved link.
+    auto line_axis = [&](const Link& slider) -> Vec<S> {
+      const S angle = v[slider.line_angle];
+      if (slider.line_on == kNone) return detail::constant_point(S(cos(angle)), S(sin(angle)));
+      const Vec<S>& eo = st.axis[static_cast<size_t>(slider.line_on)];
+      return S(cos(angle)) * eo + S(sin(angle)) * rot90(eo);
+    };
     // The group's two links solved: their axes, then their points.
     auto place = [&](const Vec<S>& e1, const Vec<S>& e2) {
       st.axis[static_cast<size_t>(gr.first)] = e1;
@@ -120,16 +128,8 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
       case GroupType::RRP: {
         // B = T + offset n + s u, |B - P| = a.
         const S& a = v[first.length];
-        const S angle = v[second.line_angle];
+        const Vec<S> u = line_axis(second), n = rot90(u);
         const S offset = second.line_offset == kNone ? S(0.0) : v[second.line_offset];
-        Vec<S> u;
-        if (second.line_on == kNone) {
-          u = detail::constant_point(S(cos(angle)), S(sin(angle)));
-        } else {
-          const Vec<S>& eo = st.axis[static_cast<size_t>(second.line_on)];
-          u = S(cos(angle)) * eo + S(sin(angle)) * rot90(eo);
-        }
-        const Vec<S> n = rot90(u);
         const Vec<S> T = st.point[static_cast<size_t>(second.line_through)] + offset * n;
         const Vec<S> w = P - T;
         const Jet<S> wn = dot(w, n);
@@ -157,6 +157,24 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         st.slide[static_cast<size_t>(gr.first)] = s;
         st.margin[g] = value(s.v) / std::sqrt(value(d2.v));
         place(u, u);
+        break;
+      }
+      case GroupType::RPP: {
+        // P - T = s u + t w: the slider's point on its line, T + s u, and
+        // the pin P on its slot w through it.
+        const Vec<S> u = line_axis(second), n = rot90(u);
+        const S slot = v[second.slot];
+        const Vec<S> w = S(cos(slot)) * u + S(sin(slot)) * n;
+        const S offset = second.line_offset == kNone ? S(0.0) : v[second.line_offset];
+        const Vec<S> q = P - (st.point[static_cast<size_t>(second.line_through)] + offset * n);
+        const Jet<S> det = cross(u, w);
+        if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
+        const Jet<S> s = cross(q, w) / det, t = cross(u, q) / det;
+        st.point[static_cast<size_t>(gr.joint)] = P - t * w;
+        st.slide[static_cast<size_t>(gr.second)] = s;
+        st.slide[static_cast<size_t>(gr.first)] = t;
+        st.margin[g] = std::abs(value(det.v));
+        place(w, u);
         break;
       }
     }

@@ -12,9 +12,10 @@
 // Joints: a pin is a link turning on a point that another body carries
 // (its owner: the link that defines it, or the ground), its reaction the
 // force on the link from the owner; a slide is a slider on its line (RRP)
-// or a block on its guide (RPR), its reaction a force N along the line's
+// or a block on its guide (RPR), or in a slider's slot and the slider on
+// its line (RPP: two slides), its reaction a force N along the line's
 // normal rot90(u) and a couple C on the slider (block) from the body of
-// the line (the guide).
+// the line (the guide, the slotted slider).
 #pragma once
 #include <vector>
 
@@ -28,7 +29,8 @@ struct Pin {
 
 // A chain's joints in the order of solution: the crank's pivot, then per
 // group RRR (first, p), (second, q), (second, joint); RRP (rod, p), (rod,
-// joint); RPR (block, p), (guide, q); one slide per RRP and RPR group.
+// joint); RPR (block, p), (guide, q); RPP (block, p); one slide per RRP
+// and RPR group, two per RPP (the block in the slot, the slider on its line).
 struct Joints {
   std::vector<Pin> pins;
   std::vector<int> slides;      // the slider (block) link
@@ -57,6 +59,11 @@ struct Joints {
         case GroupType::RPR:
           add(g.p, g.first), add(g.q, g.second);
           slides.push_back(g.first);
+          break;
+        case GroupType::RPP:
+          owner[static_cast<size_t>(g.joint)] = g.second;
+          add(g.p, g.first);
+          slides.push_back(g.first), slides.push_back(g.second);
           break;
       }
     }
@@ -209,6 +216,30 @@ void reactions(const Chain& c, const Joints& j, const S* v, const State<S>& st, 
         pin(i + 1, S(-a2.fx + N * nx), S(-a2.fy + N * ny));
         --slide;
         r.normal[static_cast<size_t>(slide)] = N, r.couple[static_cast<size_t>(slide)] = C;
+        break;
+      }
+      case GroupType::RPP: {
+        // The block's moment about its pin P is the slot's couple; the
+        // slider's forces along its line the slot's normal force N1 (along
+        // m = rot90(w), w the slot, the block's axis e1); across it, and its
+        // moment about its point J on the line, the line's N2 and C2.
+        const Vec<S>& u = st.axis[static_cast<size_t>(gr.second)];
+        const S ux = u.x.v, uy = u.y.v, mx = -e1y, my = e1x;
+        const Vec<S>& P = st.point[static_cast<size_t>(gr.p)];
+        const Vec<S>& J = st.point[static_cast<size_t>(gr.joint)];
+        const S C1 = -a1.about(P.x.v, P.y.v);
+        const S N1 = (a2.fx * ux + a2.fy * uy) / (mx * ux + my * uy);
+        const S N2 = N1 * (mx * -uy + my * ux) - (a2.fx * -uy + a2.fy * ux);
+        const S arm = (P.x.v - J.x.v) * (N1 * my) - (P.y.v - J.y.v) * (N1 * mx);  // N1 m at P about J
+        const S C2 = -a2.about(J.x.v, J.y.v) + arm + C1;
+        pin(i, S(-a1.fx - N1 * mx), S(-a1.fy - N1 * my));
+        --slide;
+        r.normal[static_cast<size_t>(slide)] = N2, r.couple[static_cast<size_t>(slide)] = C2;
+        --slide;
+        r.normal[static_cast<size_t>(slide)] = N1, r.couple[static_cast<size_t>(slide)] = C1;
+        const int on = links[static_cast<size_t>(gr.second)].line_on;
+        force(on, S(N2 * uy), S(-(N2 * ux)), J);
+        couple(on, S(-C2));
         break;
       }
     }

@@ -1,0 +1,210 @@
+// Where a linkage's driving torque is not smooth in the crank angle: the
+// angles its means' Gauss arcs end at (the torque's zeros, a load switching
+// on or off, a motion reversing under an opposing load or a friction, a
+// table's row), and a pressure law's contacts, where the torque jumps. A
+// jump is a candidate for the torque's maximum, and moves with the design:
+// the maximum's gradient and the means' take its motion (the Leibniz term
+// that Gauss arcs with fixed ends leave out).
+#pragma once
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "mech/angles.hpp"
+#include "mech/cycle_maxima.hpp"
+#include "mech/linkage/dynamics.hpp"
+#include "mech/periodic_roots.hpp"
+#include "mech/quadrature.hpp"
+
+namespace problems::linkage {
+
+// A function of the crank angle whose zeros bend or break the metrics:
+// the driving torque (load -1), a load's switching rate (row -1), its
+// slider's coordinate less a table's row, or a pressure law's depth (kDepth).
+struct KinkFn {
+  int load, row;
+};
+inline constexpr int kDepth = -2;
+
+inline double kink_value(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage::State<double>& st,
+                         const double* v) {
+  if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
+  const auto& l = c.loads()[static_cast<size_t>(f.load)];
+  const size_t k = static_cast<size_t>(l.link);
+  if (f.row >= 0) return st.slide[k].v - l.xs[static_cast<size_t>(f.row)];
+  if (f.row == kDepth) return st.slide[k].v - v[l.law_contact];
+  return mech::linkage::switch_rate(l, st).v;
+}
+
+// The angles in [0, 2 pi) where the functions fns cross zero (each
+// function's by grid cell), found on an n-point grid (kept in `grid`) and
+// refined; sd: a state to solve in.
+inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double* v, int n,
+                                    const std::vector<KinkFn>& fns, std::vector<double>& grid,
+                                    mech::linkage::State<double>& sd) {
+  const size_t un = static_cast<size_t>(n);
+  grid.resize(fns.size() * un);
+  for (int i = 0; i < n; ++i) {
+    mech::linkage::solve(c, v, mech::kTwoPi * i / n, sd);
+    for (size_t f = 0; f < fns.size(); ++f) grid[f * un + static_cast<size_t>(i)] = kink_value(c, fns[f], sd, v);
+  }
+  std::vector<std::span<const double>> grids;
+  for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(grid.data() + f * un, un);
+  return mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
+    for (mech::AngleQuery& q : qs) {
+      mech::linkage::solve(c, v, q.phi, sd);
+      q.out = kink_value(c, fns[static_cast<size_t>(q.fn)], sd, v);
+    }
+  });
+}
+
+// The angles where the driving torque is zero or bends (a load switches
+// on or off, turns against a motion that reverses, or crosses a table's
+// row or a law's contact): the arcs of its means.
+inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const double* v, int n,
+                                        std::vector<double>& grid, mech::linkage::State<double>& sd) {
+  using mech::linkage::Load;
+  std::vector<KinkFn> fns = {{-1, -1}};
+  for (size_t i = 0; i < c.loads().size(); ++i) {
+    const auto& l = c.loads()[i];
+    const int li = static_cast<int>(i);
+    if (mech::linkage::switching(l)) fns.push_back({li, -1});
+    if (l.over == Load::Over::position)
+      for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({li, static_cast<int>(r)});
+    if (l.law_a != mech::linkage::kNone) fns.push_back({li, kDepth});
+  }
+  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd);
+  for (const auto& l : c.loads())
+    if (l.over == Load::Over::crank_angle)
+      for (double x : l.xs) kinks.push_back(mech::wrap_angle(x));
+  return kinks;
+}
+
+// A pressure law's contact: where its depth crosses zero, moved by ulps to
+// the side where the depth is >= 0 (the law acts there, so the torque takes
+// its upper value at the jump), and its load.
+struct Contact {
+  double phi;
+  int load;
+};
+inline void contacts(const mech::linkage::Chain& c, const double* v, int n, std::vector<Contact>& out,
+                     std::vector<double>& grid, mech::linkage::State<double>& sd) {
+  out.clear();
+  for (size_t i = 0; i < c.loads().size(); ++i) {
+    const auto& l = c.loads()[i];
+    if (l.law_a == mech::linkage::kNone) continue;
+    const KinkFn depth{static_cast<int>(i), kDepth};
+    for (double phi : zeros_of(c, v, n, {depth}, grid, sd)) {
+      mech::linkage::solve(c, v, phi, sd);
+      const double toward = sd.slide[static_cast<size_t>(l.link)].d > 0 ? HUGE_VAL : -HUGE_VAL;
+      for (int step = 0; step < 64 && kink_value(c, depth, sd, v) < 0; ++step)
+        mech::linkage::solve(c, v, phi = std::nextafter(phi, toward), sd);
+      out.push_back({phi, static_cast<int>(i)});
+    }
+  }
+}
+
+// How contact k's angle moves with the design: zero, with the derivatives
+// -g_x / g' of the depth g = s - contact (the implicit function theorem).
+template <class S>
+S contact_shift(const mech::linkage::Chain& c, const S* v, const Contact& k, mech::linkage::State<S>& ss) {
+  const auto& l = c.loads()[static_cast<size_t>(k.load)];
+  mech::linkage::solve(c, v, S(k.phi), ss);
+  const auto& s = ss.slide[static_cast<size_t>(l.link)];
+  const S g = S(s.v - v[l.law_contact]);
+  return S(-(g - mech::value(g)) / mech::value(s.d));
+}
+
+// The torque's jump at a contact: its value with the law acting (on) and
+// without (off), the sign of the depth's rate (+1: on after the contact),
+// and the contact's shift.
+template <class S>
+struct Jump {
+  double phi, sign, on, off;
+  S shift;
+};
+
+// The jumps at the contacts ks (none where `when` holds the law off).
+template <class S>
+std::vector<Jump<S>> jumps(const mech::linkage::Chain& c, const S* v, const double* vd, std::span<const Contact> ks,
+                           mech::linkage::State<double>& sd) {
+  std::vector<Jump<S>> out;
+  mech::linkage::State<S> ss;
+  ss.resize(c);
+  for (const Contact& k : ks) {
+    const auto& l = c.loads()[static_cast<size_t>(k.load)];
+    mech::linkage::solve(c, vd, k.phi, sd);
+    double size = 0, rate = 0;
+    if (!mech::linkage::load_action(c, l, vd, sd, k.phi, size, rate)) continue;
+    const double on = mech::linkage::drive_point(c, vd, sd).torque;
+    const double sign = sd.slide[static_cast<size_t>(l.link)].d > 0 ? 1.0 : -1.0;
+    out.push_back({k.phi, sign, on, on + size * rate, contact_shift(c, v, k, ss)});
+  }
+  return out;
+}
+
+// The Leibniz terms the Gauss arcs with fixed ends leave out at the jumps:
+// sign (f_off - f_on) shift / 2 pi in the cycle means of f = M (|M|, M^2:
+// `torque`) and of the loads' power (`work`; its jump is the torque's).
+template <class S>
+void add_jumps(const std::vector<Jump<S>>& js, mech::ArcMeans<S>& torque, mech::ArcMeans<S>& work) {
+  using std::abs;
+  for (const Jump<S>& j : js) {
+    const S d = S(j.shift * (j.sign / mech::kTwoPi));
+    work.mean += (j.off - j.on) * d;
+    torque.mean_abs += (abs(j.off) - abs(j.on)) * d;
+    torque.mean_square += (j.off * j.off - j.on * j.on) * d;
+  }
+}
+
+// The work of M - mean from a jump at phi on (before: up to it) takes its
+// motion: f = M - mean beside it times its shift; zero where none is.
+template <class S>
+S jump_term(const std::vector<Jump<S>>& js, double phi, bool before, double mean) {
+  for (const Jump<S>& j : js)
+    if (std::abs(std::remainder(phi - j.phi, mech::kTwoPi)) < 1e-9)
+      return S(((before == (j.sign > 0) ? j.off : j.on) - mean) * j.shift);
+  return S(0.0);
+}
+
+// Each law given by its depth at the end of the stroke: its contact, the
+// slider's largest coordinate over the cycle (on an n-point grid, refined)
+// less the depth, written into v's contact slot with its design
+// derivatives (Danskin: the coordinate at its maximising angle on S). vd:
+// v's values. False where the chain does not assemble on the grid.
+template <class S>
+bool place_contacts(const mech::linkage::Chain& c, S* v, const double* vd, int n, std::vector<double>& grid,
+                    mech::linkage::State<double>& sd, mech::linkage::State<S>& ss) {
+  for (const auto& l : c.loads()) {
+    if (l.law_depth == mech::linkage::kNone) continue;
+    const size_t k = static_cast<size_t>(l.link);
+    grid.resize(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      if (!mech::linkage::solve(c, vd, mech::kTwoPi * i / n, sd)) return false;
+      grid[static_cast<size_t>(i)] = sd.slide[k].v;
+    }
+    auto at = [&](double phi) -> const mech::linkage::Jet<double>& {
+      mech::linkage::solve(c, vd, phi, sd);
+      return sd.slide[k];
+    };
+    const double phi = mech::global_max_angle(
+        grid, [&](double p) { return at(p).v; }, [&](double p) { return at(p).d; });
+    mech::linkage::solve(c, v, S(phi), ss);
+    v[l.law_contact] = S(ss.slide[k].v - v[l.law_depth]);
+  }
+  return true;
+}
+
+// v with those contacts placed; plain: scratch for v's values.
+template <class S>
+std::vector<S>& placed(const mech::linkage::Chain& c, int n, std::vector<S>& v, std::vector<double>& plain,
+                       std::vector<double>& grid, mech::linkage::State<double>& sd) {
+  plain.resize(v.size());
+  for (size_t i = 0; i < v.size(); ++i) plain[i] = mech::value(v[i]);
+  mech::linkage::State<S> ss;
+  ss.resize(c);
+  place_contacts(c, v.data(), plain.data(), n, grid, sd, ss);
+  return v;
+}
+
+}  // namespace problems::linkage
