@@ -402,7 +402,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           for (size_t q = from; q < ws.asked.size(); ++q) {
             if (!jumps_at_switches(ws.asked[q].kind)) continue;
             const double f = quantity(ws.asked[q], ws.plain.data(), ws.sd, ws);
-            if (!(f > ws.searches[q].value)) continue;
+            // A search that ended at the switch itself (a maximum where the
+            // force jumps, not where the slope vanishes) found this limit:
+            // take it held, so its angle moves with the design.
+            const bool here = std::abs(std::remainder(phi - ws.searches[q].phi, mech::kTwoPi)) < 1e-7;
+            if (!(f > ws.searches[q].value) && !(here && f >= ws.searches[q].value * (1 - 1e-9))) continue;
             ws.searches[q].value = f, ws.searches[q].phi = phi;
             ws.held[q] = {static_cast<int>(i), side};
           }
