@@ -89,6 +89,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> grids;
     std::vector<double> zero_grids;  // the grids zeros() searches
     std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
+    std::vector<std::pair<double, int>> switches;  // the loads' switches: angle, load (find_switches)
+    std::vector<double> jump_kinks;                // the forces' kinks: contacts and switches
     std::vector<double> ref;  // each output's direction at phi = 0 (x, y, its angle)
     std::vector<Contact> contacts;                   // the pressure laws' contacts
     std::vector<double> contact_phis, contact_grid;  // ... their angles, and scratch
@@ -145,6 +147,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       for (size_t q = n_margins; q < nq; ++q)
         if (jumps_at_contacts(ws.asked[q].kind)) ws.searches[q].kinks = ws.contact_phis;
     }
+    find_switches(ws, n_margins);
     auto search = [&](size_t from, size_t to) { run_searches(ws, from, to); };
     // A group whose grid keeps it clear of a singular position by more than
     // twice what the margin can dip between grid points (h^2 |f''| / 8,
@@ -390,30 +393,41 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   void hold_switches(Workspace& ws, size_t from) const {
     const Chain& c = d_.chain;
     ws.held.assign(ws.asked.size(), {kNone, 0});
+    for (const auto& [phi, i] : ws.switches) {
+      mech::linkage::solve(c, ws.plain.data(), phi, ws.sd);
+      for (int side : {-1, 1}) {
+        ws.sd.held_load = i, ws.sd.held_side = side;
+        for (size_t q = from; q < ws.asked.size(); ++q) {
+          if (!jumps_at_switches(ws.asked[q].kind)) continue;
+          const double f = quantity(ws.asked[q], ws.plain.data(), ws.sd, ws);
+          // A search that ended at the switch itself found this limit:
+          // take it held, so that its angle moves with the design.
+          const bool here = std::abs(std::remainder(phi - ws.searches[q].phi, mech::kTwoPi)) < 1e-7;
+          if (!(f > ws.searches[q].value) && !(here && f >= ws.searches[q].value * (1 - 1e-9))) continue;
+          ws.searches[q].value = f, ws.searches[q].phi = phi;
+          ws.held[q] = {i, side};
+        }
+      }
+      ws.sd.held_load = kNone;
+    }
+  }
+  // The switches of the loads (ws.switches: angle, load) when a search of
+  // [from, end) jumps there; each such search takes them as kinks, so that
+  // a maximum just before a switch is not mistaken for the jump.
+  void find_switches(Workspace& ws, size_t from) const {
+    const Chain& c = d_.chain;
+    ws.switches.clear();
     bool jumps = false;
     for (size_t q = from; q < ws.asked.size(); ++q) jumps = jumps || jumps_at_switches(ws.asked[q].kind);
     if (!jumps) return;
-    for (size_t i = 0; i < c.loads().size(); ++i) {
-      if (!mech::linkage::switching(c.loads()[i])) continue;
-      for (double phi : zeros(ws, {{static_cast<int>(i), -1}})) {
-        mech::linkage::solve(c, ws.plain.data(), phi, ws.sd);
-        for (int side : {-1, 1}) {
-          ws.sd.held_load = static_cast<int>(i), ws.sd.held_side = side;
-          for (size_t q = from; q < ws.asked.size(); ++q) {
-            if (!jumps_at_switches(ws.asked[q].kind)) continue;
-            const double f = quantity(ws.asked[q], ws.plain.data(), ws.sd, ws);
-            // A search that ended at the switch itself (a maximum where the
-            // force jumps, not where the slope vanishes) found this limit:
-            // take it held, so its angle moves with the design.
-            const bool here = std::abs(std::remainder(phi - ws.searches[q].phi, mech::kTwoPi)) < 1e-7;
-            if (!(f > ws.searches[q].value) && !(here && f >= ws.searches[q].value * (1 - 1e-9))) continue;
-            ws.searches[q].value = f, ws.searches[q].phi = phi;
-            ws.held[q] = {static_cast<int>(i), side};
-          }
-        }
-        ws.sd.held_load = kNone;
-      }
-    }
+    for (size_t i = 0; i < c.loads().size(); ++i)
+      if (mech::linkage::switching(c.loads()[i]))
+        for (double phi : zeros(ws, {{static_cast<int>(i), -1}})) ws.switches.emplace_back(phi, static_cast<int>(i));
+    ws.jump_kinks.clear();
+    if (has_law_) ws.jump_kinks = ws.contact_phis;
+    for (const auto& sw : ws.switches) ws.jump_kinks.push_back(sw.first);
+    for (size_t q = from; q < ws.asked.size(); ++q)
+      if (jumps_at_switches(ws.asked[q].kind)) ws.searches[q].kinks = ws.jump_kinks;
   }
   static bool jumps_at_switches(Kind k) { return k == Kind::reaction || k == Kind::guide; }
   static bool jumps_at_contacts(Kind k) { return k == Kind::torque || jumps_at_switches(k); }
@@ -555,7 +569,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   std::vector<int> masses_;  // the outputs T_min counts (moving_masses)
   bool has_law_ = false;     // a pressure law: the torque jumps at its contacts
 };
-
 
 std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
   Description d = read_description(root);
