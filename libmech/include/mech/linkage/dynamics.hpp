@@ -175,7 +175,14 @@ DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
     inertia += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
     weight += b.m * y.d;
   }
-  return {S(energy / 2.0), S(w * w * inertia + c.gravity() * weight - load_power(c, v, st, phi)), inertia};
+  // Named terms: a DualX term that stayed a constant (no masses: no
+  // derivatives) is made coherent with the others only between plain
+  // scalars, not inside one expression.
+  const S w2 = w * w;
+  S torque = w2 * inertia;
+  torque += S(c.gravity() * weight);
+  torque -= load_power(c, v, st, phi);
+  return {S(energy / 2.0), torque, inertia};
 }
 
 }  // namespace mech::linkage
