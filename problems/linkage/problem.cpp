@@ -1,19 +1,16 @@
 // linkage: any single-degree-of-freedom planar linkage a config describes
-// (a crank and class II groups: docs/design/linkage.md), sized for the
-// motion of its outputs, its transmission and pressure angles and, with
-// masses, its driving torque and kinetic energy at constant crank speed.
-// Every number of the description is a row of the table (variables and DOE
-// factors by address); metrics are named by the description's outputs.
+// (a crank and class II groups: docs/design/linkage.md), sized for its
+// outputs' motion, transmission and pressure angles and, with masses or
+// loads, its driving torque, energy and joint forces at constant crank
+// speed. Every number is a row of the table (variables and DOE factors by
+// address); metrics are named by the description's outputs and joints.
 //
-// At a design: the chain solved on an n-point grid (a group that cannot
-// assemble at a grid angle is cannot_assemble, named); each group's
-// distance from a singular position refined to its cycle minimum
-// (singular_position below 1e-6: a transmission or pressure angle within
-// 1e-6 rad of its limit, where the branch could flip); then every wanted
-// maximum found by the cycle machinery the hand-written problems use, its
-// slope in the crank angle from the chain solved on a Dual in phi, its
-// design gradient (Danskin) from the chain solved at the maximising angle
-// on the evaluation's scalar.
+// At a design: the chain on an n-point grid (a group that cannot assemble
+// is cannot_assemble, named); each group's distance from a singular
+// position refined to its cycle minimum (below 1e-6: singular_position);
+// then every wanted maximum by the hand-written problems' cycle machinery,
+// its slope from the jets (or the chain on a Dual in phi where it needs the
+// third order), its design gradient (Danskin) on the evaluation's scalar.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -291,10 +288,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const auto [ax, ay] = at(c.crank().pivot);
     const auto [bx, by] = at(ground);
     const auto length = [&](int link) { return v[static_cast<size_t>(c.links()[static_cast<size_t>(link)].length)]; };
-    S l[4] = {length(c.crank().link), length(gr.first), length(gr.second),
-              S(sqrt(S((bx - ax) * (bx - ax) + (by - ay) * (by - ay))))};
+    const S dx = bx - ax, dy = by - ay;  // named: DualX fills empty derivatives between plain scalars only
+    S d2 = dx * dx;
+    d2 += S(dy * dy);
+    S l[4] = {length(c.crank().link), length(gr.first), length(gr.second), S(sqrt(d2))};
     std::sort(l, l + 4, [](const S& a, const S& b) { return mech::value(a) < mech::value(b); });
-    return S((l[1] + l[2]) - (l[0] + l[3]));
+    S middle = l[1], ends = l[0];
+    middle += l[2], ends += l[3];
+    return S(middle - ends);
   }
 
   // Runs searches [from, to) of ws (their quantities ws.asked[from, to)),
@@ -400,8 +401,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         for (size_t q = from; q < ws.asked.size(); ++q) {
           if (!jumps_at_switches(ws.asked[q].kind)) continue;
           const double f = quantity(ws.asked[q], ws.plain.data(), ws.sd, ws);
-          // A search that ended at the switch itself found this limit:
-          // take it held, so that its angle moves with the design.
+          // A search that ended at the switch found this limit: held, its angle moves with the design.
           const bool here = std::abs(std::remainder(phi - ws.searches[q].phi, mech::kTwoPi)) < 1e-7;
           if (!(f > ws.searches[q].value) && !(here && f >= ws.searches[q].value * (1 - 1e-9))) continue;
           ws.searches[q].value = f, ws.searches[q].phi = phi;
