@@ -155,6 +155,17 @@ void reactions(const Chain& c, const Joints& j, const S* v, const State<S>& st, 
   };
   const auto& groups = c.groups();
   int slide = static_cast<int>(j.slides.size());
+  // A slide's reaction (the slides are solved last first) and its opposite
+  // on the body that carries the slider's line, at `at`.
+  auto slide_reaction = [&](const S& N, const S& C) {
+    --slide;
+    r.normal[static_cast<size_t>(slide)] = N, r.couple[static_cast<size_t>(slide)] = C;
+  };
+  auto on_line = [&](int slider, const S& N, const S& C, const S& ux, const S& uy, const Vec<S>& at) {
+    const int on = links[static_cast<size_t>(slider)].line_on;
+    force(on, S(N * uy), S(-(N * ux)), at);
+    couple(on, S(-C));
+  };
   for (size_t g = groups.size(); g-- > 0;) {
     const Group& gr = groups[g];
     const int i = j.first_pin[g];
@@ -196,11 +207,8 @@ void reactions(const Chain& c, const Joints& j, const S* v, const State<S>& st, 
         const S N = (fx - a2.fx) * -uy + (fy - a2.fy) * ux, C = -a2.about(B.x.v, B.y.v);
         pin(i, r1x, r1y);
         r.x[static_cast<size_t>(i + 1)] = fx, r.y[static_cast<size_t>(i + 1)] = fy;
-        --slide;
-        r.normal[static_cast<size_t>(slide)] = N, r.couple[static_cast<size_t>(slide)] = C;
-        const int on = links[static_cast<size_t>(gr.second)].line_on;
-        force(on, S(N * uy), S(-(N * ux)), B);
-        couple(on, S(-C));
+        slide_reaction(N, C);
+        on_line(gr.second, N, C, ux, uy, B);
         break;
       }
       case GroupType::RPR: {
@@ -214,8 +222,7 @@ void reactions(const Chain& c, const Joints& j, const S* v, const State<S>& st, 
         const S nx = -e1y, ny = e1x;
         pin(i, S(-a1.fx - N * nx), S(-a1.fy - N * ny));
         pin(i + 1, S(-a2.fx + N * nx), S(-a2.fy + N * ny));
-        --slide;
-        r.normal[static_cast<size_t>(slide)] = N, r.couple[static_cast<size_t>(slide)] = C;
+        slide_reaction(N, C);
         break;
       }
       case GroupType::RPP: {
@@ -233,13 +240,9 @@ void reactions(const Chain& c, const Joints& j, const S* v, const State<S>& st, 
         const S arm = (P.x.v - J.x.v) * (N1 * my) - (P.y.v - J.y.v) * (N1 * mx);  // N1 m at P about J
         const S C2 = -a2.about(J.x.v, J.y.v) + arm + C1;
         pin(i, S(-a1.fx - N1 * mx), S(-a1.fy - N1 * my));
-        --slide;
-        r.normal[static_cast<size_t>(slide)] = N2, r.couple[static_cast<size_t>(slide)] = C2;
-        --slide;
-        r.normal[static_cast<size_t>(slide)] = N1, r.couple[static_cast<size_t>(slide)] = C1;
-        const int on = links[static_cast<size_t>(gr.second)].line_on;
-        force(on, S(N2 * uy), S(-(N2 * ux)), J);
-        couple(on, S(-C2));
+        slide_reaction(N2, C2);
+        slide_reaction(N1, C1);
+        on_line(gr.second, N2, C2, ux, uy, J);
         break;
       }
     }
