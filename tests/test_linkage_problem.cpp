@@ -346,3 +346,43 @@ TEST(LinkageProblem, PressureLawMeanIsItsWork) {
 }
 
 }  // namespace
+
+// Beyond four variables the gradient comes by forward-mode chunks of four
+// (ModelProblem::evaluate_model_with). Each of its columns must equal the
+// derivative the same problem gives with that variable alone free (a
+// single Dual: another seeding, another scalar), for every metric of the
+// Stephenson six-bar at eight variables.
+TEST(LinkageProblem, GradientsBeyondFourVariablesByChunks) {
+  const std::string path = std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage/stephenson3_sixbar.yaml";
+  const char* names[] = {"links.coupler.points.E.x", "links.coupler.points.E.y", "links.rod.length",
+                         "links.crank.length",       "links.rocker.length",      "links.coupler.length",
+                         "ground.O4.x",              "crank.phase"};
+  auto with_variables = [&](std::vector<const char*> free) {
+    YAML::Node config = YAML::LoadFile(path), vars;
+    for (const char* n : free)
+      vars[n] = YAML::Load(std::string(n) == "crank.phase" ? "{min: -1 rad, max: 1 rad}" : "{min: 0.01 m, max: 10 m}");
+    config["variables"] = vars;
+    config.remove("constraints");
+    return opt::make_problem(opt::ConfigNode::parse(YAML::Dump(config), path));
+  };
+  const auto all = with_variables(std::vector<const char*>(std::begin(names), std::end(names)));
+  ASSERT_EQ(all->variables().size(), 8u);
+  const auto e = all->evaluate(all->initial_point(), opt::MetricSet::all(), true);
+  ASSERT_TRUE(e.ok()) << e.message;
+  int checked = 0;
+  for (int j = 0; j < 8; ++j) {
+    const auto one = with_variables({all->variables()[static_cast<size_t>(j)].name.c_str()});
+    const auto f = one->evaluate(one->initial_point(), opt::MetricSet::all(), true);
+    ASSERT_TRUE(f.ok()) << f.message;
+    for (size_t i = 0; i < e.values.size(); ++i) {
+      const auto id = static_cast<opt::MetricId>(i);
+      if (!e.has(id)) continue;
+      ASSERT_TRUE(f.has(id));
+      ASSERT_EQ(e[id].gradient.size(), 8);
+      const double g = f[id].gradient[0];
+      EXPECT_NEAR(e[id].gradient[j], g, 1e-12 * std::max(1.0, std::abs(g))) << all->metric_names()[i] << " by " << all->variables()[static_cast<size_t>(j)].name;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 8 * 10);
+}

@@ -288,7 +288,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const auto [ax, ay] = at(c.crank().pivot);
     const auto [bx, by] = at(ground);
     const auto length = [&](int link) { return v[static_cast<size_t>(c.links()[static_cast<size_t>(link)].length)]; };
-    const S dx = bx - ax, dy = by - ay;  // named: DualX fills empty derivatives between plain scalars only
+    const S dx = bx - ax, dy = by - ay;
     S d2 = dx * dx;
     d2 += S(dy * dy);
     S l[4] = {length(c.crank().link), length(gr.first), length(gr.second), S(sqrt(d2))};

@@ -40,7 +40,6 @@ mech::linkage::Jet<T> margin2(const mech::linkage::Chain& c, int g, const mech::
 template <class T>
 mech::linkage::Jet<T> coordinate_jet(const Description& d, const Quantity& q, const mech::linkage::State<T>& st,
                                      const std::vector<double>& ref) {
-  using std::atan2;
   const auto& o = d.outputs[static_cast<size_t>(q.index)];
   mech::linkage::Jet<T> x;
   if (o.slides) {
@@ -50,7 +49,7 @@ mech::linkage::Jet<T> coordinate_jet(const Description& d, const Quantity& q, co
     const size_t i = static_cast<size_t>(q.index);
     const double rx = ref[3 * i], ry = ref[3 * i + 1];
     x = mech::linkage::angle_rates(e);
-    x.v = T(atan2(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v)) + ref[3 * i + 2]);
+    x.v = T(mech::atan2_of(T(rx * e.y.v - ry * e.x.v), T(rx * e.x.v + ry * e.y.v)) + ref[3 * i + 2]);
   }
   return q.kind == Kind::neg_coordinate ? -x : x;
 }

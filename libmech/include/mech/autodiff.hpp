@@ -2,8 +2,8 @@
 // with respect to N design variables. One variable (and every angle
 // derivative) uses Dual, a plain value-and-slope pair; 2 to 4
 // (opt/model_problem.hpp) Eigen's AutoDiffScalar with N fixed at compile
-// time (no heap use); beyond, DualX carries a derivative vector sized at run
-// time.
+// time (no heap use); beyond, chunks of four, one evaluation each. DualX
+// carries a derivative vector sized at run time (a problem's local maxima).
 #pragma once
 #include <Eigen/Core>
 #include <cmath>
@@ -58,6 +58,21 @@ inline Dual asin(const Dual& a) { return {std::asin(a.v), a.d / std::sqrt(1 - a.
 inline Dual acos(const Dual& a) { return {std::acos(a.v), -a.d / std::sqrt(1 - a.v * a.v)}; }
 inline Dual atan2(const Dual& y, const Dual& x) {
   return {std::atan2(y.v, x.v), (x.v * y.d - y.v * x.d) / (x.v * x.v + y.v * y.v)};
+}
+// atan2 on any scalar. Eigen's on an AutoDiffScalar returns a derivative
+// vector sized at run time (a heap allocation) whatever its arguments'
+// size; this keeps theirs.
+template <class S>
+S atan2_of(const S& y, const S& x) {
+  using std::atan2;
+  if constexpr (std::is_same_v<S, double> || std::is_same_v<S, Dual>) {
+    return atan2(y, x);
+  } else {
+    const double yv = y.value(), xv = x.value();
+    S out = (y * xv - x * yv) / (xv * xv + yv * yv);
+    out.value() = std::atan2(yv, xv);
+    return out;
+  }
 }
 
 // The derivatives of a scalar as a vector (one entry for a Dual).

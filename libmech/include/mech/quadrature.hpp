@@ -241,8 +241,6 @@ ArcMeans<S> piecewise_means(F&& f, const std::vector<double>& kinks, int n, Cycl
         out.mean_square += half * LaneForm<S>::sum(sum_v2);
       } else {
         auto add = [&](const S& v, double weight) {
-          // Named: a DualX constant (f held off by a load's switch) has no
-          // derivatives, and only plain sums and products make them agree.
           const S wv = S(weight * v);
           arc += wv;
           out.mean_square += S(wv * v);

@@ -109,22 +109,26 @@ class TabledProblem : public opt::Problem {
 
  protected:
   template <class S>
-  opt::Values<S> seeded(const Eigen::VectorXd& x) const {
+  opt::Values<S> seeded(const Eigen::VectorXd& x, int first = 0) const {
     opt::Values<S> v;
-    fill(x, v);
+    fill(x, v, first);
     return v;
   }
-  // v = the values with each variable's row set to it, seeded as variable i
-  // of x.size() when S carries derivatives.
+  // v = the values with each variable's row set to it, seeded when S
+  // carries derivatives: DualX variable i of x.size(); a fixed-size S
+  // variables first, first + 1, ... as its derivatives 0, 1, ... (the
+  // others constant).
   template <class S>
-  void fill(const Eigen::VectorXd& x, opt::Values<S>& v) const {
+  void fill(const Eigen::VectorXd& x, opt::Values<S>& v, int first = 0) const {
     const int n = static_cast<int>(x.size());
     if (table_.empty()) v.resize(n);
     else v.assign(values_.begin(), values_.end());
     for (int i = 0; i < n; ++i) {
       S& s = v[table_.empty() ? i : rows_[i]];
-      if constexpr (std::is_same_v<S, mech::Dual>) s = mech::seed(x[i]);
-      else if constexpr (mech::is_dual<S>) s = S(x[i], n, i);
+      const int k = i - first;
+      if constexpr (std::is_same_v<S, mech::Dual>) s = k == 0 ? mech::seed(x[i]) : S(x[i]);
+      else if constexpr (std::is_same_v<S, mech::DualX>) s = S(x[i], n, i);
+      else if constexpr (mech::is_dual<S>) s = k >= 0 && k < S::DerType::RowsAtCompileTime ? S(x[i], S::DerType::RowsAtCompileTime, k) : S(x[i]);
       else s = x[i];
     }
   }
@@ -145,6 +149,7 @@ class TabledProblem : public opt::Problem {
 // derives from it (see ModelProblem).
 struct ModelWorkspace : opt::Workspace {
   opt::Values<double> values;
+  opt::Evaluation chunk;  // a gradient's later chunks (beyond four variables)
 };
 
 // Derived implements
@@ -180,15 +185,37 @@ class ModelProblem : public TabledProblem {
   void evaluate_model_with(const Eigen::VectorXd& x, const opt::MetricSet& wanted, bool gradient,
                            opt::Evaluation& out, opt::Workspace& w) const override {
     auto& ws = static_cast<WorkspaceOf<Derived>&>(w);
-    auto run = [&](const auto& v) {
-      MetricSink<typename std::decay_t<decltype(v)>::value_type> sink(wanted, out);
+    auto run_into = [&](const auto& v, opt::Evaluation& into) {
+      MetricSink<typename std::decay_t<decltype(v)>::value_type> sink(wanted, into);
       const Derived& self = static_cast<const Derived&>(*this);
       if constexpr (std::is_same_v<WorkspaceOf<Derived>, ModelWorkspace>) self.evaluate_model(v, sink);
       else self.evaluate_model(v, sink, ws);
     };
-    if (gradient) return with_duals(x, run);
-    fill(x, ws.values);
-    run(ws.values);
+    auto run = [&](const auto& v) { run_into(v, out); };
+    switch (gradient ? variables().size() : 0) {
+      case 0: fill(x, ws.values); return run(ws.values);
+      case 1: return run(seeded<mech::Dual>(x));  // value and slope: no Eigen expression templates
+      case 2: return run(seeded<mech::DualN<2>>(x));
+      case 3: return run(seeded<mech::DualN<3>>(x));
+      case 4: return run(seeded<mech::DualN<4>>(x));
+      default: break;
+    }
+    // Beyond four variables, forward mode by chunks: each pass seeds four
+    // of them (DualN<4>: no heap, and no Eigen expression over an empty
+    // derivative vector, which a run-time sized DualX meets wherever a
+    // constant enters a product) and fills its four columns of every
+    // gradient. The passes' double paths are the same, so are their status
+    // and values.
+    const int n = static_cast<int>(x.size());
+    for (int first = 0; first < n; first += 4) {
+      opt::Evaluation& e = first == 0 ? out : ws.chunk;
+      run_into(seeded<mech::DualN<4>>(x, first), e);
+      if (!e.ok()) {
+        out.status = e.status, out.message = e.message;
+        return;
+      }
+      out.join_gradients(e, first, n);
+    }
   }
 
  protected:

@@ -83,6 +83,11 @@ struct Evaluation {
     computed = MetricSet();
   }
   void make_room(MetricId i) { values.resize(static_cast<size_t>(i) + 1); }
+  // Columns first, first + 1, ... of every computed metric's gradient (n
+  // columns in all) from `chunk`'s gradients, which hold those columns
+  // alone: a forward-mode pass over some of the variables. chunk may be
+  // this evaluation itself (its gradients are then widened to n).
+  void join_gradients(const Evaluation& chunk, int first, int n);
   // By name, for reports and tests (a search over the names).
   bool has(const std::string& name) const;
   double at(const std::string& name) const;  // std::out_of_range unless computed

@@ -30,6 +30,22 @@ std::string Constraint::text() const {
   return metric + relation() + b;
 }
 
+void Evaluation::join_gradients(const Evaluation& chunk, int first, int n) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (!has(static_cast<MetricId>(i))) continue;
+    Eigen::VectorXd& g = values[i].gradient;
+    const Eigen::VectorXd& c = chunk.values[i].gradient;
+    const int m = std::min(static_cast<int>(c.size()), n - first);
+    if (&chunk == this) {
+      const Eigen::VectorXd head = c.head(m);
+      g.setZero(n);
+      g.head(m) = head;
+    } else {
+      g.segment(first, m) = c.head(m);
+    }
+  }
+}
+
 bool Evaluation::has(const std::string& name) const {
   if (!names) return false;
   const auto it = std::find(names->begin(), names->end(), name);

@@ -175,9 +175,6 @@ DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
     inertia += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
     weight += b.m * y.d;
   }
-  // Named terms: a DualX term that stayed a constant (no masses: no
-  // derivatives) is made coherent with the others only between plain
-  // scalars, not inside one expression.
   const S w2 = w * w;
   S torque = w2 * inertia;
   torque += S(c.gravity() * weight);
