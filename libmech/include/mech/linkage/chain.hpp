@@ -24,9 +24,17 @@ enum class GroupType {
   RRP,  // a rod from a known point to a slider's pin on a line
   RPR,  // a block pinned at a known point sliding along a guide that turns about another
   RPP,  // a block pinned at a known point sliding in a slot across a slider on a line (a scotch yoke)
+  PRP,  // two sliders, each on its own line, pinned together at a new joint (a wedge)
 };
 inline const char* to_string(GroupType t) {
-  return t == GroupType::RRR ? "RRR" : t == GroupType::RRP ? "RRP" : t == GroupType::RPR ? "RPR" : "RPP";
+  switch (t) {
+    case GroupType::RRR: return "RRR";
+    case GroupType::RRP: return "RRP";
+    case GroupType::RPR: return "RPR";
+    case GroupType::RPP: return "RPP";
+    case GroupType::PRP: return "PRP";
+  }
+  return "?";
 }
 
 // A point fixed on a link at local coordinates (u, v) in its frame.
@@ -40,7 +48,7 @@ struct Link {
   int origin = kNone;    // the point at its frame's origin, set by the group that solves it
   Slot length = kNone;   // none for a slider and a block
   std::vector<LocalPoint> points;
-  // A slider's line (RRP): through a known point, at an angle in the frame
+  // A slider's line (RRP, RPP, PRP): through a known point, at an angle in the frame
   // of link `on` (kNone: the ground), the pin `offset` to its left.
   int line_on = kNone, line_through = kNone;
   Slot line_angle = kNone, line_offset = kNone;
@@ -56,9 +64,12 @@ struct Link {
 
 struct Group {
   GroupType type;
-  int first, second;  // links: RRR the two from p and q; RRP rod, slider; RPR block, guide
-  int p, q;           // known points: RRR from p and q; RRP, RPP p (q none); RPR the block's pin p, the pivot q
-  int joint = kNone;  // the new point (RRR, RRP; RPP the slider's point on its line where the slot crosses it)
+  int first, second;  // links: RRR the two from p and q; RRP rod, slider; RPR block, guide; RPP block,
+                      // slider; PRP the two sliders
+  int p, q;           // known points: RRR from p and q; RRP, RPP p (q none); RPR the block's pin p, the pivot q;
+                      // PRP none (its known points are its lines')
+  int joint = kNone;  // the new point (RRR, RRP; RPP the slider's point on its line where the slot crosses it;
+                      // PRP the sliders' pin)
   int branch = 1;     // RRR: +1 joint left of p -> q; RRP: +1 ahead of p's foot along the line
 };
 
@@ -173,11 +184,8 @@ class Chain {
   // An RRP group: rod from known point p to the pin of `slider` on its line.
   int rrp(int rod, int slider, int p, std::string joint, int branch) {
     need(links_.at(rod).length != kNone, "an RRP group's rod needs a length");
-    const Link& s = links_.at(slider);
-    need(s.line_through != kNone, "an RRP group's slider needs a line");
-    need(s.line_on == kNone || links_.at(s.line_on).origin != kNone,
-         "the line of '" + s.name + "' is on a link not solved before it");
-    need_known({p, s.line_through});
+    need_line(slider, "an RRP group's slider needs a line");
+    need_known({p, links_[slider].line_through});
     const int j = new_point(std::move(joint));
     groups_.push_back({GroupType::RRP, rod, slider, p, kNone, j, branch});
     solved_link(rod, p);
@@ -188,15 +196,25 @@ class Chain {
   // `slider` (at the slider's slot angle from its line), the slider along
   // its line; the new joint is where the slot crosses the line.
   int rpp(int block, int slider, int p, std::string joint) {
-    const Link& s = links_.at(slider);
-    need(s.line_through != kNone && s.slot != kNone, "an RPP group's slider needs a line and a slot");
-    need(s.line_on == kNone || links_.at(s.line_on).origin != kNone,
-         "the line of '" + s.name + "' is on a link not solved before it");
-    need_known({p, s.line_through});
+    need_line(slider, "an RPP group's slider needs a line and a slot", links_.at(slider).slot != kNone);
+    need_known({p, links_[slider].line_through});
     const int j = new_point(std::move(joint));
     groups_.push_back({GroupType::RPP, block, slider, p, kNone, j, 1});
     solved_link(block, p);
     solved_link(slider, j);
+    return j;
+  }
+  // A PRP group: `first` and `second` slide each on its own line (known
+  // before this group) and are pinned together at the new joint, where the
+  // lines cross.
+  int prp(int first, int second, std::string joint) {
+    need(first != second, "a PRP group's two sliders are two links");
+    for (int k : {first, second}) need_line(k, "a PRP group's sliders need lines");
+    need_known({links_[first].line_through, links_[second].line_through});
+    const int j = new_point(std::move(joint));
+    groups_.push_back({GroupType::PRP, first, second, kNone, kNone, j, 1});
+    solved_link(first, j);
+    solved_link(second, j);
     return j;
   }
   void set_slot(int slider, Slot angle) { links_.at(slider).slot = angle; }
@@ -242,6 +260,13 @@ class Chain {
     need(find_point(name) == kNone, "point '" + name + "' defined twice");
     points_.push_back(std::move(name));
     return static_cast<int>(points_.size() - 1);
+  }
+  // A slider's line, on the ground or on a link solved before its group.
+  void need_line(int slider, const std::string& what, bool more = true) const {
+    const Link& s = links_.at(slider);
+    need(s.line_through != kNone && more, what);
+    need(s.line_on == kNone || links_.at(s.line_on).origin != kNone,
+         "the line of '" + s.name + "' is on a link not solved before it");
   }
   bool is_ground(int p) const {
     for (const auto& g : ground_)

@@ -65,8 +65,8 @@ void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
 // |sin| of the angle between the links at the joint (RRR), |cos| of the
 // rod's angle to the line (RRP), s / |A - Q| (RPR: the cosine of the angle
 // between the guide and the line from its pivot to the block), |sin| of the
-// slot's angle to the line (RPP). Past the failing group the state is
-// stale; nothing reads it.
+// slot's angle to the line (RPP), |sin| of the angle between the two lines
+// (PRP). Past the failing group the state is stale; nothing reads it.
 template <class S>
 bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
   using std::abs;
@@ -92,13 +92,19 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
   for (size_t g = 0; g < groups.size(); ++g) {
     const Group& gr = groups[g];
     const Link &first = links[static_cast<size_t>(gr.first)], &second = links[static_cast<size_t>(gr.second)];
-    const Vec<S>& P = st.point[static_cast<size_t>(gr.p)];
+    auto at = [&](int p) -> const Vec<S>& { return st.point[static_cast<size_t>(p)]; };
     // A slider's line direction, fixed on the ground or on a solved link.
     auto line_axis = [&](const Link& slider) -> Vec<S> {
       const S angle = v[slider.line_angle];
       if (slider.line_on == kNone) return detail::constant_point(S(cos(angle)), S(sin(angle)));
       const Vec<S>& eo = st.axis[static_cast<size_t>(slider.line_on)];
       return S(cos(angle)) * eo + S(sin(angle)) * rot90(eo);
+    };
+    // The line's point where the slider's coordinate is 0: its point T
+    // shifted `offset` to its left (n = rot90(u)).
+    auto line_origin = [&](const Link& slider, const Vec<S>& n) -> Vec<S> {
+      const S offset = slider.line_offset == kNone ? S(0.0) : v[slider.line_offset];
+      return at(slider.line_through) + offset * n;
     };
     // The group's two links solved: their axes, then their points.
     auto place = [&](const Vec<S>& e1, const Vec<S>& e2) {
@@ -111,7 +117,7 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
       case GroupType::RRR: {
         // B = P + f d + branch g rot90(d): f and g are along and h over |d|.
         const S &a = v[first.length], &b = v[second.length];
-        const Vec<S>& Q = st.point[static_cast<size_t>(gr.q)];
+        const Vec<S> &P = at(gr.p), &Q = at(gr.q);
         const Vec<S> d = Q - P;
         const Jet<S> inv = constant(S(1.0)) / dot(d, d);
         const Jet<S> f = (constant(S(1.0)) + S(a * a - b * b) * inv) * 0.5;
@@ -129,8 +135,8 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         // B = T + offset n + s u, |B - P| = a.
         const S& a = v[first.length];
         const Vec<S> u = line_axis(second), n = rot90(u);
-        const S offset = second.line_offset == kNone ? S(0.0) : v[second.line_offset];
-        const Vec<S> T = st.point[static_cast<size_t>(second.line_through)] + offset * n;
+        const Vec<S>& P = at(gr.p);
+        const Vec<S> T = line_origin(second, n);
         const Vec<S> w = P - T;
         const Jet<S> wn = dot(w, n);
         const Jet<S> disc = constant(S(a * a)) - wn * wn;
@@ -145,9 +151,8 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
       }
       case GroupType::RPR: {
         // A = Q + offset n + s u: u = (s d - offset rot90(d)) / |d|^2, d = A - Q.
-        const Vec<S>& Q = st.point[static_cast<size_t>(gr.q)];
         const S offset = second.guide_offset == kNone ? S(0.0) : v[second.guide_offset];
-        const Vec<S> d = P - Q;
+        const Vec<S> d = at(gr.p) - at(gr.q);
         const Jet<S> d2 = dot(d, d);
         const Jet<S> s2 = d2 - constant(S(offset * offset));
         if (!(value(s2.v) > 0)) return st.failed = static_cast<int>(g), false;
@@ -165,8 +170,8 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         const Vec<S> u = line_axis(second), n = rot90(u);
         const S slot = v[second.slot];
         const Vec<S> w = S(cos(slot)) * u + S(sin(slot)) * n;
-        const S offset = second.line_offset == kNone ? S(0.0) : v[second.line_offset];
-        const Vec<S> q = P - (st.point[static_cast<size_t>(second.line_through)] + offset * n);
+        const Vec<S>& P = at(gr.p);
+        const Vec<S> q = P - line_origin(second, n);
         const Jet<S> det = cross(u, w);
         if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = cross(q, w) / det, t = cross(u, q) / det;
@@ -175,6 +180,23 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
         st.slide[static_cast<size_t>(gr.first)] = t;
         st.margin[g] = std::abs(value(det.v));
         place(w, u);
+        break;
+      }
+      case GroupType::PRP: {
+        // B = T1 + s1 u1 = T2 + s2 u2 (T1, T2 the lines' origins): s1 u1 -
+        // s2 u2 = d = T2 - T1, so s1 = (d x u2) / (u1 x u2) and s2 = (d x
+        // u1) / (u1 x u2) (Cramer; no root where the lines are parallel).
+        const Vec<S> u1 = line_axis(first), u2 = line_axis(second);
+        const Vec<S> T1 = line_origin(first, rot90(u1));
+        const Vec<S> d = line_origin(second, rot90(u2)) - T1;
+        const Jet<S> det = cross(u1, u2);
+        if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
+        const Jet<S> s1 = cross(d, u2) / det, s2 = cross(d, u1) / det;
+        st.point[static_cast<size_t>(gr.joint)] = T1 + s1 * u1;
+        st.slide[static_cast<size_t>(gr.first)] = s1;
+        st.slide[static_cast<size_t>(gr.second)] = s2;
+        st.margin[g] = std::abs(value(det.v));
+        place(u1, u2);
         break;
       }
     }
