@@ -386,3 +386,96 @@ TEST(LinkageProblem, GradientsBeyondFourVariablesByChunks) {
   }
   EXPECT_GT(checked, 8 * 10);
 }
+namespace {
+
+// A PRP group: configs/linkage/wedge_press.yaml, its wedge on a ground
+// line and its ram on another, so the block's line only translates: the
+// ram's coordinate is a constant plus tan(alpha) times the wedge's less
+// its offset (test_linkage_kinematics derives it), so its stroke is
+// |tan alpha| times the wedge's, and the PRP group's pressure angle (the
+// block's force, normal to its line, against the ram's line) is |alpha|
+// at every crank angle, above the rod's here. The process force F on the
+// forward stroke does F times the stroke a revolution: the mean torque.
+TEST(LinkageProblem, WedgePressByClosedForms) {
+  const std::string path = std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage/wedge_press.yaml";
+  const auto p = opt::make_problem(opt::ConfigNode::load(path));
+  const auto e = p->evaluate(p->initial_point(), opt::MetricSet::all(), true);
+  ASSERT_TRUE(e.ok()) << e.message;
+  const double alpha = 20.5 * kPi / 180;
+  EXPECT_NEAR(e.at("ram_stroke"), std::tan(alpha) * e.at("wedge_stroke"), 1e-15);
+  EXPECT_NEAR(e.at("max_pressure_angle"), alpha, 1e-15);
+  EXPECT_NEAR(e.at("mean_drive_torque") * 2 * kPi, 3000 * e.at("ram_stroke"), 1e-12 * 3000 * e.at("ram_stroke"));
+  // d(ram stroke)/d(alpha): the wedge's stroke over cos^2 (the line's
+  // angle is -alpha; the variables in the table's order: S0.y, crank,
+  // rod, the line's angle).
+  ASSERT_EQ(p->variables()[3].name, "links.block.line.angle");
+  const auto& g = e[p->metric_id("ram_stroke")].gradient;
+  EXPECT_NEAR(g[3], -e.at("wedge_stroke") / (std::cos(alpha) * std::cos(alpha)), 1e-13);
+  EXPECT_NEAR(e[p->metric_id("max_pressure_angle")].gradient[3], -1, 1e-15);
+  // The model kinematics prints the PRP group's pressure angle and the
+  // ram's slide.
+  const auto r = problems::linkage::kinematics_report(opt::ConfigNode::load(path), {0.3});
+  EXPECT_NEAR(r["angles"][0]["pressure_angles"]["PRP (block, ram)"].get<double>(), alpha, 1e-15);
+  EXPECT_TRUE(r["angles"][0]["slides"].contains("ram"));
+  EXPECT_TRUE(r["angles"][0]["reactions"].contains("B_ram"));
+}
+
+// A wedge whose lines turn parallel: exactly (cos(pi/2) the same in both
+// lines' directions) it cannot assemble; 1e-9 rad off it passes within
+// 1e-6 of a singular position at every angle. Both named by the group.
+TEST(LinkageProblem, WedgeStatuses) {
+  const std::string path = std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage/wedge_press.yaml";
+  const auto p = opt::make_problem(opt::ConfigNode::load(path));
+  Eigen::VectorXd x = p->initial_point();
+  x[3] = kPi / 2;  // the block's line at 90 deg on the wedge, as the ram's
+  auto e = p->evaluate(x, opt::MetricSet::all(), false);
+  EXPECT_EQ(e.status, mech::Status::cannot_assemble);
+  EXPECT_NE(e.message.find("PRP (block, ram) cannot assemble at crank angle 0 deg"), std::string::npos) << e.message;
+  x[3] = kPi / 2 - 1e-9;
+  e = p->evaluate(x, opt::MetricSet::all(), false);
+  EXPECT_EQ(e.status, mech::Status::singular_position);
+  EXPECT_NE(e.message.find("PRP (block, ram) passes a singular position"), std::string::npos) << e.message;
+}
+
+// A PRP group's mistakes as located errors.
+TEST(LinkageProblem, BadWedgesAreLocatedErrors) {
+  const std::string base =
+      "problem: linkage\nmodel:\n"
+      "  ground: {O: [0 m, 0 m], R: [0.6 m, -0.1 m]}\n"
+      "  crank: {link: crank, pivot: O, joint: A, phase: 0 deg, speed: 60 rpm}\n"
+      "  links:\n"
+      "    crank: {length: 0.08 m}\n"
+      "    rod: {length: 0.35 m}\n"
+      "    wedge: {mass: 10 kg, line: {fixed_to: ground, through: O, angle: 0 deg}}\n"
+      "    block: {line: {fixed_to: wedge, through: C, angle: -20 deg, offset: 0.04 m}}\n"
+      "    ram: {mass: 20 kg, line: {fixed_to: ground, through: R, angle: 90 deg}}\n"
+      "  groups:\n"
+      "    - {type: RRP, links: [rod, wedge], from: A, joint: C, branch: 1}\n"
+      "    - {type: PRP, links: [block, ram], joint: B}\n"
+      "  outputs: [ram]\n";
+  ASSERT_EQ(error_of(base), "");
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string s = base;
+    return s.replace(s.find(from), from.size(), to);
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {replaced("block: {line: {fixed_to: wedge, through: C, angle: -20 deg, offset: 0.04 m}}", "block: {}"),
+       "the slider 'block' has no line"},
+      {replaced("ram: {mass: 20 kg, line: {fixed_to: ground, through: R, angle: 90 deg}}", "ram: {mass: 20 kg}"),
+       "the slider 'ram' has no line"},
+      {replaced("angle: -20 deg", "angle: 90 deg"), "PRP (block, ram): its sliders' lines are parallel at crank angle 0"},
+      {replaced("angle: -20 deg", "angle: 89.99999999 deg"), "its sliders' lines are parallel at crank angle 0"},
+      {replaced("joint: B}", "joint: B, from: A}"), "from': unknown key"},
+      {replaced("joint: B}", "joint: B, branch: 1}"), "branch': unknown key"},
+      {replaced("links: [block, ram]", "links: [ram, ram]"), "a PRP group's two sliders are two links"},
+      {replaced("fixed_to: wedge, through: C", "fixed_to: wedge, through: A"), "its point 'A' must be fixed there too"},
+      {replaced("joint: B}", "joint: C}"), "point 'C' is defined twice"},
+  };
+  for (const auto& [yaml, expect] : cases) {
+    const std::string what = error_of(yaml);
+    EXPECT_NE(what.find(expect), std::string::npos) << "expected '" << expect << "', got: " << what;
+    EXPECT_NE(what.find("<linkage>:"), std::string::npos) << what;  // located
+  }
+}
+
+}  // namespace

@@ -6,6 +6,11 @@
 //   a slider on a line carried by a moving link, a guide with an offset,
 //   friction between two links, an opposing torque, a table force, a
 //   spring between two moving points and one to the ground, an efficiency);
+// - a massless wedge under a constant force F on its ram: the block on
+//   the wedge's line at alpha presses the ram along the line's normal, so
+//   the pin carries F / cos(alpha), the ram's guide F tan(alpha), the
+//   block's line -F / cos(alpha), and the crank's torque is -F times the
+//   ram's ds/dphi;
 // - a massless centred slider-crank under a constant force F on its ram:
 //   the rod is a two-force member, so every pin carries F / cos(beta) along
 //   the rod, the guide F tan(beta), and the crank's torque is F times the
@@ -77,8 +82,11 @@ TEST(LinkageReactions, TorqueEqualsVirtualPowerOnEveryConfig) {
 }
 
 // A crank-rocker whose rocker carries a slider's line, a rod from the
-// crank pin driving that slider, and a second crank-driven guide with an
-// offset: every joint type, every force.
+// crank pin driving that slider, a second crank-driven guide with an
+// offset, and a shoe sliding on a line the first slider carries (turning
+// with the rocker), pinned to a ram on a line the guide carries (a PRP
+// group: both its lines' forces reach the torque): every joint type, every
+// force.
 TEST(LinkageReactions, TorqueEqualsVirtualPowerWithEveryForce) {
   const Description d = read(
       "problem: linkage\nmodel:\n"
@@ -94,20 +102,72 @@ TEST(LinkageReactions, TorqueEqualsVirtualPowerWithEveryForce) {
       "    sleeve: {mass: 1.5 kg, inertia: 0.01 kg m^2, line: {fixed_to: rocker, through: E, angle: 0 deg, offset: 0.01 m}}\n"
       "    block: {mass: 0.8 kg}\n"
       "    arm: {length: 0.4 m, offset: 0.02 m, mass: 2 kg, cg: [0.1 m, 0.01 m], inertia: 0.03 kg m^2}\n"
+      "    shoe: {mass: 0.6 kg, inertia: 0.004 kg m^2, line: {fixed_to: sleeve, through: S, angle: 60 deg, offset: 0.02 m}}\n"
+      "    ram2: {mass: 2.5 kg, line: {fixed_to: arm, through: Q, angle: 45 deg, offset: -0.01 m}}\n"
       "  groups:\n"
       "    - {type: RRR, links: [coupler, rocker], from: [A, O4], joint: B, branch: 1}\n"
       "    - {type: RRP, links: [rod, sleeve], from: A, joint: S, branch: 1}\n"
       "    - {type: RPR, links: [block, arm], from: K, pivot: Q}\n"
+      "    - {type: PRP, links: [shoe, ram2], joint: P2}\n"
       "  loads:\n"
       "    bearing: {at: B, friction_torque: 4 N m}\n"
       "    drag: {link: rocker, torque: 30 N m, opposing: true}\n"
       "    work: {link: sleeve, table: {over: position, unit: [m, N], rows: [[-0.5, 200], [0, -100], [0.5, 300]]},\n"
       "           efficiency: 0.85}\n"
       "    brake: {link: arm, torque: -12 N m, when: forward}\n"
+      "    stamp: {link: ram2, force: -150 N, when: forward}\n"
+      "    scrape: {link: shoe, force: 40 N, opposing: true}\n"
+      "    hinge: {at: P2, friction_torque: 1.5 N m}\n"
       "  springs:\n"
       "    tie: {between: [S, K], rate: 2 kN/m, free_length: 0.3 m}\n"
-      "    anchor: {between: [B, G0], rate: 1 kN/m, free_length: 0.5 m}\n");
+      "    anchor: {between: [B, G0], rate: 1 kN/m, free_length: 0.5 m}\n"
+      "    return: {between: [P2, K], rate: 0.5 kN/m, free_length: 0.4 m}\n");
   expect_torques_agree(d, "every force");
+}
+
+TEST(LinkageReactions, MasslessWedgePressesAlongTheNormal) {
+  const double F = -2000, alpha = -20 * kPi / 180;  // a force down on the ram
+  const Description d = read(
+      "problem: linkage\nmodel:\n"
+      "  ground: {O: [0 m, 0 m], R: [0.6 m, 0.1 m]}\n"
+      "  crank: {link: crank, pivot: O, joint: A, phase: 0 deg, speed: 60 rpm}\n"
+      "  links:\n"
+      "    crank: {length: 0.08 m}\n"
+      "    rod: {length: 0.35 m}\n"
+      "    wedge: {line: {fixed_to: ground, through: O, angle: 0 deg}}\n"
+      "    block: {line: {fixed_to: wedge, through: C, angle: -20 deg, offset: 0.04 m}}\n"
+      "    ram: {line: {fixed_to: ground, through: R, angle: 90 deg}}\n"
+      "  groups:\n"
+      "    - {type: RRP, links: [rod, wedge], from: A, joint: C, branch: 1}\n"
+      "    - {type: PRP, links: [block, ram], joint: B}\n"
+      "  loads:\n"
+      "    press: {link: ram, force: -2 kN}\n");
+  const auto& c = d.chain;
+  const Joints j(c);
+  ASSERT_EQ(j.pins.size(), 4u);    // O on the crank, A and C on the rod, B on the ram
+  ASSERT_EQ(j.slides.size(), 3u);  // the wedge, the block, the ram
+  ASSERT_EQ(c.point_names()[static_cast<size_t>(j.pins[3].point)] + "_" + c.links()[static_cast<size_t>(j.pins[3].link)].name,
+            "B_ram");
+  State<double> st;
+  st.resize(c);
+  Reactions<double> re;
+  re.resize(j, c);
+  const double pin = std::abs(F) / std::cos(alpha);
+  for (int i = 0; i < 24; ++i) {
+    const double phi = 2 * kPi * (i + 0.25) / 24;
+    ASSERT_TRUE(mech::linkage::solve(c, c.defaults().data(), phi, st));
+    mech::linkage::reactions(c, j, c.defaults().data(), st, re);
+    // On the ram from the block: along the block's line's normal n1 =
+    // (-sin alpha, cos alpha), N1 n1 with N1 = -F / cos(alpha).
+    EXPECT_NEAR(re.x[3], -F * -std::sin(alpha) / std::cos(alpha), 1e-12 * pin) << phi;
+    EXPECT_NEAR(re.y[3], -F, 1e-12 * pin) << phi;
+    EXPECT_NEAR(std::hypot(re.x[3], re.y[3]), pin, 1e-12 * pin) << phi;
+    EXPECT_NEAR(re.normal[1], -F / std::cos(alpha), 1e-12 * pin) << phi;  // the block on the wedge's line
+    EXPECT_NEAR(re.normal[2], F * std::tan(alpha), 1e-12 * pin) << phi;   // the ram on its line, n2 = -x
+    for (int k : {1, 2}) EXPECT_NEAR(re.couple[static_cast<size_t>(k)], 0, 1e-12 * pin) << phi;
+    const double ds = st.slide[static_cast<size_t>(c.find_link("ram"))].d;
+    EXPECT_NEAR(re.torque, -F * ds, 1e-12 * pin) << phi;
+  }
 }
 
 TEST(LinkageReactions, TwoForceRodOfAMasslessSliderCrank) {

@@ -228,7 +228,7 @@ class Reader {
   }
 
   void read_group(const ConfigNode& g) {
-    const std::string type = g.at("type").choice({"RRR", "RRP", "RPR", "RPP"});
+    const std::string type = g.at("type").choice({"RRR", "RRP", "RPR", "RPP", "PRP"});
     auto& c = d_.chain;
     const auto ls = g.at("links").items();
     if (ls.size() != 2) g.at("links").fail("expected the group's two links [first, second]");
@@ -243,20 +243,14 @@ class Reader {
       } else if (type == "RRP" || type == "RPP") {
         if (type == "RRP") g.allow_only({"type", "links", "from", "joint", "branch", "near"});
         else g.allow_only({"type", "links", "from", "joint"});
-        const auto line = lines_.find(second);
-        if (line == lines_.end()) ls[1].fail("the slider '" + ls[1].text() + "' has no line: {fixed_to, through, angle}");
-        const ConfigNode& ln = line->second.node;
-        const int on = ln.has("fixed_to") && ln.at("fixed_to").text() != "ground" ? link(ln.at("fixed_to")) : kNone;
-        const int through = point(ln.at("through"));
-        if (!fixed_on(through, on)) {
-          std::string what = "the line is fixed to ";
-          what += on == kNone ? std::string("the ground") : "link " + ln.at("fixed_to").text();
-          what += "; its point '" + ln.at("through").text() + "' must be fixed there too";
-          ln.at("through").fail(what);
-        }
-        c.set_line(second, on, through, line->second.angle, line->second.offset);
+        place_line(ls[1], second);
         if (type == "RRP") c.rrp(first, second, point(g.at("from")), new_joint(g), branch(g, index));
         else c.rpp(first, second, point(g.at("from")), new_joint(g));
+      } else if (type == "PRP") {
+        g.allow_only({"type", "links", "joint"});
+        place_line(ls[0], first);
+        place_line(ls[1], second);
+        c.prp(first, second, new_joint(g));
       } else {
         g.allow_only({"type", "links", "from", "pivot"});
         c.rpr(first, second, point(g.at("from")), point(g.at("pivot")));
@@ -265,6 +259,22 @@ class Reader {
       g.fail(e.what());
     }
     nodes_.push_back(g);
+  }
+  // Slider k's line (its link named at `at` in the group's links), placed
+  // now that the points before its group are known.
+  void place_line(const ConfigNode& at, int k) {
+    const auto line = lines_.find(k);
+    if (line == lines_.end()) at.fail("the slider '" + at.text() + "' has no line: {fixed_to, through, angle}");
+    const ConfigNode& ln = line->second.node;
+    const int on = ln.has("fixed_to") && ln.at("fixed_to").text() != "ground" ? link(ln.at("fixed_to")) : kNone;
+    const int through = point(ln.at("through"));
+    if (!fixed_on(through, on)) {
+      std::string what = "the line is fixed to ";
+      what += on == kNone ? std::string("the ground") : "link " + ln.at("fixed_to").text();
+      what += "; its point '" + ln.at("through").text() + "' must be fixed there too";
+      ln.at("through").fail(what);
+    }
+    d_.chain.set_line(k, on, through, line->second.angle, line->second.offset);
   }
   // Whether point p is fixed on link k (kNone: the ground): a ground point;
   // the link's origin, one of its points, or the joint its group or the
@@ -461,9 +471,20 @@ class Reader {
         nodes_[static_cast<size_t>(n.group)].fail("the group cannot assemble at crank angle 0");
       c.set_branch(n.group, dist[0] <= dist[1] ? 1 : -1);
     }
-    if (!mech::linkage::solve(c, c.defaults().data(), 0.0, st))
-      nodes_[static_cast<size_t>(st.failed)].fail(c.group_name(st.failed) +
-                                                  " cannot assemble at crank angle 0 with these values");
+    // A PRP group fails only where its lines are parallel; all but
+    // parallel (its margin below the evaluation's singular threshold) it
+    // would stop every evaluation: both are said so.
+    auto prp = [&](int g) {
+      return c.groups()[static_cast<size_t>(g)].type == mech::linkage::GroupType::PRP;
+    };
+    auto fail = [&](int g) {
+      nodes_[static_cast<size_t>(g)].fail(
+          c.group_name(g) + (prp(g) ? ": its sliders' lines are parallel at crank angle 0 (the pin has no place)"
+                                         : " cannot assemble at crank angle 0 with these values"));
+    };
+    if (!mech::linkage::solve(c, c.defaults().data(), 0.0, st)) fail(st.failed);
+    for (int g = 0; g < static_cast<int>(c.groups().size()); ++g)
+      if (prp(g) && st.margin[static_cast<size_t>(g)] < 1e-6) fail(g);
   }
 
   struct Line {

@@ -299,8 +299,7 @@ class Drawing {
         for (size_t j = 1; j < vs.size(); ++j)
           out_ << "<line x1='" << num(cv_.X(vs[0].x)) << "' y1='" << num(cv_.Y(vs[0].y)) << "' x2='" << num(cv_.X(vs[j].x))
                << "' y2='" << num(cv_.Y(vs[j].y)) << "' stroke='" << kLink << "' stroke-width='3'/>\n";
-        if (l.line_on != kNone)
-          out_ << box(cv_, vs[0], p.axis[k], 34, 0.5, "fill='#888' stroke='none'");
+        if (l.line_on != kNone) guide(l, p, vs[0], p.axis[k]);
         const bool slider = l.line_through != kNone;
         out_ << box(cv_, vs[0], p.axis[k], slider ? 15 : 12, slider ? 8 : 6,
                     "fill='#cfe0f0' stroke='" + std::string(kLink) + "' stroke-width='1.5'");
@@ -326,6 +325,19 @@ class Drawing {
       if (full) label(p.point[q], name, t == traced_.end() ? "black" : color(static_cast<size_t>(t - traced_.begin())));
     }
     out_ << "</g>\n";
+  }
+
+  // A slider's line on a moving link, drawn as a part of that link: from
+  // the line's point T to its origin T + offset n, then along the line over
+  // the origin and the pin b, 24 px past each.
+  void guide(const Link& l, const Pose& p, Pt b, Pt u) {
+    const Pt t = p.point[static_cast<size_t>(l.line_through)];
+    const double off = l.line_offset == kNone ? 0.0 : v_[l.line_offset];
+    const Pt o{t.x - off * u.y, t.y + off * u.x};
+    const double s = (b.x - o.x) * u.x + (b.y - o.y) * u.y, pad = 24 / cv_.s;
+    const double lo = std::min(0.0, s) - pad, hi = std::max(0.0, s) + pad;
+    out_ << "<polyline fill='none' stroke='#888' stroke-width='2' points='" << cv_.at(t) << " " << cv_.at(o) << " "
+         << cv_.at({o.x + lo * u.x, o.y + lo * u.y}) << " " << cv_.at({o.x + hi * u.x, o.y + hi * u.y}) << "'/>\n";
   }
 
   void label(Pt at, const std::string& name, const char* fill) {

@@ -43,10 +43,10 @@ std::vector<Metric> metrics_of(const Description& d) {
     add(out_o.name + "_time_ratio", "", Form::ratio, {Kind::coordinate, i}, {Kind::neg_coordinate, i});
   }
   const auto& groups = d.chain.groups();
-  auto each_group = [&](GroupType t, Kind k, const std::string& name) {
-    // one metric over the groups of type t: the largest of their maxima
+  auto each_group = [&](Kind k, const std::string& name) {
+    // one metric over the groups k measures: the largest of their maxima
     bool any = false;
-    for (const auto& g : groups) any = any || g.type == t;
+    for (const auto& g : groups) any = any || measures(k, g.type);
     if (any) add(name, "rad", Form::peak, {k, kNone});
   };
   // A four-bar loop: an RRR group on the crank's joint and a ground point.
@@ -61,8 +61,8 @@ std::vector<Metric> metrics_of(const Description& d) {
               "_grashof_margin",
           "m", Form::grashof, {Kind::margin, static_cast<int>(g)});
   }
-  each_group(GroupType::RRP, Kind::pressure, "max_pressure_angle");
-  each_group(GroupType::RRR, Kind::transmission, "min_transmission_angle");
+  each_group(Kind::pressure, "max_pressure_angle");
+  each_group(Kind::transmission, "min_transmission_angle");
   if (d.has_dynamics()) {
     add("peak_drive_torque", "N m", Form::peak, {Kind::torque, kNone});
     add("mean_drive_torque", "N m", Form::mean, {Kind::torque, kNone});

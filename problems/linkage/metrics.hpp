@@ -21,7 +21,7 @@ enum class Kind {
   neg_coordinate,  // minus that
   speed,           // |an output's velocity|
   acceleration,    // |an output's acceleration|
-  pressure,        // the sine of an RRP group's pressure angle (the rod against the line)
+  pressure,        // the sine of an RRP (PRP) group's pressure angle: pressure_sine
   transmission,    // minus the sine of an RRR group's transmission angle (acute)
   torque,          // |driving torque|
   energy,          // kinetic energy
@@ -30,6 +30,14 @@ enum class Kind {
   shaking_force,   // |the inertia forces' resultant|
   shaking_moment,  // |their moment about the origin|
 };
+// Whether kind k (pressure, transmission) measures groups of type t: the
+// pressure angle RRP and PRP groups, the transmission angle RRR groups.
+inline bool measures(Kind k, mech::linkage::GroupType t) {
+  using mech::linkage::GroupType;
+  if (k == Kind::pressure) return t == GroupType::RRP || t == GroupType::PRP;
+  return k == Kind::transmission && t == GroupType::RRR;
+}
+
 struct Quantity {
   Kind kind;
   int index;  // the output, the group, the pin or the slide; none for the whole mechanism's

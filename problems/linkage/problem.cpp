@@ -31,7 +31,6 @@ namespace {
 
 using mech::Dual;
 using mech::linkage::Chain;
-using mech::linkage::GroupType;
 using mech::linkage::Jet;
 using mech::linkage::kNone;
 using mech::linkage::State;
@@ -359,9 +358,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         once(q);
         continue;
       }
-      const GroupType t = q.kind == Kind::pressure ? GroupType::RRP : GroupType::RRR;
       for (size_t g = 0; g < d_.chain.groups().size(); ++g)
-        if (d_.chain.groups()[g].type == t) once({q.kind, static_cast<int>(g)});
+        if (measures(q.kind, d_.chain.groups()[g].type)) once({q.kind, static_cast<int>(g)});
     }
   }
 

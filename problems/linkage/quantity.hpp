@@ -20,7 +20,7 @@ mech::linkage::Jet<T> margin2(const mech::linkage::Chain& c, int g, const mech::
   using mech::linkage::Jet;
   const auto& gr = c.groups()[static_cast<size_t>(g)];
   const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
-  if (gr.type == GroupType::RRR || gr.type == GroupType::RPP) {
+  if (gr.type == GroupType::RRR || gr.type == GroupType::RPP || gr.type == GroupType::PRP) {
     const Jet<T> sine = mech::linkage::cross(e1, e2);
     return sine * sine;
   }
@@ -31,6 +31,17 @@ mech::linkage::Jet<T> margin2(const mech::linkage::Chain& c, int g, const mech::
   const auto d = st.point[static_cast<size_t>(gr.p)] - st.point[static_cast<size_t>(gr.q)];
   const Jet<T>& s = st.slide[static_cast<size_t>(gr.first)];
   return s * s / mech::linkage::dot(d, d);
+}
+
+// Group g's pressure sine with its transfer functions, up to its sign: an
+// RRP group's rod against its slider's line, e2 x e1; a PRP group's force
+// through its pin, along one line's normal, against the other line, n1 x u2
+// = -(u1 . u2) (the same angle both ways: 90 deg less the lines' angle).
+template <class T>
+mech::linkage::Jet<T> pressure_sine(const mech::linkage::Chain& c, int g, const mech::linkage::State<T>& st) {
+  const auto& gr = c.groups()[static_cast<size_t>(g)];
+  const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
+  return gr.type == mech::linkage::GroupType::PRP ? mech::linkage::dot(e1, e2) : mech::linkage::cross(e2, e1);
 }
 
 // Output q.index's coordinate (minus it for neg_coordinate) with its
@@ -82,7 +93,7 @@ T jet_slope(const Description& d, const Quantity& q, const T* v, const mech::lin
   auto sine = [&](bool pressure) {  // the group's pressure (transmission) sine as a jet
     const auto& g = c.groups()[static_cast<size_t>(q.index)];
     const auto &e1 = st.axis[static_cast<size_t>(g.first)], &e2 = st.axis[static_cast<size_t>(g.second)];
-    return pressure ? mech::linkage::cross(e2, e1) : mech::linkage::cross(e1, e2);
+    return pressure ? pressure_sine(c, q.index, st) : mech::linkage::cross(e1, e2);
   };
   switch (q.kind) {
     case Kind::margin: return T(-margin2(c, q.index, st).d);
@@ -137,10 +148,7 @@ T quantity(const Description& d, const mech::linkage::Joints& j, const Quantity&
       const auto x = coordinate_jet(d, {Kind::coordinate, q.index}, st, ref);
       return q.kind == Kind::speed ? T(abs(x.d) * w) : T(abs(x.dd) * (w * w));
     }
-    case Kind::pressure: {
-      const auto& g = c.groups()[i];
-      return T(abs(cross_v(axis(g.second), axis(g.first))));
-    }
+    case Kind::pressure: return T(abs(pressure_sine(c, q.index, st).v));
     case Kind::transmission: {
       const auto& g = c.groups()[i];
       return T(-abs(cross_v(axis(g.first), axis(g.second))));

@@ -7,6 +7,7 @@
 
 #include "mech/linkage/reactions.hpp"
 #include "problems/linkage/description.hpp"
+#include "problems/linkage/quantity.hpp"
 
 namespace problems::linkage {
 
@@ -70,12 +71,13 @@ nlohmann::json kinematics_report(const opt::ConfigNode& root, const std::vector<
         a["sliders"][c.links()[k].name] = {{"position", s.v}, {"velocity", s.d * w}, {"acceleration", s.dd * w2}};
       }
     }
-    for (size_t g = 0; g < c.groups().size(); ++g) {
-      const auto& gr = c.groups()[g];
+    for (int g = 0; g < static_cast<int>(c.groups().size()); ++g) {
+      const auto& gr = c.groups()[static_cast<size_t>(g)];
       const auto &e1 = st.axis[static_cast<size_t>(gr.first)], &e2 = st.axis[static_cast<size_t>(gr.second)];
-      const double sine = std::abs(e1.x.v * e2.y.v - e1.y.v * e2.x.v);
-      if (gr.type == mech::linkage::GroupType::RRR) a["transmission_angles"][c.group_name(static_cast<int>(g))] = std::asin(sine);
-      if (gr.type == mech::linkage::GroupType::RRP) a["pressure_angles"][c.group_name(static_cast<int>(g))] = std::asin(sine);
+      if (measures(Kind::transmission, gr.type))
+        a["transmission_angles"][c.group_name(g)] = std::asin(std::abs(e1.x.v * e2.y.v - e1.y.v * e2.x.v));
+      if (measures(Kind::pressure, gr.type))
+        a["pressure_angles"][c.group_name(g)] = std::asin(std::abs(pressure_sine(c, g, st).v));
     }
     if (dynamics) {
       const auto p = mech::linkage::drive_point(c, v, st);

@@ -13,9 +13,10 @@
 // (its owner: the link that defines it, or the ground), its reaction the
 // force on the link from the owner; a slide is a slider on its line (RRP)
 // or a block on its guide (RPR), or in a slider's slot and the slider on
-// its line (RPP: two slides), its reaction a force N along the line's
-// normal rot90(u) and a couple C on the slider (block) from the body of
-// the line (the guide, the slotted slider).
+// its line (RPP: two slides), or each of two pinned sliders on its own
+// line (PRP: two slides), its reaction a force N along the line's normal
+// rot90(u) and a couple C on the slider (block) from the body of the line
+// (the guide, the slotted slider).
 #pragma once
 #include <vector>
 
@@ -29,8 +30,10 @@ struct Pin {
 
 // A chain's joints in the order of solution: the crank's pivot, then per
 // group RRR (first, p), (second, q), (second, joint); RRP (rod, p), (rod,
-// joint); RPR (block, p), (guide, q); RPP (block, p); one slide per RRP
-// and RPR group, two per RPP (the block in the slot, the slider on its line).
+// joint); RPR (block, p), (guide, q); RPP (block, p); PRP (second, joint),
+// the first slider owning the joint as an RRR group's first link does; one
+// slide per RRP and RPR group, two per RPP (the block in the slot, the
+// slider on its line) and PRP (the first slider, then the second).
 struct Joints {
   std::vector<Pin> pins;
   std::vector<int> slides;      // the slider (block) link
@@ -63,6 +66,11 @@ struct Joints {
         case GroupType::RPP:
           owner[static_cast<size_t>(g.joint)] = g.second;
           add(g.p, g.first);
+          slides.push_back(g.first), slides.push_back(g.second);
+          break;
+        case GroupType::PRP:
+          owner[static_cast<size_t>(g.joint)] = g.first;
+          add(g.joint, g.second);
           slides.push_back(g.first), slides.push_back(g.second);
           break;
       }
@@ -243,6 +251,24 @@ void reactions(const Chain& c, const Joints& j, const S* v, const State<S>& st, 
         slide_reaction(N2, C2);
         slide_reaction(N1, C1);
         on_line(gr.second, N2, C2, ux, uy, J);
+        break;
+      }
+      case GroupType::PRP: {
+        // Each slider's moment about the pin B is its line's couple; the two
+        // sliders' forces together the lines' normal forces, N1 n1 + N2 n2 =
+        // -(a1 + a2) (Cramer, over u1 x u2); the second's alone the pin's.
+        const Vec<S>& u2 = st.axis[static_cast<size_t>(gr.second)];
+        const S u2x = u2.x.v, u2y = u2.y.v;
+        const Vec<S>& B = st.point[static_cast<size_t>(gr.joint)];
+        const S C1 = -a1.about(B.x.v, B.y.v), C2 = -a2.about(B.x.v, B.y.v);
+        const S rx = -(a1.fx + a2.fx), ry = -(a1.fy + a2.fy), det = e1x * u2y - e1y * u2x;
+        // n1 = rot90(u1), n2 = rot90(u2): N1 = (r x n2) / det, N2 = (n1 x r) / det.
+        const S N1 = (rx * u2x + ry * u2y) / det, N2 = -(e1x * rx + e1y * ry) / det;
+        r.x[static_cast<size_t>(i)] = -a2.fx + N2 * u2y, r.y[static_cast<size_t>(i)] = -a2.fy - N2 * u2x;
+        slide_reaction(N2, C2);
+        slide_reaction(N1, C1);
+        on_line(gr.second, N2, C2, u2x, u2y, B);
+        on_line(gr.first, N1, C1, e1x, e1y, B);
         break;
       }
     }
