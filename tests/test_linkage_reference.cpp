@@ -1,7 +1,8 @@
 // The general linkage against an independent reference: tests/ref/
 // linkage_ref.py reads the same configs (a Watt II six-bar, a Stephenson III
 // six-bar with a position-dependent process force, a Whitworth shaper with
-// a forward-stroke cutting force) and solves them another way: every link's
+// a forward-stroke cutting force, a wedge press whose PRP group pins a
+// block on the wedge's line to a ram) and solves them another way: every link's
 // pose from the loop-closure equations by Newton at 30 digits, the transfer
 // functions from the constraint Jacobian's linear systems, the driving
 // torque by virtual power and by a global Newton-Euler solve (they agree to
@@ -10,9 +11,10 @@
 // positions, transfer functions, slider coordinates, link rates, the
 // driving torque, the kinetic energy, the joint reactions and the shaking
 // force and moment at five crank angles, and the cycle maxima. Run it
-// again with (about 300 s)
-//   cd configs/linkage && /usr/bin/python3 ../../tests/ref/linkage_ref.py
-//     watt2_sixbar.yaml stephenson3_sixbar.yaml whitworth_shaper.yaml > ../../tests/ref/linkage_ref.json
+// again with (a few minutes)
+//   /usr/bin/python3 tests/ref/linkage_ref.py configs/linkage/watt2_sixbar.yaml
+//     configs/linkage/stephenson3_sixbar.yaml configs/linkage/whitworth_shaper.yaml
+//     configs/linkage/wedge_press.yaml > tests/ref/linkage_ref.json
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -173,6 +175,6 @@ TEST(Kinematics, PrintsTheStateAtTheAskedAngles) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Linkages, Reference,
-                         testing::Values("watt2_sixbar", "stephenson3_sixbar", "whitworth_shaper"));
+                         testing::Values("watt2_sixbar", "stephenson3_sixbar", "whitworth_shaper", "wedge_press"));
 
 }  // namespace

@@ -10,7 +10,9 @@ sharing no code with mechopt, without the design's closed-form group solutions:
   1), and the full system Phi(q, phi) = 0 is solved by Newton's method, started
   from the previous grid angle's solution (a second-order predictor). The closed
   form of the design is used ONLY at phi = 0 to seed the branch (`branch` or
-  `near`); the branch's sign is then checked at every grid angle.
+  `near`); the branch's sign is then checked at every grid angle. A PRP group
+  (two sliders pinned together, no branch) starts with both sliders at its
+  first line's point.
 - transfer functions per radian of phi: Phi_q q' = -Phi_phi and
   Phi_q q'' = -(Phi_q q')_q q' (the constraints' quadratic velocity terms);
   velocities are speed times them, accelerations speed^2 times.
@@ -42,10 +44,10 @@ else in the description is refused loudly.
 
 Run: /usr/bin/python3 tests/ref/linkage_ref.py configs/linkage/watt2_sixbar.yaml \
        configs/linkage/stephenson3_sixbar.yaml configs/linkage/whitworth_shaper.yaml \
-       > tests/ref/linkage_ref.json                     (~100 s)
+       configs/linkage/wedge_press.yaml > tests/ref/linkage_ref.json
      /usr/bin/python3 tests/ref/linkage_ref.py --selftest  (~45 s; slider-crank closed forms,
        transfer functions against mp.diff of the positions, Whitworth time ratio
-       and mean torque = cutting work / 2 pi)
+       and mean torque = cutting work / 2 pi, the wedge's ram stroke)
 """
 import json
 import re
@@ -241,7 +243,7 @@ class Linkage:
         b1, b2 = self.add_link(n1), self.add_link(n2)
         rec = {"type": t, "bodies": (b1, b2), "key": "%s,%s" % (n1, n2),
                "branch": g.get("branch"), "near": pair(g["near"]) if "near" in g else None}
-        if (rec["branch"] is None) == (rec["near"] is None) and t != "RPR":
+        if (rec["branch"] is None) == (rec["near"] is None) and t not in ("RPR", "PRP"):
             raise ValueError("group %s: give exactly one of branch, near" % rec["key"])
         if t == "RRR":
             p, q = g["from"]
@@ -252,19 +254,22 @@ class Linkage:
             self.joint_key[len(self.joints) - 1] = ("%s_%s" % (g["joint"], n2), -1)
             self.points[g["joint"]] = (b1, (rec["a"], 0))
         elif t == "RRP":
-            line = on_keys(self.links[n2]["line"])
-            on = self.body[line.get("fixed_to", "ground")]
-            tb, tl = self.points[line["through"]]
-            if tb != on:
-                raise ValueError("line of %s: %s is not a point of %s" % (n2, line["through"], line.get("fixed_to")))
-            rec.update(P=g["from"], a=self.length(b1), line_body=on, T=tl,
-                       alpha=num(line.get("angle", 0)), off=num(line.get("offset", 0)))
+            on, tl, alpha, off = self.line(n2)
+            rec.update(P=g["from"], a=self.length(b1), line_body=on, T=tl, alpha=alpha, off=off)
             self.pin(b1, (0, 0), g["from"])
             self.joints.append(("rev", b1, (rec["a"], 0), b2, (0, 0)))
             self.joint_key[len(self.joints) - 1] = ("%s_%s" % (g["joint"], n1), 1)
             self.slider_joint[b2] = len(self.joints)
-            self.joints.append(("pri", b2, on, rec["alpha"], tl, rec["off"]))
+            self.joints.append(("pri", b2, on, alpha, tl, off))
             self.points[g["joint"]] = (b2, (0, 0))
+        elif t == "PRP":                            # two sliders pinned at their origins
+            rec.update(lines=(self.line(n1), self.line(n2)))
+            self.joints.append(("rev", b2, (0, 0), b1, (0, 0)))
+            self.joint_key[len(self.joints) - 1] = ("%s_%s" % (g["joint"], n2), 1)
+            for b, (on, tl, alpha, off) in zip((b1, b2), rec["lines"]):
+                self.slider_joint[b] = len(self.joints)
+                self.joints.append(("pri", b, on, alpha, tl, off))
+            self.points[g["joint"]] = (b1, (0, 0))
         elif t == "RPR":
             off = num(self.links[n2].get("offset", 0))
             rec.update(A=g["from"], Q=g["pivot"], off=off)
@@ -276,6 +281,15 @@ class Linkage:
             raise NotImplementedError("group type %s" % t)
         self.groups.append(rec)
         self.register_points([b1, b2])
+
+    def line(self, name):
+        """A slider's line: its body, its point there (local), its angle and offset."""
+        line = on_keys(self.links[name]["line"])
+        on = self.body[line.get("fixed_to", "ground")]
+        tb, tl = self.points[line["through"]]
+        if tb != on:
+            raise ValueError("line of %s: %s is not a point of %s" % (name, line["through"], line.get("fixed_to")))
+        return on, tl, num(line.get("angle", 0)), num(line.get("offset", 0))
 
     def body_data(self, b):
         d = self.links[self.names[b]]
@@ -428,6 +442,11 @@ class Linkage:
                 B = self.pick(g, roots)
                 setpose(b1, P, mp.atan2(*reversed(sub(B, P))))
                 setpose(b2, B, to + g["alpha"])
+            elif g["type"] == "PRP":                # no closed form: both at the first line's point
+                for b, (on, tl, al, off) in zip((b1, b2), g["lines"]):
+                    ro, to = self.pose(q, on)
+                    setpose(b, add(ro, rot(to, tl)), to + al)
+                setpose(b2, self.pose(q, b1)[0], self.pose(q, b2)[1])
             else:
                 A, Q = self.world(q, g["A"]), self.world(q, g["Q"])
                 d = sub(A, Q)
@@ -522,6 +541,8 @@ class Linkage:
                 lk["trans"][gr["key"]] = mp.atan2(abs(cross(e1, e2)), abs(dot(e1, e2)))
             elif gr["type"] == "RRP":
                 lk["press"][gr["key"]] = mp.atan2(abs(cross(e2, e1)), abs(dot(e1, e2)))
+            elif gr["type"] == "PRP":               # the pin's force along n1 against u2
+                lk["press"][gr["key"]] = mp.atan2(abs(dot(e1, e2)), abs(cross(e1, e2)))
         # bodies: centre of mass, its transfer functions; kinetic energy; virtual power
         ke = mvp = scale = MPF(0)
         ext, fsum, msum, rhs = {}, (0, 0), MPF(0), []
@@ -770,13 +791,13 @@ def analyse(path, report=True):
             "min_transmission_angle": {g["key"]: ext(*lk.extremum(lambda x, k=g["key"]: x["trans"][k], -1))
                                        for g in lk.groups if g["type"] == "RRR"},
             "max_pressure_angle": {g["key"]: ext(*lk.extremum(lambda x, k=g["key"]: x["press"][k], 1))
-                                   for g in lk.groups if g["type"] == "RRP"}}
+                                   for g in lk.groups if g["type"] in ("RRP", "PRP")}}
     res["seconds"] = round(time.time() - t0, 1)
     return lk, res, {o: v[1] for o, v in outs.items()}
 
 
 def selftest():
-    """Closed forms of the centred slider-crank, jets against mp.diff, the Whitworth ratio."""
+    """Closed forms of the centred slider-crank, jets against mp.diff, the Whitworth ratio, the wedge."""
     fails = []
 
     def check(what, a, b, tol):
@@ -797,7 +818,8 @@ def selftest():
         for n in range(3):
             check("slider_crank: x_B^(%d) closed form, phi = %d deg" % (n, d), s[n], mp.diff(xb, p, n), TOL)
     for path in ("configs/linkage/slider_crank.yaml", "configs/linkage/watt2_sixbar.yaml",
-                 "configs/linkage/stephenson3_sixbar.yaml", "configs/linkage/whitworth_shaper.yaml"):
+                 "configs/linkage/stephenson3_sixbar.yaml", "configs/linkage/whitworth_shaper.yaml",
+                 "configs/linkage/wedge_press.yaml"):
         with open(path) as f:
             k = Linkage(yaml.safe_load(f), path)
         k.grid = [k.kin(MPF(0), k.seed())] * (GRID + 1)
@@ -817,6 +839,9 @@ def selftest():
     check("whitworth: O4 on the ram line, O2O4 across it", abs(O4[1] - T[1]) + abs(O4[0] - O2[0]), 0, TOL)
     check("whitworth: time ratio (pi + 2 asin(c/r)) / (pi - 2 asin(c/r))", outs["ram"][3],
           (mp.pi + 2 * mp.asin(c / r)) / (mp.pi - 2 * mp.asin(c / r)), MPF(10) ** -20)
+    lk, res, outs = analyse("configs/linkage/wedge_press.yaml", report=False)
+    check("wedge_press: ram stroke = tan(20.5 deg) wedge stroke", outs["ram"][0],
+          mp.tan(MPF("20.5") * mp.pi / 180) * outs["wedge"][0], TOL)
     print("selftest: %s" % ("FAILED: %s" % fails if fails else "all ok"), file=sys.stderr)
     return 1 if fails else 0
 
@@ -836,7 +861,8 @@ def main():
                                       " -sum (J alpha + G x m a_G)",
                            "reactions": "POINT_LINK: force on LINK from the body that carries POINT (the link"
                                         " defining it: the crank its joint, an RRR group's first link its joint, an"
-                                        " RRP group's slider its pin; or the ground)",
+                                        " RRP group's slider its pin, a PRP group's first slider its pin; or"
+                                        " the ground)",
                            "slides": "on the slider (block) from its line's body (guide): normal along rot90(u),"
                                      " couple",
                            "angles": "rad; link angles at the listed phi wrapped to (-pi, pi], metrics unwrapped",
