@@ -30,8 +30,8 @@ enum class Kind {
   shaking_force,   // |the inertia forces' resultant|
   shaking_moment,  // |their moment about the origin|
 };
-// Whether kind k (pressure, transmission) measures groups of type t: the
-// pressure angle RRP and PRP groups, the transmission angle RRR groups.
+// Whether kind k (pressure, transmission) measures groups of type t: a
+// pressure angle is an RRP or PRP group's, a transmission angle an RRR group's.
 inline bool measures(Kind k, mech::linkage::GroupType t) {
   using mech::linkage::GroupType;
   if (k == Kind::pressure) return t == GroupType::RRP || t == GroupType::PRP;
