@@ -160,26 +160,40 @@ struct DrivePoint {
   S energy_slope;  // d(T / w^2)/dphi: the inertia forces' share of M / w^2
 };
 
+// The bodies' sums at unit crank speed: 2 T / w^2 = sum m |G'|^2 + J t'^2
+// (the reduced moment of inertia), its half slope sum m G'' . G' + J t''
+// t', and sum m G'_y (gravity's torque over g).
 template <class S>
-DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
-  const S& phi = st.phi;
-  const S& w = v[c.crank().speed];
-  S energy(0.0), inertia(0.0), weight(0.0);
+struct BodySums {
+  S inertia, half_slope, weight;
+};
+
+template <class S>
+BodySums<S> body_sums(const Chain& c, const S* v, const State<S>& st) {
+  BodySums<S> out{S(0.0), S(0.0), S(0.0)};
   Inertial<S> b;
   const auto& links = c.links();
   for (size_t k = 0; k < links.size(); ++k) {
     if (!inertial(links[k], v, st, static_cast<int>(k), b)) continue;
     const Jet<S> t = st.rates(static_cast<int>(k));
     const Jet<S> &x = b.G.x, &y = b.G.y;
-    energy += b.m * (x.d * x.d + y.d * y.d) + b.J * t.d * t.d;
-    inertia += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
-    weight += b.m * y.d;
+    out.inertia += b.m * (x.d * x.d + y.d * y.d) + b.J * t.d * t.d;
+    out.half_slope += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
+    out.weight += b.m * y.d;
   }
+  return out;
+}
+
+template <class S>
+DrivePoint<S> drive_point(const Chain& c, const S* v, const State<S>& st) {
+  const S& phi = st.phi;
+  const S& w = v[c.crank().speed];
+  const BodySums<S> b = body_sums(c, v, st);
   const S w2 = w * w;
-  S torque = w2 * inertia;
-  torque += S(c.gravity() * weight);
+  S torque = w2 * b.half_slope;
+  torque += S(c.gravity() * b.weight);
   torque -= load_power(c, v, st, phi);
-  return {S(energy / 2.0), torque, inertia};
+  return {S(b.inertia / 2.0), torque, b.half_slope};
 }
 
 }  // namespace mech::linkage
