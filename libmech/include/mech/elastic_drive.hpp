@@ -6,7 +6,9 @@
 // motion (29), with damping (40):
 //   J_p1 phi1'' = M_p1(phi1') - c (phi1 - phi2) - k (phi1' - phi2')
 //   J_p2 phi2'' + J_p2'/2 phi2'^2 = c (phi1 - phi2) + k (phi1' - phi2') - M_p2(phi2)
-// The rigid fidelity joins both masses (one degree of freedom).
+// The rigid fidelity joins both masses (one degree of freedom). With a
+// `machine` (mech/machine.hpp: any linkage, mech/linkage/machine.hpp) the
+// drive turns that machine instead: J_p2, J_p2' / 2 and M_p2 are its own.
 // Units: SI at the crank axis (rad, rad/s, N m, kg m^2) unless noted.
 #pragma once
 #include <cmath>
@@ -15,6 +17,7 @@
 #include <string>
 
 #include "mech/autodiff.hpp"
+#include "mech/machine.hpp"
 #include "mech/slider_crank.hpp"
 #include "mech/status.hpp"
 
@@ -42,6 +45,12 @@ struct InductionMotor {
 
 enum class DriveFidelity { rigid, elastic };
 
+// The crank speed over which a resistance that opposes the motion turns
+// from one sign to the other: sign(w2) regularised as tanh(w2 / kRestSpeed),
+// so that the right-hand side stays smooth through rest at a start-up (no
+// chattering there) [rad/s].
+constexpr double kRestSpeed = 1e-3;
+
 struct ElasticDrive {
   InductionMotor motor;
   double coupling_inertia = 0.32;    // J_m [kg m^2], motor shaft
@@ -65,6 +74,11 @@ struct ElasticDrive {
   double guide_friction = 0.008;          // f_np
   bool resistance_opposes_motion = false; // false: eq. (18)-(20) as printed (signed)
   DriveFidelity fidelity = DriveFidelity::elastic;
+  // The driven machine instead of the twin slider-crank above (whose
+  // numbers are then not read), or none. Not owned: it outlives the
+  // drive's integrations, and one machine serves one thread (its state()
+  // keeps scratch).
+  const Machine* machine = nullptr;
 
   // J_p1 = (J_p + J_m) delta u^2, eq. (1).
   double motor_side_inertia() const {
@@ -116,14 +130,16 @@ inline Status first_invalid(std::initializer_list<DomainCheck> values, std::stri
 // stiffness <= 0, a negative damping, mass, inertia or force, an efficiency
 // outside (0, 1], a slip outside (0, 1), a gearbox factor < 1, a side with
 // no inertia), else cannot_assemble (the rod no longer than its crank: it
-// cannot reach the slider axis at psi = 90 deg), else ok. `why`, if given,
+// cannot reach the slider axis at psi = 90 deg), else ok. With a machine,
+// the motor's and the coupling's values, then the machine's own check
+// (Machine::check) in place of the twin slider-crank's. `why`, if given,
 // gets the reason.
 inline Status check(const ElasticDrive& d, std::string* why = nullptr) {
   const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
   const auto non_negative = [](double v) { return v >= 0 && std::isfinite(v); };
   const InductionMotor& m = d.motor;
-  const double j1 = d.motor_side_inertia(), j2 = d.crank_side_constant_inertia() + d.lumped_cart_mass();
-  const Status s = first_invalid(
+  const double j1 = d.motor_side_inertia();
+  Status s = first_invalid(
       {{"motor synchronous_speed", m.synchronous_speed, positive(m.synchronous_speed)},
        {"motor critical_torque", m.critical_torque, positive(m.critical_torque)},
        {"motor critical_slip", m.critical_slip, m.critical_slip > 0 && m.critical_slip < 1},
@@ -133,8 +149,16 @@ inline Status check(const ElasticDrive& d, std::string* why = nullptr) {
        {"gearbox_factor", d.gearbox_factor, d.gearbox_factor >= 1 && std::isfinite(d.gearbox_factor)},
        {"drive_efficiency", d.drive_efficiency, d.drive_efficiency > 0 && d.drive_efficiency <= 1},
        {"stiffness", d.stiffness, positive(d.stiffness)},
-       {"damping", d.damping, non_negative(d.damping)},
-       {"crank_radius", d.crank_radius, positive(d.crank_radius)},
+       {"damping", d.damping, non_negative(d.damping)}},
+      why);
+  if (s != Status::ok) return s;
+  if (d.machine) {
+    s = first_invalid({{"motor-side inertia", j1, j1 > 0}}, why);  // J_p1, eq. (1)
+    return s == Status::ok ? d.machine->check(why) : s;
+  }
+  const double j2 = d.crank_side_constant_inertia() + d.lumped_cart_mass();
+  s = first_invalid(
+      {{"crank_radius", d.crank_radius, positive(d.crank_radius)},
        {"rod_length", d.rod_length, positive(d.rod_length)},
        {"phase_shift", d.phase_shift, std::isfinite(d.phase_shift)},
        {"cart_mass", d.cart_mass, non_negative(d.cart_mass)},
@@ -172,9 +196,36 @@ struct PhaseRotation {
   explicit PhaseRotation(double shift) : c(std::cos(shift)), s(std::sin(shift)) {}
 };
 
+namespace detail {
+// Whether phi2 carries a derivative (the start-up's Jacobian seeds the
+// crank angle; the shooting's variational equations do not: phi2 is their
+// independent variable there).
+inline bool moves(double) { return false; }
+inline bool moves(const Dual& x) { return x.d != 0; }
+template <class D>
+bool moves(const Eigen::AutoDiffScalar<D>& x) { return !x.derivatives().isZero(0.0); }
+}  // namespace detail
+
+// The machine's numbers at phi2 (Machine::state) on S: each value with its
+// slope times phi2's derivatives (the chain rule), the resistance fixed +
+// tanh(w2 / kRestSpeed) opposing.
+template <class S>
+MechanismState<S> machine_state(const Machine& m, const S& phi2, const S& w2) {
+  using std::tanh;
+  const MachinePoint p = m.state(value(phi2), detail::moves(phi2));
+  const S along = S(phi2 - value(phi2));  // phi2's derivatives, its value 0
+  const auto at = [&](const Dual& x) -> S {
+    if constexpr (is_dual<S>) return S(x.v + x.d * along);
+    else return x.v;
+  };
+  const S opposing = at(p.opposing);
+  return {at(p.inertia), at(p.half_slope), S(at(p.fixed) + tanh(w2 / kRestSpeed) * opposing)};
+}
+
 template <class S>
 MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S& w2,
                                   const PhaseRotation& shift) {
+  if (d.machine) return machine_state(*d.machine, phi2, w2);
   using std::abs;
   using std::cos;
   using std::sin;
@@ -200,8 +251,8 @@ MechanismState<S> mechanism_state(const ElasticDrive& d, const S& phi2, const S&
     const S sb = lambda * s, cb = sqrt(1.0 - sb * sb);
     const S force = load / (cb - d.guide_friction * sb);
     const S moment = force * d.crank_radius * (s * cb + c * sb);  // eqs (18)-(19)
-    if (d.resistance_opposes_motion)  // sign(w2), regularised over 1e-3 rad/s (no chattering at rest)
-      out.resistance += tanh(w2 / 1e-3) * abs(moment);
+    if (d.resistance_opposes_motion)  // sign(w2), regularised (kRestSpeed)
+      out.resistance += tanh(w2 / kRestSpeed) * abs(moment);
     else
       out.resistance += moment;
   }

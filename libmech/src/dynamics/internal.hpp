@@ -68,8 +68,8 @@ Status check_run(const ElasticDrive& d, const OdeOptions& o, std::initializer_li
 // A public entry point (steady_by_shooting, steady_by_cycles,
 // simulate_startup): the inputs checked first, then `body`. An exception
 // from it (a failed SUNDIALS set-up, or one a callback kept and its solver's
-// caller rethrew) becomes the status evaluation_error with its message:
-// none leaves libmech.
+// caller rethrew) becomes the status evaluation_error with its message, a
+// MachineFailure its own status: none leaves libmech.
 template <class Result, class F>
 Result entry_point(const ElasticDrive& d, const OdeOptions& o, std::initializer_list<DomainCheck> settings,
                    F&& body) {
@@ -80,6 +80,10 @@ Result entry_point(const ElasticDrive& d, const OdeOptions& o, std::initializer_
   } catch (const TimedOut& e) {
     r.message = e.what();
     r.status = Status::timed_out;
+    return r;
+  } catch (const MachineFailure& e) {
+    r.message = e.what();
+    r.status = e.status;
     return r;
   } catch (const std::exception& e) {
     r.message = e.what();
