@@ -1,15 +1,21 @@
 #include "problems/elastic_drive.hpp"
 
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <type_traits>
 
 #include "mech/drive_dynamics.hpp"
+#include "mech/linkage/machine.hpp"
 #include "opt/parameters.hpp"
+#include "problems/linkage/description.hpp"
+#include "problems/linkage/kinks.hpp"
 #include "problems/model_problem.hpp"
 
 namespace problems {
 namespace {
 
+using linkage::Description;
 
 // The metrics, in the order of kMetrics (their MetricIds); "coupling"
 // metrics on the side chosen by coupling_side.
@@ -152,6 +158,13 @@ const std::vector<opt::Parameter> kTable = opt::table(
          ""), kOde.max_steps}
     });
 
+// The rows of the twin slider-crank and its carts, which a `machine`
+// replaces (a config that gives both is an error at the row's key).
+constexpr R::Id kTwinRows[] = {R::rod_length,   R::phase_shift, R::crank_radius, R::layout,
+                               R::kinematics,   R::cart_mass,   R::rod_mass,     R::crank_inertia,
+                               R::roller_horizontal, R::roller_vertical, R::cart_weight, R::guide_friction,
+                               R::resistance};
+
 // libmech's drive from the model values.
 mech::ElasticDrive drive_of(const opt::Values<double>& v) {
   mech::ElasticDrive d;
@@ -192,17 +205,24 @@ mech::OdeOptions ode_of(const opt::Values<double>& v) {
 }
 
 // On double only (no autodiff through SUNDIALS): a TabledProblem with its
-// own evaluate_model_at.
+// own evaluate_model_at. With a machine its table is kTable and then the
+// machine description's rows, each under `machine.`.
 class ElasticDriveProblem : public TabledProblem {
  public:
-  ElasticDriveProblem(opt::Values<double> values, std::vector<opt::Variable> vars)
-      : TabledProblem("elastic_drive", kMetrics, kTable, std::move(values), std::move(vars)),
-        ode_(ode_of(this->values())), motor_side_(this->values()[R::coupling_side] != 0),
+  ElasticDriveProblem(std::vector<opt::Parameter> table, opt::Values<double> values, std::vector<opt::Variable> vars,
+                      std::shared_ptr<const Description> machine)
+      : TabledProblem("elastic_drive", kMetrics, std::move(table), std::move(values), std::move(vars)),
+        machine_(std::move(machine)), ode_(ode_of(this->values())), motor_side_(this->values()[R::coupling_side] != 0),
         startup_curves_(this->values()[R::curves] != 0), start_speed_(this->values()[R::start_speed]),
         warmup_(this->values()[R::warmup]), startup_time_(this->values()[R::startup_time]) {}
 
-  // s_kr: given, or from nominal_slip and overload_ratio (eq. 27a), not both.
+  // s_kr: given, or from nominal_slip and overload_ratio (eq. 27a), not
+  // both; with a machine, no row of the twin slider-crank.
   static void resolve(opt::Values<double>& v, const opt::ConfigNode& root) {
+    if (root.has("model") && root.at("model").has("machine"))
+      for (const R::Id r : kTwinRows)
+        if (root.at("model").has(kTable[r].name))
+          root.at("model").at(kTable[r].name).fail("the machine replaces the twin slider-crank, whose value this is");
     const bool motor = root.has("model") && root.at("model").has("motor");
     auto has = [&](const char* k) { return motor && root.at("model").at("motor").has(k); };
     if (has("critical_slip") && (has("nominal_slip") || has("overload_ratio")))
@@ -216,7 +236,50 @@ class ElasticDriveProblem : public TabledProblem {
 
   opt::Evaluation evaluate_model_at(const Eigen::VectorXd& x, const opt::MetricSet& wanted,
                                     bool) const override {
-    const mech::ElasticDrive d = drive_of(values_at(x));
+    return with_drive(x, [&](const mech::ElasticDrive& d) { return evaluate(d, wanted); });
+  }
+
+  opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int) const override {
+    return with_drive(x, [&](const mech::ElasticDrive& d) { return curves(d); });
+  }
+
+  nlohmann::json settings() const override {
+    nlohmann::json model = model_json();
+    if (machine_)
+      for (const R::Id r : kTwinRows) model.erase(kTable[r].name);  // not read
+    model["derived"] = {{"motor_side_inertia", drive_of(values()).motor_side_inertia()}};
+    nlohmann::json numerics = {
+        {"steady_state", "shooting over one revolution in the crank angle: one revolution from "
+                         "the first guess (rigid estimate, or the start-up after warmup "
+                         "seconds), then KINSOL Newton with the monodromy matrix if it "
+                         "does not repeat; extrema by root finding"}};
+    if (machine_)
+      numerics["machine"] = "the linkage of model.machine solved at every crank angle the integration asks "
+                            "(on a Dual in phi where the Jacobian needs slopes): J_p2, J_p2'/2 and M_p2 "
+                            "are its own; its crank speed is not read";
+    return {{"model", model}, {"numerics", numerics}, {"units", "SI at the crank axis (motor_* on the motor shaft)"}};
+  }
+
+ private:
+  // f(d) with libmech's drive at x: with a machine, the linkage at the
+  // machine's rows (a law's contact placed where its depth says) drives it.
+  template <class F>
+  std::invoke_result_t<F, const mech::ElasticDrive&> with_drive(const Eigen::VectorXd& x, F&& f) const {
+    const opt::Values<double> v = values_at(x);
+    mech::ElasticDrive d = drive_of(v);
+    if (!machine_) return f(d);
+    std::vector<double> mv(v.begin() + static_cast<long>(kTable.size()), v.end()), plain, grid;
+    if (!machine_->derived.empty()) {
+      mech::linkage::State<double> sd;
+      sd.resize(machine_->chain);
+      linkage::placed(machine_->chain, machine_->cycle_points, mv, plain, grid, sd);
+    }
+    const mech::linkage::LinkageMachine m(machine_->chain, std::move(mv), machine_->cycle_points);
+    d.machine = &m;
+    return f(d);
+  }
+
+  opt::Evaluation evaluate(const mech::ElasticDrive& d, const opt::MetricSet& wanted) const {
     opt::Evaluation e;
     MetricSink<double> out(wanted, e);
     auto put = [&](M::Id id, double v) { out.put(id, v); };
@@ -257,8 +320,7 @@ class ElasticDriveProblem : public TabledProblem {
     return e;
   }
 
-  opt::CycleCurves cycle_curves(const Eigen::VectorXd& x, int) const override {
-    const mech::ElasticDrive d = drive_of(values_at(x));
+  opt::CycleCurves curves(const mech::ElasticDrive& d) const {
     const double side = motor_side_ ? 1.0 / (d.gear_ratio * d.drive_efficiency) : 1.0;
     opt::CycleCurves c{{"time", "coupling_torque", "crank_speed", "motor_speed"}, {"s", "N m", "rad/s", "rad/s"}};
     mech::Trajectory tr;
@@ -276,19 +338,7 @@ class ElasticDriveProblem : public TabledProblem {
     return c;
   }
 
-  nlohmann::json settings() const override {
-    nlohmann::json model = model_json();
-    model["derived"] = {{"motor_side_inertia", drive_of(values()).motor_side_inertia()}};
-    return {{"model", model},
-            {"numerics",
-             {              {"steady_state", "shooting over one revolution in the crank angle: one revolution from "
-                               "the first guess (rigid estimate, or the start-up after warmup "
-                               "seconds), then KINSOL Newton with the monodromy matrix if it "
-                               "does not repeat; extrema by root finding"}}},
-            {"units", "SI at the crank axis (motor_* on the motor shaft)"}};
-  }
-
- private:
+  std::shared_ptr<const Description> machine_;  // the driven linkage (model.machine), or none
   mech::OdeOptions ode_;
   bool motor_side_;      // coupling torques on the motor shaft (crank / (u eta))
   bool startup_curves_;  // cycle.csv shows the start-up
@@ -297,13 +347,53 @@ class ElasticDriveProblem : public TabledProblem {
   double startup_time_;  // start-up transient length [s]
 };
 
+// The description under model.machine, or none; one without masses is an
+// error there (the drive divides by its inertia).
+std::shared_ptr<const Description> machine_of(const opt::ConfigNode& root) {
+  if (!root.has("model") || !root.at("model").has("machine")) return nullptr;
+  const opt::ConfigNode m = root.at("model").at("machine");
+  auto d = std::make_shared<const Description>(linkage::read_model(m));
+  if (!d->has_mass)
+    m.fail("the drive's machine needs " + std::string(linkage::kNeedsMasses) + ": this description has none");
+  return d;
+}
+
+// kTable, then the machine's rows (if any) under `machine.`.
+std::vector<opt::Parameter> table_of(const Description* machine) {
+  std::vector<opt::Parameter> t = kTable;
+  if (machine)
+    for (opt::Parameter p : machine->table) {
+      p.name = "machine." + p.name;
+      t.push_back(std::move(p));
+    }
+  return t;
+}
+
 }  // namespace
 
 std::unique_ptr<opt::Problem> make_elastic_drive(const opt::ConfigNode& root) {
-  return opt::make_tabled<ElasticDriveProblem>(root, kTable);
+  std::shared_ptr<const Description> machine = machine_of(root);
+  std::vector<opt::Parameter> table = table_of(machine.get());
+  opt::Values<double> v = opt::read_values(root, kTable, {"machine"});
+  ElasticDriveProblem::resolve(v, root);
+  if (machine) v.insert(v.end(), machine->chain.defaults().begin(), machine->chain.defaults().end());
+  std::vector<opt::Variable> vars = opt::parse_variables(root, opt::with_values(table, v));
+  if (machine) {
+    for (const auto& var : vars)
+      for (const R::Id r : kTwinRows)
+        if (var.name == kTable[r].name)
+          root.at("variables").at(var.name).fail("the machine replaces the twin slider-crank, whose value this is");
+    linkage::check_derived_not_free(*machine, root, vars, "machine.");
+  }
+  return std::make_unique<ElasticDriveProblem>(std::move(table), std::move(v), std::move(vars), std::move(machine));
 }
 
-const opt::Registered<ElasticDriveProblem> kRegistration{
-    "elastic_drive", "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001)", kTable};
+namespace {
+const opt::Registration kRegistration{
+    {"elastic_drive",
+     "two-mass elastic drive with an induction motor, on SUNDIALS (seed 001): the twin slider-crank, or any "
+     "linkage as model.machine (docs/linkage.md)",
+     kTable, make_elastic_drive, [](const opt::ConfigNode& root) { return table_of(machine_of(root).get()); }}};
+}  // namespace
 
 }  // namespace problems

@@ -506,7 +506,17 @@ class Reader {
 
 Description read_description(const ConfigNode& root) {
   if (!root.has("model")) return read_description(ConfigNode::parse(kDefaultModel, "<linkage default>"));
-  return Reader(root.at("model")).read();
+  return read_model(root.at("model"));
+}
+
+Description read_model(const ConfigNode& model) { return Reader(model).read(); }
+
+void check_derived_not_free(const Description& d, const ConfigNode& root, const std::vector<opt::Variable>& vars,
+                            const std::string& prefix) {
+  for (const auto& var : vars)
+    for (const auto s : d.derived)
+      if (var.name == prefix + d.table[static_cast<size_t>(s)].name)
+        root.at("variables").at(var.name).fail("the contact follows the law's depth: free the depth instead");
 }
 
 }  // namespace problems::linkage

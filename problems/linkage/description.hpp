@@ -40,6 +40,17 @@ struct Description {
 // The description under root's `model` (a built-in slider-crank when the
 // config has none: `mechopt list` shows its metrics).
 Description read_description(const opt::ConfigNode& root);
+// The description that is the map `model` (a section of another problem's
+// model: the elastic drive's `machine`); errors name its keys.
+Description read_model(const opt::ConfigNode& model);
+
+// A variable naming a contact that follows its law's depth (a derived row,
+// named `prefix` + its address) is an error at its key under `variables`.
+void check_derived_not_free(const Description& d, const opt::ConfigNode& root, const std::vector<opt::Variable>& vars,
+                            const std::string& prefix = "");
+
+// What a torque or an energy needs of a description, as its errors say.
+inline constexpr const char* kNeedsMasses = "masses (a link's mass or mass_per_length)";
 
 }  // namespace problems::linkage
 

@@ -119,7 +119,7 @@ void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>
               "on a ground line or a link turning about a ground point; this description has none");
     if (energy || has("drive_torque") || has("energy_swing") || has("_peak_reaction") || has("_peak_guide_force"))
       at.fail("'" + name + "' needs " +
-              (energy ? std::string("masses (a link's mass or mass_per_length)")
+              (energy ? std::string(kNeedsMasses)
                       : std::string("masses, loads or springs")) +
               " in the model: this description has none");
   };

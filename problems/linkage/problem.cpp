@@ -578,10 +578,7 @@ std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
   check_dynamics_asked(root, metrics);
   opt::Values<double> values = d.chain.defaults();
   std::vector<opt::Variable> vars = opt::parse_variables(root, opt::with_values(d.table, values));
-  for (const auto& var : vars)
-    for (const auto s : d.derived)
-      if (var.name == d.table[static_cast<size_t>(s)].name)
-        root.at("variables").at(var.name).fail("the contact follows the law's depth: free the depth instead");
+  check_derived_not_free(d, root, vars);
   return std::make_unique<LinkageProblem>(std::move(d), std::move(metrics), std::move(values), std::move(vars));
 }
 

@@ -93,8 +93,11 @@ std::vector<Parameter> table(const std::string& problem, std::initializer_list<T
 
 // The model values of a config: each row's default, overwritten by the
 // `model` section's value for it. Keys outside the table (or its sections)
-// are errors, values outside their domain are located errors.
-Values<double> read_values(const ConfigNode& root, const std::vector<Parameter>& table);
+// are errors, values outside their domain are located errors; `elsewhere`
+// names model keys another reader takes (the elastic drive's `machine`, a
+// linkage description), left alone here.
+Values<double> read_values(const ConfigNode& root, const std::vector<Parameter>& table,
+                           const std::vector<std::string>& elsewhere = {});
 
 // The rows with their values set to v, for `mechopt list`, result files and
 // parse_variables.
@@ -119,8 +122,10 @@ std::string exact_value_text(const Parameter& p, double v);
 // "one of: opposed, same_side".
 std::string domain_text(const Parameter& p);
 
-// Unknown keys of `model` and of its sections are errors naming what is allowed.
-void check_model_keys(const ConfigNode& model, const std::vector<Parameter>& rows);
+// Unknown keys of `model` and of its sections are errors naming what is
+// allowed (`elsewhere`: keys of `model` another reader checks).
+void check_model_keys(const ConfigNode& model, const std::vector<Parameter>& rows,
+                      const std::vector<std::string>& elsewhere = {});
 
 // {name: value} of every row, a choice by its name, for result files.
 nlohmann::json parameters_json(const std::vector<Parameter>& rows);

@@ -52,13 +52,16 @@ double read_parameter(const ConfigNode& n, const Parameter& p) {
   return n.quantity(p.dimension, p.domain);
 }
 
-void check_model_keys(const ConfigNode& model, const std::vector<Parameter>& rows) {
+void check_model_keys(const ConfigNode& model, const std::vector<Parameter>& rows,
+                      const std::vector<std::string>& elsewhere) {
   std::vector<std::string> top;
   auto add = [](std::vector<std::string>& v, const std::string& k) {
     if (std::find(v.begin(), v.end(), k) == v.end()) v.push_back(k);
   };
   for (const auto& r : rows) add(top, r.name.substr(0, r.name.find('.')));
-  model.allow_only(top);
+  std::vector<std::string> allowed = top;
+  for (const auto& k : elsewhere) add(allowed, k);
+  model.allow_only(allowed);
   for (const auto& section : top) {
     if (!model.has(section)) continue;
     std::vector<std::string> inner;
@@ -92,12 +95,13 @@ std::vector<Parameter> table(const std::string& problem, std::initializer_list<T
   return out;
 }
 
-Values<double> read_values(const ConfigNode& root, const std::vector<Parameter>& table) {
+Values<double> read_values(const ConfigNode& root, const std::vector<Parameter>& table,
+                           const std::vector<std::string>& elsewhere) {
   Values<double> v;
   for (const auto& p : table) v.push_back(p.value);
   if (!root.has("model")) return v;
   const ConfigNode model = root.at("model");
-  check_model_keys(model, table);
+  check_model_keys(model, table, elsewhere);
   for (size_t i = 0; i < table.size(); ++i) {
     const std::string& name = table[i].name;
     // (No ConfigNode is assigned to: a YAML::Node assignment writes into the tree.)
