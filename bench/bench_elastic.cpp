@@ -4,13 +4,19 @@
 // start-up simulation, the steady state over tolerances and methods
 // (work-precision), and a map of where each method works over stiffness and
 // damping. Counters: value (peak coupling torque at the crank [N m]), steps,
-// ok, multiplier (largest Floquet multiplier).
+// ok, multiplier (largest Floquet multiplier). The Twin rows drive the same
+// twin slider-crank written out by hand (exact kinematics, no guide
+// friction) and as a linkage (configs/elastic_drive/linkage_twin.yaml's
+// machine, mech/linkage/machine.hpp): what a general machine costs.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <string>
 
 #include "mech/drive_dynamics.hpp"
+#include "mech/linkage/machine.hpp"
+#include "opt/config.hpp"
+#include "problems/linkage/description.hpp"
 
 namespace {
 
@@ -42,6 +48,44 @@ void steady(benchmark::State& state, mech::ElasticDrive d, mech::OdeOptions o, d
   state.counters["ok"] = s.status == mech::Status::ok;
   state.counters["multiplier"] = s.largest_multiplier;
 }
+
+// The hand-written twin that linkage_twin.yaml's machine describes.
+mech::ElasticDrive twin() {
+  mech::ElasticDrive d = scene();
+  d.kinematics = mech::Kinematics::exact;
+  d.guide_friction = 0;
+  return d;
+}
+const problems::linkage::Description& twin_linkage() {
+  static const problems::linkage::Description d = problems::linkage::read_model(
+      opt::ConfigNode::load(MECHOPT_SOURCE_DIR "/configs/elastic_drive/linkage_twin.yaml").at("model").at("machine"));
+  return d;
+}
+
+// The steady state (erk) and a 3 s start-up (bdf: its Newton matrix takes
+// the machine's slopes), hand-written or with the linkage as its machine.
+void BM_ElasticSteadyTwin(benchmark::State& state, bool linkage) {
+  const mech::linkage::LinkageMachine m(twin_linkage().chain, twin_linkage().chain.defaults());
+  mech::ElasticDrive d = twin();
+  if (linkage) d.machine = &m;
+  steady(state, d, erk(1e-8));
+}
+void BM_ElasticStartupTwin(benchmark::State& state, bool linkage) {
+  const mech::linkage::LinkageMachine m(twin_linkage().chain, twin_linkage().chain.defaults());
+  mech::ElasticDrive d = twin();
+  if (linkage) d.machine = &m;
+  mech::Startup st;
+  for (auto _ : state) {
+    st = mech::simulate_startup(d, {}, 3.0, 1e-3, nullptr, kStart);
+    benchmark::DoNotOptimize(st);
+  }
+  state.counters["value"] = st.peak_coupling;
+  state.counters["steps"] = static_cast<double>(st.steps);
+}
+BENCHMARK_CAPTURE(BM_ElasticSteadyTwin, hand_written, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ElasticSteadyTwin, linkage, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ElasticStartupTwin, hand_written, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ElasticStartupTwin, linkage, true)->Unit(benchmark::kMillisecond);
 
 void BM_ElasticStartup(benchmark::State& state) {
   mech::Startup st;
