@@ -54,8 +54,11 @@ mech::ElasticDrive hand_written() {
 }
 
 // Each number to this fraction of its largest magnitude over the cycle:
-// the two sides compute the same closed forms in another order (measured:
-// the values to 8e-16, their slopes in phi2 to 2e-15).
+// the two sides compute the same functions by other formulas (the
+// slider-crank's closed form and its derivatives by hand; a circle-line
+// intersection on jets, and on a Dual in phi for the slopes), so they
+// agree to round-off (measured: the values to 8e-16, their slopes in phi2
+// to 2e-15).
 constexpr double kSameFunction = 1e-12;
 
 TEST(LinkageDrive, MechanismStateEqualsTheHandWrittenDrives) {
