@@ -36,17 +36,22 @@ inline double kink_value(const mech::linkage::Chain& c, const KinkFn& f, const m
   return mech::linkage::switch_rate(l, st).v;
 }
 
+// The chain solved at the n grid angles 2 pi i / n of an evaluation, once
+// for every pass that starts on the grid (empty: each solves its own).
+using GridStates = std::span<const mech::linkage::State<double>>;
+
 // The angles in [0, 2 pi) where the functions fns cross zero (each
 // function's by grid cell), found on an n-point grid (kept in `grid`) and
 // refined; sd: a state to solve in.
 inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double* v, int n,
                                     const std::vector<KinkFn>& fns, std::vector<double>& grid,
-                                    mech::linkage::State<double>& sd) {
+                                    mech::linkage::State<double>& sd, GridStates solved = {}) {
   const size_t un = static_cast<size_t>(n);
   grid.resize(fns.size() * un);
   for (int i = 0; i < n; ++i) {
-    mech::linkage::solve(c, v, mech::kTwoPi * i / n, sd);
-    for (size_t f = 0; f < fns.size(); ++f) grid[f * un + static_cast<size_t>(i)] = kink_value(c, fns[f], sd, v);
+    if (solved.empty()) mech::linkage::solve(c, v, mech::kTwoPi * i / n, sd);
+    const auto& st = solved.empty() ? sd : solved[static_cast<size_t>(i)];
+    for (size_t f = 0; f < fns.size(); ++f) grid[f * un + static_cast<size_t>(i)] = kink_value(c, fns[f], st, v);
   }
   std::vector<std::span<const double>> grids;
   for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(grid.data() + f * un, un);
@@ -62,7 +67,8 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
 // on or off, turns against a motion that reverses, or crosses a table's
 // row or a law's contact): the arcs of its means.
 inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const double* v, int n,
-                                        std::vector<double>& grid, mech::linkage::State<double>& sd) {
+                                        std::vector<double>& grid, mech::linkage::State<double>& sd,
+                                        GridStates solved = {}) {
   using mech::linkage::Load;
   std::vector<KinkFn> fns = {{-1, -1}};
   for (size_t i = 0; i < c.loads().size(); ++i) {
@@ -73,7 +79,7 @@ inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const dou
       for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({li, static_cast<int>(r)});
     if (l.law_a != mech::linkage::kNone) fns.push_back({li, kDepth});
   }
-  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd);
+  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd, solved);
   for (const auto& l : c.loads())
     if (l.over == Load::Over::crank_angle)
       for (double x : l.xs) kinks.push_back(mech::wrap_angle(x));
@@ -88,13 +94,13 @@ struct Contact {
   int load;
 };
 inline void contacts(const mech::linkage::Chain& c, const double* v, int n, std::vector<Contact>& out,
-                     std::vector<double>& grid, mech::linkage::State<double>& sd) {
+                     std::vector<double>& grid, mech::linkage::State<double>& sd, GridStates solved = {}) {
   out.clear();
   for (size_t i = 0; i < c.loads().size(); ++i) {
     const auto& l = c.loads()[i];
     if (l.law_a == mech::linkage::kNone) continue;
     const KinkFn depth{static_cast<int>(i), kDepth};
-    for (double phi : zeros_of(c, v, n, {depth}, grid, sd)) {
+    for (double phi : zeros_of(c, v, n, {depth}, grid, sd, solved)) {
       mech::linkage::solve(c, v, phi, sd);
       const double toward = sd.slide[static_cast<size_t>(l.link)].d > 0 ? HUGE_VAL : -HUGE_VAL;
       for (int step = 0; step < 64 && kink_value(c, depth, sd, v) < 0; ++step)

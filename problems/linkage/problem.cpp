@@ -79,6 +79,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
   struct Workspace : opt::ModelWorkspace {
     State<double> sd;
+    std::vector<State<double>> grid;  // the chain at the grid's angles (GridStates)
     State<Dual> sdual;
     std::vector<double> plain;  // the values as doubles
     std::vector<Dual> vdual;    // ... as Duals (their slope: the crank angle's)
@@ -102,6 +103,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (ws.sd.point.size() != c.point_names().size()) {
       ws.sd.resize(c);
       ws.sdual.resize(c);
+    }
+    if (ws.grid.size() != static_cast<size_t>(n) || ws.grid[0].point.size() != c.point_names().size()) {
+      ws.grid.resize(static_cast<size_t>(n));
+      for (auto& st : ws.grid) st.resize(c);
     }
     opt::Values<S> placed;  // with the contacts of the laws given by their depth
     const opt::Values<S>& v =
@@ -129,15 +134,16 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const size_t nq = ws.asked.size(), un = static_cast<size_t>(n);
     ws.grids.resize(nq * un);
     for (int i = 0; i < n; ++i) {
-      if (!solve_at(vd, mech::kTwoPi * i / n, ws.sd, out)) return;
-      for (size_t q = 0; q < nq; ++q) ws.grids[q * un + static_cast<size_t>(i)] = quantity(ws.asked[q], vd, ws.sd, ws);
+      State<double>& st = ws.grid[static_cast<size_t>(i)];
+      if (!solve_at(vd, mech::kTwoPi * i / n, st, out)) return;
+      for (size_t q = 0; q < nq; ++q) ws.grids[q * un + static_cast<size_t>(i)] = quantity(ws.asked[q], vd, st, ws);
     }
     // Maxima, their slopes from the chain on a Dual in phi: first the
     // margins (a singular design stops there), then the metrics'.
     ws.searches.resize(nq);
     for (size_t q = 0; q < nq; ++q) ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un));
     if (has_law_) {  // a pressure law's contacts: jumps the torque's and the forces' maxima may sit on
-      contacts(c, vd, n, ws.contacts, ws.contact_grid, ws.sd);
+      contacts(c, vd, n, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
       ws.contact_phis.clear();
       for (const Contact& k : ws.contacts) ws.contact_phis.push_back(k.phi);
       for (size_t q = n_margins; q < nq; ++q)
@@ -381,7 +387,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
   // The zeros of fns over the cycle (kinks.hpp).
   std::vector<double> zeros(Workspace& ws, const std::vector<KinkFn>& fns) const {
-    return zeros_of(d_.chain, ws.plain.data(), d_.cycle_points, fns, ws.zero_grids, ws.sd);
+    return zeros_of(d_.chain, ws.plain.data(), d_.cycle_points, fns, ws.zero_grids, ws.sd, ws.grid);
   }
 
   // A load that switches makes the forces it enters jump where its rate
@@ -438,8 +444,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const Chain& c = d_.chain;
     State<S> ss;
     ss.resize(c);
-    auto at = [&](double phi) -> const State<S>& {
-      mech::linkage::solve(c, v.data(), S(phi), ss);
+    auto at = [&](double phi, double cos_phi, double sin_phi) -> const State<S>& {
+      const double cs[2] = {cos_phi, sin_phi};
+      mech::linkage::solve(c, v.data(), S(phi), ss, cs);
       return ss;
     };
     const int nodes = 2 * d_.cycle_points;
@@ -460,25 +467,36 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     mech::ArcMeans<S> mt = none, ml = none, me = none;
     const std::vector<mech::NearPole> near = poles(ws);
     const std::vector<double> kinks =
-        torque || work ? torque_kinks(c, ws.plain.data(), d_.cycle_points, ws.zero_grids, ws.sd) : std::vector<double>{};
+        torque || work ? torque_kinks(c, ws.plain.data(), d_.cycle_points, ws.zero_grids, ws.sd, ws.grid) : std::vector<double>{};
     std::vector<Jump<S>> js;
     if (has_law_ && (torque || work)) {
-      contacts(c, ws.plain.data(), d_.cycle_points, ws.contacts, ws.contact_grid, ws.sd);
+      contacts(c, ws.plain.data(), d_.cycle_points, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
       js = jumps(c, v.data(), ws.plain.data(), std::span<const Contact>(ws.contacts), ws.sd);
     }
+    // Both on the same arcs: the torque's pass keeps the loads' power at
+    // its nodes, which the work's pass visits in the same order.
+    auto loads = [&](double phi, const State<S>& st) { return S(-mech::linkage::load_power(c, v.data(), st, S(phi), false)); };
+    std::vector<S> power;
+    size_t next = 0;
     if (torque)
       mt = mech::piecewise_means<S>(
-          [&](double phi, double, double) { return mech::linkage::drive_point(c, v.data(), at(phi)).torque; },
+          [&](double phi, double cos_phi, double sin_phi) {
+            const State<S>& st = at(phi, cos_phi, sin_phi);
+            if (work) power.push_back(loads(phi, st));
+            return mech::linkage::drive_point(c, v.data(), st).torque;
+          },
           kinks, nodes, ws.cycle, near);
     if (work)
       ml = mech::piecewise_means<S>(
-          [&](double phi, double, double) {
-            return S(-mech::linkage::load_power(c, v.data(), at(phi), S(phi), false));
+          [&](double phi, double cos_phi, double sin_phi) {
+            return torque ? power.at(next++) : loads(phi, at(phi, cos_phi, sin_phi));
           },
           kinks, nodes, ws.cycle, near);
     if (energy)
       me = mech::piecewise_means<S>(
-          [&](double phi, double, double) { return S(mech::linkage::drive_point(c, v.data(), at(phi)).energy * w * w); },
+          [&](double phi, double cos_phi, double sin_phi) {
+            return S(mech::linkage::drive_point(c, v.data(), at(phi, cos_phi, sin_phi)).energy * w * w);
+          },
           {}, nodes, ws.cycle, near);
     S swing(0.0);
     add_jumps(js, mt, ml);
@@ -513,10 +531,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const double mean_d = mech::value(mean);
     auto excess = [&](const State<double>& st) { return mech::linkage::drive_point(c, ws.plain.data(), st).torque - mean_d; };
     ws.grids.resize(static_cast<size_t>(n));
-    for (int i = 0; i < n; ++i) {
-      mech::linkage::solve(c, ws.plain.data(), mech::kTwoPi * i / n, ws.sd);
-      ws.grids[static_cast<size_t>(i)] = excess(ws.sd);
-    }
+    for (int i = 0; i < n; ++i) ws.grids[static_cast<size_t>(i)] = excess(ws.grid[static_cast<size_t>(i)]);
     const std::span<const double> grid[1] = {std::span<const double>(ws.grids.data(), static_cast<size_t>(n))};
     std::vector<double> zeros = mech::periodic_roots_together(std::span(grid), [&](std::span<mech::AngleQuery> qs) {
       for (mech::AngleQuery& q : qs) {

@@ -28,6 +28,9 @@ struct State {
   // +1) or just before it (-1), its rate's sign taken from the rate's
   // slope. What the one-sided limits at a switch need; kNone: none.
   int held_load = kNone, held_side = 0;
+  // The crank's phase whose cosine and sine are kept (doubles: solve's
+  // angle sum with a given cosine and sine of phi).
+  double phase = HUGE_VAL, phase_cos = 1, phase_sin = 0;
 
   void resize(const Chain& c) {
     point.resize(c.point_names().size());
@@ -67,8 +70,10 @@ void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
 // between the guide and the line from its pivot to the block), |sin| of the
 // slot's angle to the line (RPP), |sin| of the angle between the two lines
 // (PRP). Past the failing group the state is stale; nothing reads it.
+// cs: phi's cosine and sine where the caller has them (doubles): the
+// crank's then come by the angle sum with its phase's, kept in st.
 template <class S>
-bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
+bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double* cs = nullptr) {
   using std::abs;
   using std::cos;
   using std::sin;
@@ -81,8 +86,22 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st) {
   const Crank& k = c.crank();
   {
     const double sense = k.sense;
-    const Jet<S> theta{S(v[k.phase] + sense * phi), S(sense), S(0.0)};
-    const Vec<S> e{cos(theta), sin(theta)};
+    Vec<S> e;
+    if constexpr (std::is_same_v<S, double>) {
+      // One sincos: theta = phase + sense phi turns at sense, so e' = sense rot90(e), e'' = -e.
+      double ct, sn;
+      if (cs) {
+        if (st.phase != v[k.phase]) st.phase = v[k.phase], st.phase_cos = std::cos(st.phase), st.phase_sin = std::sin(st.phase);
+        ct = st.phase_cos * cs[0] - st.phase_sin * sense * cs[1];
+        sn = st.phase_sin * cs[0] + st.phase_cos * sense * cs[1];
+      } else {
+        ct = std::cos(v[k.phase] + sense * phi), sn = std::sin(v[k.phase] + sense * phi);
+      }
+      e = {{ct, -sense * sn, -ct}, {sn, sense * ct, -sn}};
+    } else {
+      const Jet<S> theta{S(v[k.phase] + sense * phi), S(sense), S(0.0)};
+      e = {cos(theta), sin(theta)};
+    }
     const Link& l = links[static_cast<size_t>(k.link)];
     st.axis[static_cast<size_t>(k.link)] = e;
     st.point[static_cast<size_t>(k.joint)] = st.point[static_cast<size_t>(k.pivot)] + v[l.length] * e;
