@@ -10,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "mech/linkage/dynamics.hpp"
 #include "opt/registry.hpp"
@@ -274,6 +275,32 @@ TEST(LinkageProblem, SpringTorqueIsItsPotentialsSlope) {
   ASSERT_TRUE(e.ok()) << e.message;
   EXPECT_NEAR(e.at("mean_drive_torque"), 0, 1e-12);  // conservative: no work a revolution
   EXPECT_GT(e.at("peak_drive_torque"), 100);
+}
+
+// A torque on the rocker tabulated over its angle, no masses: a function
+// of the angle alone, so its work a revolution is zero, and the torque
+// bends where the angle crosses a row (80 and 85 deg; 70 lies below the
+// swing). The means' Gauss arcs end at those crossings: the mean is zero
+// to round-off and the rms is the one 16 times finer grids give.
+TEST(LinkageProblem, MeansEndAtALinkAnglesTableRows) {
+  auto four_bar = [](int points) {
+    return make("problem: linkage\nmodel:\n"
+                "  cycle_points: " + std::to_string(points) + "\n"
+                "  ground: {O2: [0 m, 0 m], O4: [1 m, 0 m]}\n"
+                "  crank: {link: crank, pivot: O2, joint: A, speed: 10 rad/s}\n"
+                "  links: {crank: {length: 0.3 m}, coupler: {length: 1.1 m}, rocker: {length: 0.8 m}}\n"
+                "  groups: [{type: RRR, links: [coupler, rocker], from: [A, O4], joint: B, near: [1.2 m, 0.8 m]}]\n"
+                "  loads: {work: {link: rocker, table: {over: position, unit: [deg, N m],\n"
+                "                 rows: [[70, 0], [80, 300], [85, -100]]}}}\n"
+                "  outputs: [rocker]\n");
+  };
+  const std::vector<std::string> asked = {"mean_drive_torque", "rms_drive_torque", "peak_drive_torque"};
+  const auto p = four_bar(64), fine = four_bar(1024);
+  const auto e = p->evaluate(p->initial_point(), asked, false), ef = fine->evaluate(fine->initial_point(), asked, false);
+  ASSERT_TRUE(e.ok() && ef.ok()) << e.message << ef.message;
+  EXPECT_GT(e.at("peak_drive_torque"), 50);
+  EXPECT_NEAR(e.at("mean_drive_torque"), 0, 1e-12 * e.at("peak_drive_torque"));
+  EXPECT_NEAR(e.at("rms_drive_torque"), ef.at("rms_drive_torque"), 1e-12 * ef.at("rms_drive_torque"));
 }
 
 TEST(LinkageProblem, TypedStatuses) {

@@ -19,19 +19,28 @@
 namespace problems::linkage {
 
 // A function of the crank angle whose zeros bend or break the metrics:
-// the driving torque (load -1), a load's switching rate (row -1), its
-// slider's coordinate less a table's row, or a pressure law's depth (kDepth).
+// the driving torque (load -1), a load's switching rate (row -1), the
+// coordinate its table reads less a row, or a pressure law's depth (kDepth).
 struct KinkFn {
   int load, row;
 };
 inline constexpr int kDepth = -2;
+
+// The coordinate load l's table over position reads (dynamics.hpp's
+// load_action), with its slopes: its slider's s, or its link's angle in
+// (-pi, pi].
+template <class S>
+mech::linkage::Jet<S> table_coordinate(const mech::linkage::Load& l, const mech::linkage::State<S>& st) {
+  if (l.kind == mech::linkage::Load::Kind::force) return st.slide[static_cast<size_t>(l.link)];
+  return st.angle(l.link);
+}
 
 inline double kink_value(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage::State<double>& st,
                          const double* v) {
   if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
   const auto& l = c.loads()[static_cast<size_t>(f.load)];
   const size_t k = static_cast<size_t>(l.link);
-  if (f.row >= 0) return st.slide[k].v - l.xs[static_cast<size_t>(f.row)];
+  if (f.row >= 0) return table_coordinate(l, st).v - l.xs[static_cast<size_t>(f.row)];
   if (f.row == kDepth) return st.slide[k].v - v[l.law_contact];
   return mech::linkage::switch_rate(l, st).v;
 }
