@@ -17,7 +17,10 @@
 //   ram's ds/dphi (beta: the rod's angle to the line, sin beta = r sin(phi) / l).
 // - a peak reaction where a load switches off moves with the design, and
 //   one just before the switch is found (their gradients against a
-//   central difference).
+//   central difference);
+// - a peak torque, pin force and guide force at a force table's row moves
+//   with the design (a massless slider-crank: their gradients in closed
+//   form).
 // The reactions themselves are checked against an independent global
 // Newton-Euler solve in test_linkage_reference.
 #include <gtest/gtest.h>
@@ -26,6 +29,7 @@
 #include <filesystem>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "mech/linkage/reactions.hpp"
 #include "opt/config.hpp"
@@ -44,6 +48,24 @@ const std::string kSource = MECHOPT_SOURCE_DIR;
 
 Description read(const std::string& yaml) {
   return problems::linkage::read_description(opt::ConfigNode::parse(yaml, "<reactions>"));
+}
+
+// A massless centred slider-crank, crank 0.2 m, rod 0.8 m, 60 rpm, its ram
+// under the load `press` (its keys after the link), then `after` (the
+// config's keys after the model).
+std::string massless_slider_crank(const std::string& press, const std::string& after = "") {
+  return "problem: linkage\nmodel:\n"
+         "  ground: {O: [0 m, 0 m]}\n"
+         "  crank: {link: crank, pivot: O, joint: A, phase: 0 deg, speed: 60 rpm}\n"
+         "  links:\n"
+         "    crank: {length: 0.2 m}\n"
+         "    rod: {length: 0.8 m}\n"
+         "    ram: {line: {fixed_to: ground, through: O, angle: 0 deg}}\n"
+         "  groups:\n"
+         "    - {type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}\n"
+         "  loads:\n"
+         "    press: {link: ram, " +
+         press + "}\n" + after;
 }
 
 // Newton-Euler's torque against virtual power's at 72 crank angles: equal
@@ -172,18 +194,7 @@ TEST(LinkageReactions, MasslessWedgePressesAlongTheNormal) {
 
 TEST(LinkageReactions, TwoForceRodOfAMasslessSliderCrank) {
   const double r = 0.2, l = 0.8, F = -1500;  // a force against +x on the ram
-  const Description d = read(
-      "problem: linkage\nmodel:\n"
-      "  ground: {O: [0 m, 0 m]}\n"
-      "  crank: {link: crank, pivot: O, joint: A, phase: 0 deg, speed: 60 rpm}\n"
-      "  links:\n"
-      "    crank: {length: 0.2 m}\n"
-      "    rod: {length: 0.8 m}\n"
-      "    ram: {line: {fixed_to: ground, through: O, angle: 0 deg}}\n"
-      "  groups:\n"
-      "    - {type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}\n"
-      "  loads:\n"
-      "    press: {link: ram, force: -1500 N}\n");
+  const Description d = read(massless_slider_crank("force: -1500 N"));
   const auto& c = d.chain;
   const Joints j(c);
   ASSERT_EQ(j.pins.size(), 3u);  // O on the crank, A and B on the rod
@@ -238,6 +249,52 @@ TEST(LinkageReactions, PeakAtASwitchMovesWithTheDesign) {
     const double ad = e[p->metric_id(metric)].gradient[0];
     EXPECT_NEAR(ad, fd, 1e-4 * std::abs(fd)) << metric;
   }
+}
+
+// A peak at a table's row moves with the design: a massless centred
+// slider-crank (crank r, rod l) under a force table over the ram's
+// position, a sharp triangle to F at x, peaks in the torque, the pins'
+// forces and the guide's where the ram crosses x (once each stroke, equal
+// by symmetry): a kink of each, not a stationary point. There r cos(phi) =
+// A = (x^2 + r^2 - l^2) / (2 x), r sin(phi) = N = sqrt(r^2 - A^2) and,
+// with D = x^2 + l^2 - r^2, the rod's cos(beta) = (x - A) / l = D / (2 x l)
+// and |ds/dphi| = N x / (x - A) = 2 x^2 N / D: the torque |F| 2 x^2 N / D,
+// each pin |F| / cos(beta) = |F| 2 x l / D, the guide |F| tan(beta) =
+// |F| 2 x N / D, their gradients in r and l in closed form (each peak's
+// slope in phi is not zero at the row: Danskin at a fixed crank angle
+// would leave out the row's motion).
+TEST(LinkageReactions, PeakAtATableRowMovesWithTheDesign) {
+  const double r = 0.2, l = 0.8, x = 0.85, F = 2000;
+  const auto p = opt::make_problem(opt::ConfigNode::parse(
+      massless_slider_crank("table: {over: position, unit: [m, N], rows: [[0.83, 0], [0.85, -2000], [0.87, 0]]}",
+                            "variables:\n"
+                            "  links.crank.length: {min: 0.1 m, max: 0.3 m}\n"
+                            "  links.rod.length: {min: 0.6 m, max: 1 m}\n"),
+      "<row>"));
+  const double A = (x * x + r * r - l * l) / (2 * x), N = std::sqrt(r * r - A * A), D = x * x + l * l - r * r;
+  // d/dr and d/dl of A, N and D.
+  const double dA[2] = {r / x, -l / x}, dD[2] = {-2 * r, 2 * l};
+  const double dN[2] = {(r - A * dA[0]) / N, -A * dA[1] / N};
+  const double torque = F * 2 * x * x * N / D, pin = F * 2 * x * l / D;
+  double d_torque[2], d_pin[2];
+  for (int i = 0; i < 2; ++i) {
+    d_torque[i] = F * 2 * x * x * (dN[i] * D - N * dD[i]) / (D * D);
+    d_pin[i] = F * 2 * x * ((i == 1) * D - l * dD[i]) / (D * D);
+  }
+  const std::vector<std::string> pins = {"O_crank_peak_reaction", "A_rod_peak_reaction", "B_rod_peak_reaction"};
+  std::vector<std::string> metrics = pins;
+  metrics.insert(metrics.end(), {"peak_drive_torque", "ram_peak_guide_force"});
+  const auto e = p->evaluate(p->initial_point(), metrics, true);
+  ASSERT_TRUE(e.ok()) << e.message;
+  auto expect = [&](const std::string& m, double value, const double* grad) {
+    EXPECT_NEAR(e.at(m), value, 1e-12 * value) << m;
+    for (int i = 0; i < 2; ++i)
+      EXPECT_NEAR(e[p->metric_id(m)].gradient[i], grad[i], 1e-9 * std::abs(grad[i])) << m << " in variable " << i;
+  };
+  expect("peak_drive_torque", torque, d_torque);
+  for (const std::string& m : pins) expect(m, pin, d_pin);
+  const double d_guide[2] = {d_torque[0] / x, d_torque[1] / x};  // the guide's: the torque's over x
+  expect("ram_peak_guide_force", torque / x, d_guide);
 }
 
 }  // namespace

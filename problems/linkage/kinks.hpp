@@ -2,9 +2,10 @@
 // angles its means' Gauss arcs end at (the torque's zeros, a load switching
 // on or off, a motion reversing under an opposing load or a friction, a
 // table's row), and a pressure law's contacts, where the torque jumps. A
-// jump is a candidate for the torque's maximum, and moves with the design:
-// the maximum's gradient and the means' take its motion (the Leibniz term
-// that Gauss arcs with fixed ends leave out).
+// jump or a table's row is a candidate for the torque's and the forces'
+// maxima, and a contact or a row over position moves with the design: the
+// maximum's gradient takes its motion (kink_shift), as the means take a
+// jump's (the Leibniz term that Gauss arcs with fixed ends leave out).
 #pragma once
 #include <cmath>
 #include <span>
@@ -35,14 +36,22 @@ mech::linkage::Jet<S> table_coordinate(const mech::linkage::Load& l, const mech:
   return st.angle(l.link);
 }
 
+// A row's or a contact's gap (f.row >= 0 or kDepth): the coordinate less
+// the row's x, or the slider's s less the law's contact, with its slopes.
+template <class S>
+mech::linkage::Jet<S> gap(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage::State<S>& st,
+                          const S* v) {
+  const auto& l = c.loads()[static_cast<size_t>(f.load)];
+  mech::linkage::Jet<S> g = f.row == kDepth ? st.slide[static_cast<size_t>(l.link)] : table_coordinate(l, st);
+  g.v = S(g.v - (f.row == kDepth ? v[l.law_contact] : S(l.xs[static_cast<size_t>(f.row)])));
+  return g;
+}
+
 inline double kink_value(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage::State<double>& st,
                          const double* v) {
   if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
-  const auto& l = c.loads()[static_cast<size_t>(f.load)];
-  const size_t k = static_cast<size_t>(l.link);
-  if (f.row >= 0) return table_coordinate(l, st).v - l.xs[static_cast<size_t>(f.row)];
-  if (f.row == kDepth) return st.slide[k].v - v[l.law_contact];
-  return mech::linkage::switch_rate(l, st).v;
+  if (f.row >= 0 || f.row == kDepth) return gap(c, f, st, v).v;
+  return mech::linkage::switch_rate(c.loads()[static_cast<size_t>(f.load)], st).v;
 }
 
 // The chain solved at the n grid angles 2 pi i / n of an evaluation, once
@@ -119,15 +128,57 @@ inline void contacts(const mech::linkage::Chain& c, const double* v, int n, std:
   }
 }
 
-// How contact k's angle moves with the design: zero, with the derivatives
-// -g_x / g' of the depth g = s - contact (the implicit function theorem).
+// How the kink where f's gap g crosses zero at phi (a contact's depth, a
+// row's) moves with the design: zero, with the derivatives -g_x / g' (the
+// implicit function theorem). A maximum there is the quantity at phi plus
+// this on S: the total derivative along the kink. At a contact that is the
+// side where the law acts (contacts() puts phi there); across a row the
+// quantity is continuous (so is the table), so either side's formula has
+// the same derivative along the kink, and the table's argument, held at
+// the row, has none there: the segment interpolate picks (the left one at
+// the row exactly) changes nothing.
 template <class S>
-S contact_shift(const mech::linkage::Chain& c, const S* v, const Contact& k, mech::linkage::State<S>& ss) {
-  const auto& l = c.loads()[static_cast<size_t>(k.load)];
-  mech::linkage::solve(c, v, S(k.phi), ss);
-  const auto& s = ss.slide[static_cast<size_t>(l.link)];
-  const S g = S(s.v - v[l.law_contact]);
-  return S(-(g - mech::value(g)) / mech::value(s.d));
+S kink_shift(const mech::linkage::Chain& c, const S* v, const KinkFn& f, double phi, mech::linkage::State<S>& ss) {
+  mech::linkage::solve(c, v, S(phi), ss);
+  const mech::linkage::Jet<S> g = gap(c, f, ss, v);
+  return S(-(g.v - mech::value(g.v)) / mech::value(g.d));
+}
+
+// A kink of the torque's and the forces' maxima that moves with the
+// design, at phi: a law's contact ({load, kDepth}) or a table's row that
+// its coordinate crosses ({load, row}).
+struct MovingKink {
+  double phi;
+  KinkFn fn;
+};
+
+// The tables' rows: where each table over position is crossed at a row
+// (appended to `moving`), and the angles of the rows of each table over
+// the crank angle (fixed: appended to `fixed`).
+inline void table_rows(const mech::linkage::Chain& c, const double* v, int n, std::vector<MovingKink>& moving,
+                       std::vector<double>& fixed, std::vector<double>& grid, mech::linkage::State<double>& sd,
+                       GridStates solved = {}) {
+  using mech::linkage::Load;
+  std::vector<KinkFn> fns;
+  for (size_t i = 0; i < c.loads().size(); ++i) {
+    const auto& l = c.loads()[i];
+    if (l.over == Load::Over::crank_angle)
+      for (double x : l.xs) fixed.push_back(mech::wrap_angle(x));
+    if (l.over == Load::Over::position)
+      for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({static_cast<int>(i), static_cast<int>(r)});
+  }
+  if (fns.empty()) return;
+  for (double phi : zeros_of(c, v, n, fns, grid, sd, solved)) {
+    // Its row: the gap nearest zero there; none beyond round-off where a
+    // link's angle wraps at +-pi (a jump, not a row).
+    mech::linkage::solve(c, v, phi, sd);
+    size_t best = 0;
+    double least = HUGE_VAL;
+    for (size_t f = 0; f < fns.size(); ++f)
+      if (const double g = std::abs(kink_value(c, fns[f], sd, v)); g < least) least = g, best = f;
+    const double x = c.loads()[static_cast<size_t>(fns[best].load)].xs[static_cast<size_t>(fns[best].row)];
+    if (least <= 1e-9 * (1 + std::abs(x))) moving.push_back({phi, fns[best]});
+  }
 }
 
 // The torque's jump at a contact: its value with the law acting (on) and
@@ -153,7 +204,7 @@ std::vector<Jump<S>> jumps(const mech::linkage::Chain& c, const S* v, const doub
     if (!mech::linkage::load_action(c, l, vd, sd, k.phi, size, rate)) continue;
     const double on = mech::linkage::drive_point(c, vd, sd).torque;
     const double sign = sd.slide[static_cast<size_t>(l.link)].d > 0 ? 1.0 : -1.0;
-    out.push_back({k.phi, sign, on, on + size * rate, contact_shift(c, v, k, ss)});
+    out.push_back({k.phi, sign, on, on + size * rate, kink_shift(c, v, {k.load, kDepth}, k.phi, ss)});
   }
   return out;
 }

@@ -86,11 +86,12 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> grids;
     std::vector<double> zero_grids;  // the grids zeros() searches
     std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
-    std::vector<std::pair<double, int>> switches;  // the loads' switches: angle, load (find_switches)
-    std::vector<double> jump_kinks;                // the forces' kinks: contacts and switches
+    std::vector<std::pair<double, int>> switches;  // the loads' switches: angle, load (find_kinks)
+    std::vector<double> kinks, jump_kinks;  // the torque's kinks: contacts, tables' rows; the forces': switches too
+    std::vector<MovingKink> moving;         // the contacts and rows crossed, which move with the design
     std::vector<double> ref;  // each output's direction at phi = 0 (x, y, its angle)
-    std::vector<Contact> contacts;                   // the pressure laws' contacts
-    std::vector<double> contact_phis, contact_grid;  // ... their angles, and scratch
+    std::vector<Contact> contacts;     // the pressure laws' contacts
+    std::vector<double> contact_grid;  // scratch
     std::vector<mech::CycleMaxSearch> searches;
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
@@ -142,14 +143,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     // margins (a singular design stops there), then the metrics'.
     ws.searches.resize(nq);
     for (size_t q = 0; q < nq; ++q) ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un));
-    if (has_law_) {  // a pressure law's contacts: jumps the torque's and the forces' maxima may sit on
-      contacts(c, vd, n, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
-      ws.contact_phis.clear();
-      for (const Contact& k : ws.contacts) ws.contact_phis.push_back(k.phi);
-      for (size_t q = n_margins; q < nq; ++q)
-        if (jumps_at_contacts(ws.asked[q].kind)) ws.searches[q].kinks = ws.contact_phis;
-    }
-    find_switches(ws, n_margins);
+    find_kinks(ws, n_margins);
     auto search = [&](size_t from, size_t to) { run_searches(ws, from, to); };
     // A group whose grid keeps it clear of a singular position by more than
     // twice what the margin can dip between grid points (h^2 |f''| / 8,
@@ -188,11 +182,13 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       } else {
         const auto [load, side] = ws.held[q];
         const double at_phi = ws.searches[q].phi;
-        const auto contact = std::find_if(ws.contacts.begin(), ws.contacts.end(),
-                                          [&](const Contact& k) { return k.phi == at_phi; });
-        if (load == kNone && jumps_at_contacts(ws.asked[q].kind) && has_law_ && contact != ws.contacts.end()) {
-          if (ss.point.size() != c.point_names().size()) ss.resize(c);  // at a contact, which moves with the design
-          mech::linkage::solve(c, v.data(), S(at_phi + contact_shift(c, v.data(), *contact, ss)), ss);
+        const auto kink = std::find_if(ws.moving.begin(), ws.moving.end(), [&](const MovingKink& k) {
+          return std::abs(std::remainder(k.phi - at_phi, mech::kTwoPi)) < 1e-9;
+        });
+        // At a contact or a table's row, which moves with the design: at_phi and its shift on S (kink_shift).
+        if (load == kNone && bears_loads(ws.asked[q].kind) && kink != ws.moving.end()) {
+          if (ss.point.size() != c.point_names().size()) ss.resize(c);
+          mech::linkage::solve(c, v.data(), S(at_phi + kink_shift(c, v.data(), kink->fn, at_phi, ss)), ss);
           return quantity(ws.asked[q], v.data(), ss, ws);
         }
         if (load == kNone) return quantity(ws.asked[q], v.data(), solved_at(q), ws);
@@ -415,26 +411,35 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       ws.sd.held_load = kNone;
     }
   }
-  // The switches of the loads (ws.switches: angle, load) when a search of
-  // [from, end) jumps there; each such search takes them as kinks, so that
-  // a maximum just before a switch is not mistaken for the jump.
-  void find_switches(Workspace& ws, size_t from) const {
+  // The kinks of the searches of [from, end) the loads enter (the torque
+  // and the forces): a pressure law's contacts (jumps), the tables' rows
+  // (kinks.hpp's table_rows) and, for the forces, the loads' switches
+  // (ws.switches: angle, load), where they jump. A maximum at a kink is
+  // the kink's value, one just before a jump is not mistaken for it.
+  // ws.moving: the contacts and the rows crossed (at_max takes their motion).
+  void find_kinks(Workspace& ws, size_t from) const {
     const Chain& c = d_.chain;
-    ws.switches.clear();
-    bool jumps = false;
-    for (size_t q = from; q < ws.asked.size(); ++q) jumps = jumps || jumps_at_switches(ws.asked[q].kind);
-    if (!jumps) return;
-    for (size_t i = 0; i < c.loads().size(); ++i)
+    const int n = d_.cycle_points;
+    ws.switches.clear(), ws.moving.clear(), ws.kinks.clear();
+    bool loaded = false, jumps = false;
+    for (size_t q = from; q < ws.asked.size(); ++q)
+      loaded = loaded || bears_loads(ws.asked[q].kind), jumps = jumps || jumps_at_switches(ws.asked[q].kind);
+    if (!loaded) return;
+    if (has_law_) contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
+    for (const Contact& k : ws.contacts) ws.moving.push_back({k.phi, {k.load, kDepth}});  // (none without a law)
+    table_rows(c, ws.plain.data(), n, ws.moving, ws.kinks, ws.zero_grids, ws.sd, ws.grid);
+    for (const MovingKink& k : ws.moving) ws.kinks.push_back(k.phi);
+    for (size_t i = 0; i < c.loads().size() && jumps; ++i)
       if (mech::linkage::switching(c.loads()[i]))
         for (double phi : zeros(ws, {{static_cast<int>(i), -1}})) ws.switches.emplace_back(phi, static_cast<int>(i));
-    ws.jump_kinks.clear();
-    if (has_law_) ws.jump_kinks = ws.contact_phis;
+    ws.jump_kinks = ws.kinks;
     for (const auto& sw : ws.switches) ws.jump_kinks.push_back(sw.first);
     for (size_t q = from; q < ws.asked.size(); ++q)
-      if (jumps_at_switches(ws.asked[q].kind)) ws.searches[q].kinks = ws.jump_kinks;
+      if (bears_loads(ws.asked[q].kind))
+        ws.searches[q].kinks = jumps_at_switches(ws.asked[q].kind) ? ws.jump_kinks : ws.kinks;
   }
   static bool jumps_at_switches(Kind k) { return k == Kind::reaction || k == Kind::guide; }
-  static bool jumps_at_contacts(Kind k) { return k == Kind::torque || jumps_at_switches(k); }
+  static bool bears_loads(Kind k) { return k == Kind::torque || jumps_at_switches(k); }
 
   // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
   // the torque's kinks (2 n nodes a revolution; the energy is smooth).
