@@ -4,8 +4,11 @@
 // description offers, named by its outputs and loops (docs/linkage.md,
 // "The metrics"). problem.cpp evaluates them.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "opt/config.hpp"
@@ -96,6 +99,32 @@ S moving_mass(const mech::linkage::Link& l, const S* v) {
   S m = l.inertia == kNone ? S(0.0) : v[l.inertia];
   if (l.cg_u != kNone) m += v[l.mass] * (v[l.cg_u] * v[l.cg_u] + v[l.cg_v] * v[l.cg_v]);
   return m;
+}
+
+// Group g's four-bar loop (the crank, its two links, the frame between
+// the crank's pivot and the ground point): the sum of the middle two
+// lengths less the shortest and the longest; >= 0 lets a link turn fully.
+template <class S>
+S grashof_margin(const mech::linkage::Chain& c, int g, const S* v) {
+  const auto& gr = c.groups()[static_cast<size_t>(g)];
+  const int ground = gr.p == c.crank().joint ? gr.q : gr.p;
+  auto at = [&](int p) -> std::pair<S, S> {
+    for (const auto& gp : c.ground_points())
+      if (gp.first == p) return {v[static_cast<size_t>(gp.second.first)], v[static_cast<size_t>(gp.second.second)]};
+    return {S(0.0), S(0.0)};
+  };
+  using std::sqrt;
+  const auto [ax, ay] = at(c.crank().pivot);
+  const auto [bx, by] = at(ground);
+  const auto length = [&](int link) { return v[static_cast<size_t>(c.links()[static_cast<size_t>(link)].length)]; };
+  const S dx = bx - ax, dy = by - ay;
+  S d2 = dx * dx;
+  d2 += S(dy * dy);
+  S l[4] = {length(c.crank().link), length(gr.first), length(gr.second), S(sqrt(d2))};
+  std::sort(l, l + 4, [](const S& a, const S& b) { return mech::value(a) < mech::value(b); });
+  S middle = l[1], ends = l[0];
+  middle += l[2], ends += l[3];
+  return S(middle - ends);
 }
 
 // T_min at the values v over the outputs moving_masses gives, stroke(o)

@@ -113,7 +113,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const opt::Values<S>& v =
         d_.derived.empty() ? given : linkage::placed(c, n, placed = given, ws.plain, ws.contact_grid, ws.sd);
     for (size_t m = 0; m < metrics_.size(); ++m)  // defined for every design: a driver's constraint
-      if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(metrics_[m].q.index, v));
+      if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(c, metrics_[m].q.index, v.data()));
     ws.plain.resize(v.size());
     ws.vdual.resize(v.size());
     for (size_t i = 0; i < v.size(); ++i) ws.vdual[i] = Dual(ws.plain[i] = mech::value(v[i]));
@@ -272,33 +272,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   }
 
  private:
-  // Group g's four-bar loop (the crank, its two links, the frame between
-  // the crank's pivot and the ground point): the sum of the middle two
-  // lengths less the shortest and the longest; >= 0 lets a link turn fully.
-  template <class S>
-  S grashof_margin(int g, const opt::Values<S>& v) const {
-    const Chain& c = d_.chain;
-    const auto& gr = c.groups()[static_cast<size_t>(g)];
-    const int ground = gr.p == c.crank().joint ? gr.q : gr.p;
-    auto at = [&](int p) -> std::pair<S, S> {
-      for (const auto& gp : c.ground_points())
-        if (gp.first == p) return {v[static_cast<size_t>(gp.second.first)], v[static_cast<size_t>(gp.second.second)]};
-      return {S(0.0), S(0.0)};
-    };
-    using std::sqrt;
-    const auto [ax, ay] = at(c.crank().pivot);
-    const auto [bx, by] = at(ground);
-    const auto length = [&](int link) { return v[static_cast<size_t>(c.links()[static_cast<size_t>(link)].length)]; };
-    const S dx = bx - ax, dy = by - ay;
-    S d2 = dx * dx;
-    d2 += S(dy * dy);
-    S l[4] = {length(c.crank().link), length(gr.first), length(gr.second), S(sqrt(d2))};
-    std::sort(l, l + 4, [](const S& a, const S& b) { return mech::value(a) < mech::value(b); });
-    S middle = l[1], ends = l[0];
-    middle += l[2], ends += l[3];
-    return S(middle - ends);
-  }
-
   // Runs searches [from, to) of ws (their quantities ws.asked[from, to)),
   // slopes from the chain on a Dual in phi.
   void run_searches(Workspace& ws, size_t from, size_t to) const {
