@@ -445,7 +445,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     mech::ArcMeans<S> mt = none, ml = none, me = none;
     const std::vector<mech::NearPole> near = poles(ws);
     const std::vector<double> kinks =
-        torque || work ? torque_kinks(c, ws.plain.data(), d_.cycle_points, ws.zero_grids, ws.sd, ws.grid) : std::vector<double>{};
+        torque || work ? torque_kinks(c, ws.plain.data(), d_.cycle_points, ws.zero_grids, ws.sd, ws.grid)
+                       : std::vector<double>{};
     std::vector<Jump<S>> js;
     if (has_law_ && (torque || work)) {
       contacts(c, ws.plain.data(), d_.cycle_points, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
@@ -453,7 +454,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     }
     // Both on the same arcs: the torque's pass keeps the loads' power at
     // its nodes, which the work's pass visits in the same order.
-    auto loads = [&](double phi, const State<S>& st) { return S(-mech::linkage::load_power(c, v.data(), st, S(phi), false)); };
+    auto loads = [&](double phi, const State<S>& st) {
+      return S(-mech::linkage::load_power(c, v.data(), st, S(phi), false));
+    };
     std::vector<S> power;
     size_t next = 0;
     if (torque)

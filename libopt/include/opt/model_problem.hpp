@@ -128,7 +128,10 @@ class TabledProblem : public opt::Problem {
       const int k = i - first;
       if constexpr (std::is_same_v<S, mech::Dual>) s = k == 0 ? mech::seed(x[i]) : S(x[i]);
       else if constexpr (std::is_same_v<S, mech::DualX>) s = S(x[i], n, i);
-      else if constexpr (mech::is_dual<S>) s = k >= 0 && k < S::DerType::RowsAtCompileTime ? S(x[i], S::DerType::RowsAtCompileTime, k) : S(x[i]);
+      else if constexpr (mech::is_dual<S>) {
+        constexpr int kSize = S::DerType::RowsAtCompileTime;
+        s = k >= 0 && k < kSize ? S(x[i], kSize, k) : S(x[i]);
+      }
       else s = x[i];
     }
   }

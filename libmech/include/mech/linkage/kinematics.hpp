@@ -91,7 +91,10 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
       // One sincos: theta = phase + sense phi turns at sense, so e' = sense rot90(e), e'' = -e.
       double ct, sn;
       if (cs) {
-        if (st.phase != v[k.phase]) st.phase = v[k.phase], st.phase_cos = std::cos(st.phase), st.phase_sin = std::sin(st.phase);
+        if (st.phase != v[k.phase]) {
+          st.phase = v[k.phase];
+          st.phase_cos = std::cos(st.phase), st.phase_sin = std::sin(st.phase);
+        }
         ct = st.phase_cos * cs[0] - st.phase_sin * sense * cs[1];
         sn = st.phase_sin * cs[0] + st.phase_cos * sense * cs[1];
       } else {
