@@ -506,3 +506,63 @@ TEST(LinkageProblem, BadWedgesAreLocatedErrors) {
 }
 
 }  // namespace
+
+namespace {
+
+// The mean driving torque is the loads' work over 2 pi (work.hpp): each
+// load's from its coordinate at the ends of the arcs where it acts. The
+// independent computation: Gauss arcs over the loads' power at 2 n nodes
+// a revolution between their switches, which every load takes once one
+// of them cannot come from ends (a table over the crank angle, here all
+// zeros: no power of its own). Values and gradients agree to 1e-12 of
+// the largest load's work for: a torque on the crank, which turns round
+// (its work 2 pi T, no switch); a torque on the rocker on its forward
+// swings only; one against the rocker's swing over an efficiency; the
+// joints' frictions, one between crank and coupler (turning round
+// relative to each other); and on a slider-crank a force on the return
+// stroke, a table over position on the forward one and an opposing force.
+TEST(LinkageProblem, MeanTorqueFromTheArcsEndsIsGaussOfThePower) {
+  auto four_bar = [](const std::string& extra) {
+    return make("problem: linkage\nmodel:\n"
+                "  ground: {O2: [0 m, 0 m], O4: [1 m, 0 m]}\n"
+                "  crank: {link: crank, pivot: O2, joint: A, speed: 10 rad/s}\n"
+                "  links: {crank: {length: 0.3 m}, coupler: {length: 1.1 m}, rocker: {length: 0.8 m}}\n"
+                "  groups: [{type: RRR, links: [coupler, rocker], from: [A, O4], joint: B, near: [1.2 m, 0.8 m]}]\n"
+                "  loads:\n"
+                "    resisting: {link: crank, torque: -40 N m}\n"
+                "    lift: {link: rocker, torque: 120 N m, when: forward}\n"
+                "    drag: {link: rocker, torque: 30 N m, opposing: true, efficiency: 0.8}\n"
+                "    pin_a: {at: A, friction_torque: 3 N m}\n"
+                "    pin_b: {at: B, friction_torque: 5 N m}\n" +
+                extra +
+                "  outputs: [rocker]\n"
+                "variables: {links.crank.length: {min: 0.1 m, max: 0.5 m}, links.coupler.length: {min: 0.5 m, max: 2 m},"
+                " links.rocker.length: {min: 0.5 m, max: 2 m}, ground.O4.x: {min: 0.5 m, max: 2 m}}\n");
+  };
+  auto slider = [](const std::string& extra) {
+    return make(slider_crank("  loads:\n"
+                             "    back: {link: ram, force: 500 N, when: return}\n"
+                             "    press: {link: ram, when: forward, table: {over: position, unit: [m, N],\n"
+                             "            rows: [[0.65, 0], [0.8, -300], [0.95, 200]]}}\n"
+                             "    drag: {link: ram, force: 80 N, opposing: true, efficiency: 0.9}\n" +
+                                 extra,
+                             "variables: {links.crank.length: {min: 0.1 m, max: 0.3 m},"
+                             " links.rod.length: {min: 0.5 m, max: 1 m}, loads.back.force: {min: 0 N, max: 1 kN}}\n"));
+  };
+  const std::string zero_torque = "    zero: {link: rocker, table: {over: crank_angle, unit: [deg, N m], rows: [[0, 0], [360, 0]]}}\n";
+  const std::string zero_force = "    zero: {link: ram, table: {over: crank_angle, unit: [deg, N], rows: [[0, 0], [360, 0]]}}\n";
+  const std::pair<std::unique_ptr<opt::Problem>, std::unique_ptr<opt::Problem>> cases[] = {
+      {four_bar(""), four_bar(zero_torque)}, {slider(""), slider(zero_force)}};
+  for (const auto& [ends, gauss] : cases) {
+    const auto e = ends->evaluate(ends->initial_point(), {"mean_drive_torque"}, true);
+    const auto g = gauss->evaluate(gauss->initial_point(), {"mean_drive_torque"}, true);
+    ASSERT_TRUE(e.ok() && g.ok()) << e.message << g.message;
+    const auto &me = e[ends->metric_id("mean_drive_torque")], &mg = g[gauss->metric_id("mean_drive_torque")];
+    const double scale = 120.0 / (2 * kPi) + 500.0 * 0.4 / (2 * kPi);
+    EXPECT_GT(std::abs(me.value), 0.05 * scale);
+    EXPECT_NEAR(me.value, mg.value, 1e-12 * scale);
+    for (int i = 0; i < me.gradient.size(); ++i) EXPECT_NEAR(me.gradient[i], mg.gradient[i], 1e-12 * scale) << i;
+  }
+}
+
+}  // namespace

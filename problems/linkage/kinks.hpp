@@ -9,6 +9,7 @@
 #pragma once
 #include <cmath>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "mech/angles.hpp"
@@ -60,10 +61,12 @@ using GridStates = std::span<const mech::linkage::State<double>>;
 
 // The angles in [0, 2 pi) where the functions fns cross zero (each
 // function's by grid cell), found on an n-point grid (kept in `grid`) and
-// refined; sd: a state to solve in.
+// refined; sd: a state to solve in; owner, where given: each zero's
+// function (its index in fns).
 inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double* v, int n,
                                     const std::vector<KinkFn>& fns, std::vector<double>& grid,
-                                    mech::linkage::State<double>& sd, GridStates solved = {}) {
+                                    mech::linkage::State<double>& sd, GridStates solved = {},
+                                    std::vector<int>* owner = nullptr) {
   const size_t un = static_cast<size_t>(n);
   grid.resize(fns.size() * un);
   for (int i = 0; i < n; ++i) {
@@ -78,26 +81,39 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
       mech::linkage::solve(c, v, q.phi, sd);
       q.out = kink_value(c, fns[static_cast<size_t>(q.fn)], sd, v);
     }
-  });
+  }, owner);
 }
 
 // The angles where the driving torque is zero or bends (a load switches
 // on or off, turns against a motion that reverses, or crosses a table's
-// row or a law's contact): the arcs of its means.
+// row or a law's contact): the arcs of its means. With `torque` false,
+// the switches alone. switches, where given: each switching load's zeros
+// of its switch_rate, with the load.
 inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const double* v, int n,
                                         std::vector<double>& grid, mech::linkage::State<double>& sd,
-                                        GridStates solved = {}) {
+                                        GridStates solved = {}, std::vector<std::pair<double, int>>* switches = nullptr,
+                                        bool torque = true) {
   using mech::linkage::Load;
-  std::vector<KinkFn> fns = {{-1, -1}};
+  std::vector<KinkFn> fns;
+  if (torque) fns.push_back({-1, -1});
   for (size_t i = 0; i < c.loads().size(); ++i) {
     const auto& l = c.loads()[i];
     const int li = static_cast<int>(i);
     if (mech::linkage::switching(l)) fns.push_back({li, -1});
+    if (!torque) continue;
     if (l.over == Load::Over::position)
       for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({li, static_cast<int>(r)});
     if (l.law_a != mech::linkage::kNone) fns.push_back({li, kDepth});
   }
-  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd, solved);
+  std::vector<int> owner;
+  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd, solved, &owner);
+  if (switches) {
+    switches->clear();
+    for (size_t z = 0; z < kinks.size(); ++z)
+      if (const KinkFn& f = fns[static_cast<size_t>(owner[z])]; f.load >= 0 && f.row == -1)
+        switches->emplace_back(kinks[z], f.load);
+  }
+  if (!torque) return kinks;
   for (const auto& l : c.loads())
     if (l.over == Load::Over::crank_angle)
       for (double x : l.xs) kinks.push_back(mech::wrap_angle(x));

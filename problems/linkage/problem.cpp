@@ -24,6 +24,7 @@
 #include "problems/linkage/kinks.hpp"
 #include "problems/linkage/metrics.hpp"
 #include "problems/linkage/quantity.hpp"
+#include "problems/linkage/work.hpp"
 #include "problems/model_problem.hpp"
 
 namespace problems::linkage {
@@ -444,16 +445,22 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const mech::ArcMeans<S> none{S(0.0), S(0.0), S(0.0)};
     mech::ArcMeans<S> mt = none, ml = none, me = none;
     const std::vector<mech::NearPole> near = poles(ws);
-    const std::vector<double> kinks =
-        torque || work ? torque_kinks(c, ws.plain.data(), d_.cycle_points, ws.zero_grids, ws.sd, ws.grid)
-                       : std::vector<double>{};
+    // The loads' work from its arcs' ends where every load's allows
+    // (work.hpp): then the kinks only where the torque's own means need them.
+    const bool by_ends = work && work_from_ends(c);
+    const bool arcs = torque || flywheel || (work && !by_ends);
+    std::vector<std::pair<double, int>> switches;
+    const std::vector<double> kinks = arcs || by_ends ? torque_kinks(c, ws.plain.data(), d_.cycle_points, ws.zero_grids,
+                                                                     ws.sd, ws.grid, &switches, arcs)
+                                                      : std::vector<double>{};
     std::vector<Jump<S>> js;
-    if (has_law_ && (torque || work)) {
+    if (has_law_ && arcs) {
       contacts(c, ws.plain.data(), d_.cycle_points, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
       js = jumps(c, v.data(), ws.plain.data(), std::span<const Contact>(ws.contacts), ws.sd);
     }
     // Both on the same arcs: the torque's pass keeps the loads' power at
     // its nodes, which the work's pass visits in the same order.
+    const bool fused = work && !by_ends;
     auto loads = [&](double phi, const State<S>& st) {
       return S(-mech::linkage::load_power(c, v.data(), st, S(phi), false));
     };
@@ -463,24 +470,27 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       mt = mech::piecewise_means<S>(
           [&](double phi, double cos_phi, double sin_phi) {
             const State<S>& st = at(phi, cos_phi, sin_phi);
-            if (work) power.push_back(loads(phi, st));
+            if (fused) power.push_back(loads(phi, st));
             return mech::linkage::drive_point(c, v.data(), st).torque;
           },
           kinks, nodes, ws.cycle, near);
-    if (work)
+    mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
+    if (by_ends) {
+      State<double> se;
+      se.resize(c);
+      State<S> sb;
+      sb.resize(c);
+      ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, ws.grid, ws.sd, se, ss, sb);
+    } else if (work) {
       ml = mech::piecewise_means<S>(
           [&](double phi, double cos_phi, double sin_phi) {
             return torque ? power.at(next++) : loads(phi, at(phi, cos_phi, sin_phi));
           },
           kinks, nodes, ws.cycle, near);
-    if (energy)
-      me = mech::piecewise_means<S>(
-          [&](double phi, double cos_phi, double sin_phi) {
-            return S(mech::linkage::drive_point(c, v.data(), at(phi, cos_phi, sin_phi)).energy * w * w);
-          },
-          {}, nodes, ws.cycle, near);
+    }
+    if (energy) me.mean = energy_mean(v, near, ws);
     S swing(0.0);
-    add_jumps(js, mt, ml);
+    add_jumps(js, mt, by_ends ? unused : ml);
     if (flywheel) swing = work_swing(v, ml.mean, kinks, js, near, ws);
     for (size_t m = 0; m < metrics_.size(); ++m) {
       const Metric& mt_m = metrics_[m];
@@ -496,6 +506,43 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       else out.put(static_cast<int>(m), mt_m.form == Form::mean_abs ? mt.mean_abs : S(sqrt(mt.mean_square)));
     }
     return me.mean;
+  }
+
+  // The mean kinetic energy. It is smooth and periodic: the trapezoid
+  // rule on the n-point grid errs like e^(-n w), w the half-width of the
+  // strip around the real axis where it is analytic (the nearest pole's
+  // imaginary part; a margin's quadratic model overstates a slider-crank's
+  // sqrt(lambda^2 - 1) for its acosh(lambda) = asinh of it, which is taken
+  // instead). Where n w >= 2 kPoleDigits the grid's states serve (solved
+  // on S for a gradient); nearer a pole, Gauss panels graded toward it.
+  template <class S>
+  S energy_mean(const opt::Values<S>& v, const std::vector<mech::NearPole>& near, Workspace& ws) const {
+    const Chain& c = d_.chain;
+    const int n = d_.cycle_points;
+    const S& w = v[static_cast<size_t>(c.crank().speed)];
+    bool grid = true;
+    for (const mech::NearPole& p : near) grid = grid && n * std::asinh(p.width) >= 2 * mech::kPoleDigits;
+    State<S> ss;
+    ss.resize(c);
+    if (!grid)
+      return mech::piecewise_means<S>(
+                 [&](double phi, double cos_phi, double sin_phi) {
+                   const double cs[2] = {cos_phi, sin_phi};
+                   mech::linkage::solve(c, v.data(), S(phi), ss, cs);
+                   return S(mech::linkage::body_sums(c, v.data(), ss).inertia * w * w / 2.0);
+                 },
+                 {}, 2 * n, ws.cycle, near)
+          .mean;
+    S sum(0.0);
+    for (int i = 0; i < n; ++i) {
+      if constexpr (mech::is_dual<S>) {
+        mech::linkage::solve(c, v.data(), S(mech::kTwoPi * i / n), ss);
+        sum += mech::linkage::body_sums(c, v.data(), ss).inertia;
+      } else {
+        sum += mech::linkage::body_sums(c, v.data(), ws.grid[static_cast<size_t>(i)]).inertia;
+      }
+    }
+    return S(sum * w * w / (2.0 * n));
   }
 
   // The largest swing of the work W(phi) = integral from 0 to phi of (M -

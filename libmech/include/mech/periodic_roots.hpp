@@ -18,19 +18,23 @@ namespace mech {
 // grids (grids[f][k] = g_f(2 pi k / n_f)), refined by root searches side
 // by side: eval(std::span<AngleQuery>) writes g_fn(phi) into each query's
 // out. The angles in [0, 2 pi) where each crosses zero, g_0's first, each
-// function's by grid cell.
+// function's by grid cell; `owner`, where given: each root's function.
 template <class Eval>
-std::vector<double> periodic_roots_together(std::span<const std::span<const double>> grids, Eval&& eval) {
+std::vector<double> periodic_roots_together(std::span<const std::span<const double>> grids, Eval&& eval,
+                                            std::vector<int>* owner = nullptr) {
   std::vector<double> roots;
   std::vector<LaneRootSearch> searches;
   std::vector<int> fn;
   std::vector<std::size_t> slot;  // the root each search ends in
+  if (owner) owner->clear();
   for (std::size_t f = 0; f < grids.size(); ++f) {
     const auto& v = grids[f];
     const int n = static_cast<int>(v.size());
     const double h = kTwoPi / n;
     for (int k = 0; k < n; ++k) {
       const double ga = v[k], gb = v[k + 1 == n ? 0 : k + 1];
+      if (ga == 0.0 || ((ga < 0) != (gb < 0) && gb != 0.0))
+        if (owner) owner->push_back(static_cast<int>(f));
       if (ga == 0.0) {
         roots.push_back(k * h);
       } else if ((ga < 0) != (gb < 0) && gb != 0.0) {
