@@ -416,18 +416,15 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   static bool bears_loads(Kind k) { return k == Kind::torque || jumps_at_switches(k); }
 
   // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
-  // the torque's kinks (2 n nodes a revolution; the energy is smooth).
-  // Returns the mean kinetic energy (0 when not computed).
+  // the torque's kinks (2 n nodes a revolution, the chain kLanes nodes at a
+  // time), the loads' work from its arcs' ends where it can, the energy on
+  // the grid. Returns the mean kinetic energy (0 when not computed).
   template <class S>
   S put_means(const opt::Values<S>& v, MetricSink<S>& out, Workspace& ws) const {
+    using mech::Lanes;
+    using L = mech::lanes_of<S>;
     const Chain& c = d_.chain;
-    State<S> ss;
-    ss.resize(c);
-    auto at = [&](double phi, double cos_phi, double sin_phi) -> const State<S>& {
-      const double cs[2] = {cos_phi, sin_phi};
-      mech::linkage::solve(c, v.data(), S(phi), ss, cs);
-      return ss;
-    };
+    mech::linkage::LaneSolver<S> lanes(c, v.data());
     const int nodes = 2 * d_.cycle_points;
     const S& w = v[static_cast<size_t>(c.crank().speed)];
     // Which integrals the wanted means need: the torque's (|M|, M^2), the
@@ -461,34 +458,35 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     // Both on the same arcs: the torque's pass keeps the loads' power at
     // its nodes, which the work's pass visits in the same order.
     const bool fused = work && !by_ends;
-    auto loads = [&](double phi, const State<S>& st) {
-      return S(-mech::linkage::load_power(c, v.data(), st, S(phi), false));
+    auto loads = [&](const Lanes& phi, const State<L>& st) {
+      return L(-mech::linkage::load_power(c, lanes.v.data(), st, L(phi), false));
     };
-    std::vector<S> power;
+    std::vector<L> power;
     size_t next = 0;
     if (torque)
       mt = mech::piecewise_means<S>(
-          [&](double phi, double cos_phi, double sin_phi) {
-            const State<S>& st = at(phi, cos_phi, sin_phi);
+          [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {
+            const State<L>& st = lanes.at(phi, cp, sp);
             if (fused) power.push_back(loads(phi, st));
-            return mech::linkage::drive_point(c, v.data(), st).torque;
+            return mech::linkage::drive_point(c, lanes.v.data(), st).torque;
           },
           kinks, nodes, ws.cycle, near);
     mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
     if (by_ends) {
       State<double> se;
       se.resize(c);
-      State<S> sb;
+      State<S> sa, sb;
+      sa.resize(c);
       sb.resize(c);
-      ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, ws.grid, ws.sd, se, ss, sb);
+      ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, ws.grid, ws.sd, se, sa, sb);
     } else if (work) {
       ml = mech::piecewise_means<S>(
-          [&](double phi, double cos_phi, double sin_phi) {
-            return torque ? power.at(next++) : loads(phi, at(phi, cos_phi, sin_phi));
+          [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {
+            return torque ? power.at(next++) : loads(phi, lanes.at(phi, cp, sp));
           },
           kinks, nodes, ws.cycle, near);
     }
-    if (energy) me.mean = energy_mean(v, near, ws);
+    if (energy) me.mean = energy_mean(v, near, lanes, ws);
     S swing(0.0);
     add_jumps(js, mt, by_ends ? unused : ml);
     if (flywheel) swing = work_swing(v, ml.mean, kinks, js, near, ws);
@@ -516,23 +514,25 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // instead). Where n w >= 2 kPoleDigits the grid's states serve (solved
   // on S for a gradient); nearer a pole, Gauss panels graded toward it.
   template <class S>
-  S energy_mean(const opt::Values<S>& v, const std::vector<mech::NearPole>& near, Workspace& ws) const {
+  S energy_mean(const opt::Values<S>& v, const std::vector<mech::NearPole>& near,
+                mech::linkage::LaneSolver<S>& lanes, Workspace& ws) const {
+    using L = mech::lanes_of<S>;
     const Chain& c = d_.chain;
     const int n = d_.cycle_points;
     const S& w = v[static_cast<size_t>(c.crank().speed)];
     bool grid = true;
     for (const mech::NearPole& p : near) grid = grid && n * std::asinh(p.width) >= 2 * mech::kPoleDigits;
-    State<S> ss;
-    ss.resize(c);
-    if (!grid)
+    if (!grid) {
+      const L ww = mech::LaneForm<S>::broadcast(S(w * w / 2.0));
       return mech::piecewise_means<S>(
-                 [&](double phi, double cos_phi, double sin_phi) {
-                   const double cs[2] = {cos_phi, sin_phi};
-                   mech::linkage::solve(c, v.data(), S(phi), ss, cs);
-                   return S(mech::linkage::body_sums(c, v.data(), ss).inertia * w * w / 2.0);
+                 [&](const mech::Lanes& phi, const mech::Lanes& cp, const mech::Lanes& sp) {
+                   return L(mech::linkage::body_sums(c, lanes.v.data(), lanes.at(phi, cp, sp)).inertia * ww);
                  },
                  {}, 2 * n, ws.cycle, near)
           .mean;
+    }
+    State<S> ss;
+    if constexpr (mech::is_dual<S>) ss.resize(c);
     S sum(0.0);
     for (int i = 0; i < n; ++i) {
       if constexpr (mech::is_dual<S>) {

@@ -356,4 +356,76 @@ MECH_INLINE LaneDual<N> first_lanes(const LaneDual<N>& a, int m) {
   return m >= kLanes ? a : first_lanes_slow(a, m);
 }
 
+// Whether S is a lane type (Lanes, LaneDual): kLanes values of a scalar.
+template <class S>
+inline constexpr bool is_lanes = false;
+template <>
+inline constexpr bool is_lanes<Lanes> = true;
+template <int N>
+inline constexpr bool is_lanes<LaneDual<N>> = true;
+
+// The functions the linkage chain takes of its numbers, every lane as
+// sincos and the C library compute it: sin, cos (sincos above), exp and
+// atan2 (std's, lane by lane), with their derivatives on LaneDual.
+inline Lanes sin(const Lanes& x) {
+  Lanes s, c;
+  sincos(x, s, c);
+  return s;
+}
+inline Lanes cos(const Lanes& x) {
+  Lanes s, c;
+  sincos(x, s, c);
+  return c;
+}
+inline Lanes exp(const Lanes& x) {
+  Lanes r;
+  for (int i = 0; i < kLanes; ++i) r[i] = std::exp(x[i]);
+  return r;
+}
+inline Lanes atan2(const Lanes& y, const Lanes& x) {
+  Lanes r;
+  for (int i = 0; i < kLanes; ++i) r[i] = std::atan2(y[i], x[i]);
+  return r;
+}
+// sin (odd) or cos of a, with its derivatives.
+template <int N>
+LaneDual<N> sin_or_cos(const LaneDual<N>& a, bool odd) {
+  Lanes s, c;
+  sincos(a.v, s, c);
+  LaneDual<N> r(odd ? s : c);
+  const Lanes slope = odd ? c : -s;
+  for (int i = 0; i < N; ++i) r.d[i] = slope * a.d[i];
+  return r;
+}
+template <int N>
+LaneDual<N> sin(const LaneDual<N>& a) {
+  return sin_or_cos(a, true);
+}
+template <int N>
+LaneDual<N> cos(const LaneDual<N>& a) {
+  return sin_or_cos(a, false);
+}
+template <int N>
+LaneDual<N> exp(const LaneDual<N>& a) {
+  LaneDual<N> r(exp(a.v));
+  for (int i = 0; i < N; ++i) r.d[i] = r.v * a.d[i];
+  return r;
+}
+template <int N>
+LaneDual<N> atan2(const LaneDual<N>& y, const LaneDual<N>& x) {
+  LaneDual<N> r(atan2(y.v, x.v));
+  const Lanes r2 = x.v * x.v + y.v * y.v;
+  for (int i = 0; i < N; ++i) r.d[i] = (x.v * y.d[i] - y.v * x.d[i]) / r2;
+  return r;
+}
+
+// x where `on` is nonzero, 0 in the other lanes (no 0 * inf there).
+inline Lanes where(const Lanes& on, const Lanes& x) { return Lanes(on.v != 0 ? x.v : Lanes::Raw{}); }
+template <int N>
+LaneDual<N> where(const Lanes& on, LaneDual<N> x) {
+  x.v = where(on, x.v);
+  for (auto& d : x.d) d = where(on, d);
+  return x;
+}
+
 }  // namespace mech

@@ -72,6 +72,24 @@ Jet<S> switch_rate(const Load& l, const State<S>& st) {
 }
 inline bool switching(const Load& l) { return l.when != 0 || l.opposing || l.kind == Load::Kind::friction; }
 
+// Load l's rate (a force: u . B' at its slider's pin B on its line u; a
+// torque or a friction: its link's t', less `other`'s) and the coordinate
+// its table over position reads (the slider's s, the link's angle).
+template <class S>
+void load_rate(const Chain& c, const Load& l, const State<S>& st, S& rate, S& coordinate) {
+  const size_t k = static_cast<size_t>(l.link);
+  if (l.kind == Load::Kind::force) {
+    const Vec<S>& u = st.axis[k];
+    const Vec<S>& B = st.point[static_cast<size_t>(c.links()[k].origin)];
+    rate = S(u.x.v * B.x.d + u.y.v * B.y.d);
+    coordinate = st.slide[k].v;
+  } else {
+    rate = st.rates(l.link).d;
+    if (l.other != kNone) rate = S(rate - st.rates(l.other).d);
+    if (l.over == Load::Over::position) coordinate = st.angle(l.link).v;
+  }
+}
+
 // A load at crank angle phi as `size`, its generalised force per unit of
 // `rate`, so that its power per unit crank speed is size * rate. A force:
 // size along its slider's line u at the pin B, rate u . B'; a torque or a
@@ -85,16 +103,7 @@ bool load_action(const Chain& c, const Load& l, const S* v, const State<S>& st, 
   using std::exp;
   const size_t k = static_cast<size_t>(l.link);
   S coordinate(0.0);  // what a table reads
-  if (l.kind == Load::Kind::force) {
-    const Vec<S>& u = st.axis[k];
-    const Vec<S>& B = st.point[static_cast<size_t>(c.links()[k].origin)];
-    rate = S(u.x.v * B.x.d + u.y.v * B.y.d);
-    coordinate = st.slide[k].v;
-  } else {
-    rate = st.rates(l.link).d;
-    if (l.other != kNone) rate = S(rate - st.rates(l.other).d);
-    if (l.over == Load::Over::position) coordinate = st.angle(l.link).v;
-  }
+  load_rate(c, l, st, rate, coordinate);
   double along = l.kind == Load::Kind::force ? value(st.slide[k].d) : value(rate), sign_rate = value(rate);
   if (st.held_load != kNone && &l == &c.loads()[static_cast<size_t>(st.held_load)]) {
     const double slope = value(switch_rate(l, st).d);
@@ -138,13 +147,70 @@ Tension<S> tension(const Spring& sp, const S* v, const State<S>& st) {
   return {S(v[sp.rate] * (length - v[sp.free_length])), ux, uy, S(ux * d.x.d + uy * d.y.d)};
 }
 
+// load_action's size times rate at kLanes crank angles phi (solve_lanes'
+// state; L: Lanes, or LaneDual with design derivatives), summed over the
+// loads: its arithmetic on every lane, its branches (a `when`'s stroke, a
+// law's contact, a table's row, an opposing load's sign) taken lane by
+// lane from the values. No load is held (means take no one-sided limit).
+template <class L>
+L lane_loads(const Chain& c, const L* v, const State<L>& st, const Lanes& phi) {
+  L sum(0.0);
+  for (const Load& l : c.loads()) {
+    const size_t k = static_cast<size_t>(l.link);
+    const bool force = l.kind == Load::Kind::force;
+    L rate, coordinate(0.0);
+    load_rate(c, l, st, rate, coordinate);
+    const Lanes along = lane_values(force ? st.slide[k].d : rate), r = lane_values(rate);
+    Lanes on(1.0), sign;
+    for (int j = 0; j < kLanes; ++j) {
+      if ((l.when > 0 && !(along[j] > 0)) || (l.when < 0 && !(along[j] < 0))) on[j] = 0;
+      sign[j] = double((r[j] > 0) - (r[j] < 0));
+    }
+    L size;
+    if (l.law_a != kNone) {
+      const L depth = L(coordinate - v[l.law_contact]);
+      for (int j = 0; j < kLanes; ++j)
+        if (!(lane_value(depth, j) >= 0)) on[j] = 0;
+      const L growth = exp(L(v[l.law_b] * depth));
+      size = L(-(v[l.law_area] * L(v[l.law_a] * growth)));
+    } else if (l.over == Load::Over::none) {
+      size = v[l.value];
+    } else {
+      // Each lane's row: y0 + slope (x - x0), constant outside the table.
+      const bool by_position = l.over == Load::Over::position;
+      Lanes x = lane_values(coordinate), y0, slope(0.0), x0(0.0);
+      for (int j = 0; j < kLanes; ++j) {
+        if (!by_position) x[j] = phi[j] + (wrap_angle(phi[j]) - phi[j]);  // phi in [0, 2 pi)
+        const auto& xs = l.xs;
+        if (x[j] <= xs.front() || x[j] >= xs.back()) {
+          y0[j] = x[j] <= xs.front() ? l.ys.front() : l.ys.back();
+          continue;
+        }
+        size_t i = 1;
+        while (xs[i] < x[j]) ++i;
+        y0[j] = l.ys[i - 1], x0[j] = xs[i - 1], slope[j] = (l.ys[i] - l.ys[i - 1]) / (xs[i] - xs[i - 1]);
+      }
+      size = L(L(y0) + L(slope) * L((by_position ? coordinate : L(x)) - L(x0)));
+    }
+    if (l.kind == Load::Kind::friction || l.opposing) size = L(-(abs(size) * L(sign)));
+    if (l.efficiency != kNone) size = L(size / v[l.efficiency]);
+    sum += where(on, L(size * rate));
+  }
+  return sum;
+}
+
 // The loads' generalised force at crank angle phi (their power per unit
-// crank speed), the springs' with them unless `springs` is false.
+// crank speed), the springs' with them unless `springs` is false; on
+// lanes, kLanes angles at once.
 template <class S>
 S load_power(const Chain& c, const S* v, const State<S>& st, const S& phi, bool springs = true) {
   S sum(0.0), size(0.0), rate(0.0);
-  for (const Load& l : c.loads())
-    if (load_action(c, l, v, st, phi, size, rate)) sum += size * rate;
+  if constexpr (is_lanes<S>) {
+    sum = lane_loads(c, v, st, lane_values(phi));
+  } else {
+    for (const Load& l : c.loads())
+      if (load_action(c, l, v, st, phi, size, rate)) sum += size * rate;
+  }
   if (springs)
     for (const Spring& sp : c.springs()) {
       const Tension<S> t = tension(sp, v, st);

@@ -10,6 +10,7 @@
 #include "mech/autodiff.hpp"
 #include "mech/linkage/chain.hpp"
 #include "mech/linkage/jet.hpp"
+#include "mech/simd.hpp"
 
 namespace mech::linkage {
 
@@ -62,6 +63,33 @@ void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
 
 }  // namespace detail
 
+namespace detail {
+
+// The ground points, then the crank at its axis e (with its transfer
+// functions) and the points on it.
+template <class S>
+void place_crank(const Chain& c, const S* v, State<S>& st, const Vec<S>& e) {
+  for (const auto& [p, xy] : c.ground_points())
+    st.point[static_cast<size_t>(p)] = constant_point(v[xy.first], v[xy.second]);
+  const Crank& k = c.crank();
+  const Link& l = c.links()[static_cast<size_t>(k.link)];
+  st.axis[static_cast<size_t>(k.link)] = e;
+  st.point[static_cast<size_t>(k.joint)] = st.point[static_cast<size_t>(k.pivot)] + v[l.length] * e;
+  place_points(l, v, st, e);
+}
+
+// The crank's axis from cos and sin of its angle theta = phase + sense
+// phi, which turns at sense: e' = sense rot90(e), e'' = -e.
+template <class S>
+Vec<S> crank_axis(const S& ct, const S& sn, double sense) {
+  return {{ct, S(-sense * sn), S(-ct)}, {sn, S(sense * ct), S(-sn)}};
+}
+
+template <class S>
+bool solve_groups(const Chain& c, const S* v, State<S>& st);
+
+}  // namespace detail
+
 // Solves the chain at crank angle phi with the values v (the chain's slots).
 // False when a group cannot assemble (st.failed names it); st.margin[g] is
 // group g's distance from a singular position, where its branch could flip:
@@ -74,42 +102,89 @@ void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
 // crank's then come by the angle sum with its phase's, kept in st.
 template <class S>
 bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double* cs = nullptr) {
+  using std::cos;
+  using std::sin;
+  st.failed = kNone;
+  st.phi = phi;
+  const Crank& k = c.crank();
+  const double sense = k.sense;
+  Vec<S> e;
+  if constexpr (std::is_same_v<S, double>) {
+    // One sincos.
+    double ct, sn;
+    if (cs) {
+      if (st.phase != v[k.phase]) {
+        st.phase = v[k.phase];
+        st.phase_cos = std::cos(st.phase), st.phase_sin = std::sin(st.phase);
+      }
+      ct = st.phase_cos * cs[0] - st.phase_sin * sense * cs[1];
+      sn = st.phase_sin * cs[0] + st.phase_cos * sense * cs[1];
+    } else {
+      ct = std::cos(v[k.phase] + sense * phi), sn = std::sin(v[k.phase] + sense * phi);
+    }
+    e = detail::crank_axis(ct, sn, sense);
+  } else {
+    const Jet<S> theta{S(v[k.phase] + sense * phi), S(sense), S(0.0)};
+    e = {cos(theta), sin(theta)};
+  }
+  detail::place_crank(c, v, st, e);
+  return detail::solve_groups(c, v, st);
+}
+
+// The chain at kLanes crank angles at once, on the lane form L of a scalar
+// (Lanes, or LaneDual with design derivatives): the crank's axis from the
+// angles' cosines cp and sines sp by the angle sum with its phase's (pc,
+// ps: the same in every lane), the groups as solve's without its checks:
+// the caller's grid and margin searches have shown the design assembles
+// clear of every singular position (st.margin is left as it was).
+template <class L>
+void solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, const Lanes& sp, const L& pc,
+                 const L& ps, State<L>& st) {
+  static_assert(is_lanes<L>);
+  st.phi = L(phi);
+  const double sense = c.crank().sense;
+  const L ct = L(pc * cp - ps * sense * sp), sn = L(ps * cp + pc * sense * sp);
+  detail::place_crank(c, v, st, detail::crank_axis(ct, sn, sense));
+  detail::solve_groups(c, v, st);
+}
+
+// The chain on lanes for one design (what a cycle mean's Gauss nodes
+// ask, kLanes at a time): its values broadcast from the scalar S, its
+// crank phase's cosine and sine, a state to solve in.
+template <class S>
+struct LaneSolver {
+  using L = lanes_of<S>;
+  const Chain& chain;
+  std::vector<L> v;
+  L pc, ps;
+  State<L> st;
+  LaneSolver(const Chain& c, const S* values) : chain(c) {
+    using std::cos;
+    using std::sin;
+    for (size_t i = 0; i < c.defaults().size(); ++i) v.push_back(LaneForm<S>::broadcast(values[i]));
+    const S& phase = values[c.crank().phase];
+    pc = LaneForm<S>::broadcast(S(cos(phase)));
+    ps = LaneForm<S>::broadcast(S(sin(phase)));
+    st.resize(c);
+  }
+  // The chain at the angles phi, with their cosines and sines.
+  const State<L>& at(const Lanes& phi, const Lanes& cp, const Lanes& sp) {
+    solve_lanes(chain, v.data(), phi, cp, sp, pc, ps, st);
+    return st;
+  }
+};
+
+namespace detail {
+
+// solve's groups, in the chain's order, on its crank's state.
+template <class S>
+bool solve_groups(const Chain& c, const S* v, State<S>& st) {
   using std::abs;
   using std::cos;
   using std::sin;
   using std::sqrt;
-  st.failed = kNone;
-  st.phi = phi;
-  for (const auto& [p, xy] : c.ground_points())
-    st.point[static_cast<size_t>(p)] = detail::constant_point(v[xy.first], v[xy.second]);
+  constexpr bool kChecked = !is_lanes<S>;  // assembly and margins: on scalars
   const auto& links = c.links();
-  const Crank& k = c.crank();
-  {
-    const double sense = k.sense;
-    Vec<S> e;
-    if constexpr (std::is_same_v<S, double>) {
-      // One sincos: theta = phase + sense phi turns at sense, so e' = sense rot90(e), e'' = -e.
-      double ct, sn;
-      if (cs) {
-        if (st.phase != v[k.phase]) {
-          st.phase = v[k.phase];
-          st.phase_cos = std::cos(st.phase), st.phase_sin = std::sin(st.phase);
-        }
-        ct = st.phase_cos * cs[0] - st.phase_sin * sense * cs[1];
-        sn = st.phase_sin * cs[0] + st.phase_cos * sense * cs[1];
-      } else {
-        ct = std::cos(v[k.phase] + sense * phi), sn = std::sin(v[k.phase] + sense * phi);
-      }
-      e = {{ct, -sense * sn, -ct}, {sn, sense * ct, -sn}};
-    } else {
-      const Jet<S> theta{S(v[k.phase] + sense * phi), S(sense), S(0.0)};
-      e = {cos(theta), sin(theta)};
-    }
-    const Link& l = links[static_cast<size_t>(k.link)];
-    st.axis[static_cast<size_t>(k.link)] = e;
-    st.point[static_cast<size_t>(k.joint)] = st.point[static_cast<size_t>(k.pivot)] + v[l.length] * e;
-    detail::place_points(l, v, st, e);
-  }
   const auto& groups = c.groups();
   for (size_t g = 0; g < groups.size(); ++g) {
     const Group& gr = groups[g];
@@ -144,12 +219,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
         const Jet<S> inv = constant(S(1.0)) / dot(d, d);
         const Jet<S> f = (constant(S(1.0)) + S(a * a - b * b) * inv) * 0.5;
         const Jet<S> g2 = S(a * a) * inv - f * f;
-        if (!(value(g2.v) > 0)) return st.failed = static_cast<int>(g), false;
+        if constexpr (kChecked)
+          if (!(value(g2.v) > 0)) return st.failed = static_cast<int>(g), false;
         const Jet<S> gb = sqrt(g2) * double(gr.branch);
         const Vec<S> B = P + Vec<S>{f * d.x - gb * d.y, f * d.y + gb * d.x};
         st.point[static_cast<size_t>(gr.joint)] = B;
         const Vec<S> e1 = (B - P) / a, e2 = (B - Q) / b;
-        st.margin[g] = std::abs(value(cross(e1, e2).v));
+        if constexpr (kChecked) st.margin[g] = std::abs(value(cross(e1, e2).v));
         place(e1, e2);
         break;
       }
@@ -162,12 +238,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
         const Vec<S> w = P - T;
         const Jet<S> wn = dot(w, n);
         const Jet<S> disc = constant(S(a * a)) - wn * wn;
-        if (!(value(disc.v) > 0)) return st.failed = static_cast<int>(g), false;
+        if constexpr (kChecked)
+          if (!(value(disc.v) > 0)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = dot(w, u) + sqrt(disc) * double(gr.branch);
         const Vec<S> B = T + s * u;
         st.point[static_cast<size_t>(gr.joint)] = B;
         st.slide[static_cast<size_t>(gr.second)] = s;
-        st.margin[g] = std::sqrt(value(disc.v)) / std::abs(value(a));
+        if constexpr (kChecked) st.margin[g] = std::sqrt(value(disc.v)) / std::abs(value(a));
         place((B - P) / a, u);
         break;
       }
@@ -177,12 +254,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
         const Vec<S> d = at(gr.p) - at(gr.q);
         const Jet<S> d2 = dot(d, d);
         const Jet<S> s2 = d2 - constant(S(offset * offset));
-        if (!(value(s2.v) > 0)) return st.failed = static_cast<int>(g), false;
+        if constexpr (kChecked)
+          if (!(value(s2.v) > 0)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = sqrt(s2);
         const Vec<S> rd = rot90(d);
         const Vec<S> u{(s * d.x - offset * rd.x) / d2, (s * d.y - offset * rd.y) / d2};
         st.slide[static_cast<size_t>(gr.first)] = s;
-        st.margin[g] = value(s.v) / std::sqrt(value(d2.v));
+        if constexpr (kChecked) st.margin[g] = value(s.v) / std::sqrt(value(d2.v));
         place(u, u);
         break;
       }
@@ -195,12 +273,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
         const Vec<S>& P = at(gr.p);
         const Vec<S> q = P - line_origin(second, n);
         const Jet<S> det = cross(u, w);
-        if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
+        if constexpr (kChecked)
+          if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = cross(q, w) / det, t = cross(u, q) / det;
         st.point[static_cast<size_t>(gr.joint)] = P - t * w;
         st.slide[static_cast<size_t>(gr.second)] = s;
         st.slide[static_cast<size_t>(gr.first)] = t;
-        st.margin[g] = std::abs(value(det.v));
+        if constexpr (kChecked) st.margin[g] = std::abs(value(det.v));
         place(w, u);
         break;
       }
@@ -212,12 +291,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
         const Vec<S> T1 = line_origin(first, rot90(u1));
         const Vec<S> d = line_origin(second, rot90(u2)) - T1;
         const Jet<S> det = cross(u1, u2);
-        if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
+        if constexpr (kChecked)
+          if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s1 = cross(d, u2) / det, s2 = cross(d, u1) / det;
         st.point[static_cast<size_t>(gr.joint)] = T1 + s1 * u1;
         st.slide[static_cast<size_t>(gr.first)] = s1;
         st.slide[static_cast<size_t>(gr.second)] = s2;
-        st.margin[g] = std::abs(value(det.v));
+        if constexpr (kChecked) st.margin[g] = std::abs(value(det.v));
         place(u1, u2);
         break;
       }
@@ -225,5 +305,7 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
   }
   return true;
 }
+
+}  // namespace detail
 
 }  // namespace mech::linkage

@@ -1,0 +1,106 @@
+// The chain on lanes (mech/linkage: solve_lanes, lane_loads through
+// drive_point), which a cycle mean's Gauss nodes take kLanes at a time,
+// against the scalar chain at each lane's angle: every point's position
+// and transfer functions, the driving torque (its loads' branches taken
+// lane by lane: a `when`'s stroke, a law's contact, a table's row, an
+// opposing load's and a friction's sign) and the energy, on every shipped
+// linkage and a slider-crank with a table over the crank angle; on
+// LaneDual<2> against DualN<2>, their design derivatives too. The lanes'
+// sine and cosine are fdlibm's kernels, the scalar's the C library's: the
+// two agree to an ulp, so the chain to 1e-12 of each quantity's scale.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mech/linkage/dynamics.hpp"
+#include "opt/config.hpp"
+#include "problems/linkage/description.hpp"
+
+namespace {
+
+using mech::Lanes;
+using mech::linkage::Chain;
+using mech::linkage::State;
+
+// The lane form at angles phi of the chain with values v (S0: double or
+// DualN<2>) against the scalar's at each lane.
+template <class S0>
+void expect_lanes_equal_scalars(const Chain& c, const std::vector<S0>& v, const Lanes& phi, const std::string& what) {
+  using L = mech::lanes_of<S0>;
+  mech::linkage::LaneSolver<S0> lanes(c, v.data());
+  Lanes cp, sp;
+  mech::sincos(phi, sp, cp);
+  const State<L>& sl = lanes.at(phi, cp, sp);
+  const auto dl = mech::linkage::drive_point(c, lanes.v.data(), sl);
+  State<S0> ss;
+  ss.resize(c);
+  auto same = [&](const L& lane, const S0& scalar, int j, double scale, const std::string& name) {
+    EXPECT_NEAR(mech::lane_value(lane, j), mech::value(scalar), 1e-12 * scale) << what << " " << name << " lane " << j;
+    if constexpr (mech::is_dual<S0>) {
+      for (int i = 0; i < 2; ++i)
+        EXPECT_NEAR(lane.d[i][j], scalar.derivatives()[i], 1e-12 * scale) << what << " d" << name << "/dv" << i;
+    }
+  };
+  for (int j = 0; j < mech::kLanes; ++j) {
+    ASSERT_TRUE(mech::linkage::solve(c, v.data(), S0(phi[j]), ss)) << what;
+    const auto ds = mech::linkage::drive_point(c, v.data(), ss);
+    for (size_t p = 0; p < c.point_names().size(); ++p) {
+      const auto &a = sl.point[p], &b = ss.point[p];
+      const std::string name = c.point_names()[p];
+      same(a.x.v, b.x.v, j, 1, name + ".x"), same(a.y.v, b.y.v, j, 1, name + ".y");
+      same(a.x.d, b.x.d, j, 1, name + ".x'"), same(a.y.dd, b.y.dd, j, 1, name + ".y''");
+    }
+    const double torque_scale = 1 + std::abs(mech::value(ds.torque)), energy_scale = 1 + std::abs(mech::value(ds.energy));
+    same(dl.torque, ds.torque, j, torque_scale, "torque");
+    same(dl.energy, ds.energy, j, energy_scale, "energy");
+  }
+}
+
+template <class S0>
+std::vector<S0> seeded(const Chain& c) {
+  std::vector<S0> v(c.defaults().begin(), c.defaults().end());
+  if constexpr (mech::is_dual<S0>) {
+    // Seed the first two lengths: they move every joint after them.
+    int seeded = 0;
+    for (size_t i = 0; i < v.size() && seeded < 2; ++i)
+      if (c.value_names()[i].find(".length") != std::string::npos) v[i].derivatives()[seeded++] = 1;
+  }
+  return v;
+}
+
+void expect_lanes(const Chain& c, const std::string& what) {
+  // Angles off the grid and off each other's symmetries, two blocks.
+  for (const Lanes& phi : {Lanes(Lanes::Raw{0.3, 1.7, 3.1, 5.5}), Lanes(Lanes::Raw{0.9, 2.4, 4.0, 6.1})}) {
+    expect_lanes_equal_scalars(c, seeded<double>(c), phi, what);
+    expect_lanes_equal_scalars(c, seeded<mech::DualN<2>>(c), phi, what + " (DualN<2>)");
+  }
+}
+
+TEST(LinkageLanes, EveryShippedLinkageAtFourAnglesAtOnce) {
+  int n = 0;
+  for (const auto& f : std::filesystem::directory_iterator(std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage")) {
+    const auto d = problems::linkage::read_description(opt::ConfigNode::load(f.path().string()));
+    expect_lanes(d.chain, f.path().filename().string());
+    ++n;
+  }
+  EXPECT_GE(n, 10);
+}
+
+TEST(LinkageLanes, ATableOverTheCrankAngleRowByLane) {
+  const auto d = problems::linkage::read_description(opt::ConfigNode::parse(
+      "problem: linkage\nmodel:\n"
+      "  ground: {O: [0 m, 0 m], S0: [0 m, 0 m]}\n"
+      "  crank: {link: crank, pivot: O, joint: A, phase: 10 deg, speed: 60 rpm, sense: cw}\n"
+      "  links: {crank: {length: 0.2 m}, rod: {length: 0.8 m},\n"
+      "          ram: {mass: 10 kg, line: {fixed_to: ground, through: S0, angle: 0 deg}}}\n"
+      "  groups: [{type: RRP, links: [rod, ram], from: A, joint: B, branch: 1}]\n"
+      "  loads: {cut: {link: ram, table: {over: crank_angle, unit: [deg, N],\n"
+      "                rows: [[30, 0], [120, -800], [200, -100], [300, 400]]}}}\n"
+      "  outputs: [ram]\n",
+      "<table over the crank angle>"));
+  expect_lanes(d.chain, "table over the crank angle");
+}
+
+}  // namespace
