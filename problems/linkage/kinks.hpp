@@ -7,6 +7,7 @@
 // maximum's gradient takes its motion (kink_shift), as the means take a
 // jump's (the Leibniz term that Gauss arcs with fixed ends leave out).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <span>
 #include <utility>
@@ -48,8 +49,8 @@ mech::linkage::Jet<S> gap(const mech::linkage::Chain& c, const KinkFn& f, const 
   return g;
 }
 
-inline double kink_value(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage::State<double>& st,
-                         const double* v) {
+template <class S>
+S kink_value(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage::State<S>& st, const S* v) {
   if (f.load < 0) return mech::linkage::drive_point(c, v, st).torque;
   if (f.row >= 0 || f.row == kDepth) return gap(c, f, st, v).v;
   return mech::linkage::switch_rate(c.loads()[static_cast<size_t>(f.load)], st).v;
@@ -76,10 +77,27 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
   }
   std::vector<std::span<const double>> grids;
   for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(grid.data() + f * un, un);
+  // The searches' angles kLanes at a time on the chain's lanes (a lane
+  // where the chain does not assemble, between grid points that do, takes
+  // the scalar chain's stale state, as a lone query would).
+  mech::linkage::LaneSolver<double> lanes(c, v);
   return mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
-    for (mech::AngleQuery& q : qs) {
-      mech::linkage::solve(c, v, q.phi, sd);
-      q.out = kink_value(c, fns[static_cast<size_t>(q.fn)], sd, v);
+    for (size_t i = 0; i < qs.size(); i += mech::kLanes) {
+      const int m = static_cast<int>(std::min<size_t>(mech::kLanes, qs.size() - i));
+      mech::Lanes phi, cp, sp, out;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = qs[i + static_cast<size_t>(std::min(j, m - 1))].phi;
+      mech::sincos(phi, sp, cp);
+      const auto& st = lanes.at(phi, cp, sp);
+      for (int j = 0; j < m; ++j) {
+        mech::AngleQuery& q = qs[i + static_cast<size_t>(j)];
+        if (j == 0 || q.fn != qs[i + static_cast<size_t>(j) - 1].fn)
+          out = kink_value(c, fns[static_cast<size_t>(q.fn)], st, lanes.v.data());
+        q.out = out[j];
+        if (!std::isfinite(q.out)) {
+          mech::linkage::solve(c, v, q.phi, sd);
+          q.out = kink_value(c, fns[static_cast<size_t>(q.fn)], sd, v);
+        }
+      }
     }
   }, owner);
 }
