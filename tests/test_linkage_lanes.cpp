@@ -5,12 +5,17 @@
 // lane by lane: a `when`'s stroke, a law's contact, a table's row, an
 // opposing load's and a friction's sign) and the energy, on every shipped
 // linkage and a slider-crank with a table over the crank angle; on
-// LaneDual<2> against DualN<2>, their design derivatives too. The lanes'
-// sine and cosine are fdlibm's kernels, the scalar's the C library's: the
-// two agree to an ulp, so the chain to 1e-12 of each quantity's scale.
+// LaneDual<2> against DualN<2>, their design derivatives too. A mean's
+// nodes take the crank's direction by the angle sum with its phase's from
+// the quadrature's cosine and sine (simd.hpp's sincos), the scalar chain
+// the C library's cosine and sine of the whole angle: the two agree to
+// 1e-12 of each quantity's scale. From the crank angle's own cosine and
+// sine (the grid's form), a lane is the scalar chain's bits.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -86,6 +91,45 @@ TEST(LinkageLanes, EveryShippedLinkageAtFourAnglesAtOnce) {
     ++n;
   }
   EXPECT_GE(n, 10);
+}
+
+// The grid's form (solve_lanes checked, the crank angle's own cosine and
+// sine, pc = 1, ps = 0): every lane the same bits as solve at its angle,
+// margins, torque and energy too (the lanes take the C library's sin, cos,
+// exp, atan2 and sqrt lane by lane, the same operations in the same order).
+TEST(LinkageLanes, TheGridsLanesAreTheScalarChainsBits) {
+  for (const auto& f : std::filesystem::directory_iterator(std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage")) {
+    const auto d = problems::linkage::read_description(opt::ConfigNode::load(f.path().string()));
+    const Chain& c = d.chain;
+    const std::vector<double>& v = c.defaults();
+    mech::linkage::LaneSolver<double> lanes(c, v.data());
+    State<double> ss;
+    ss.resize(c);
+    const double sense = c.crank().sense, phase = v[static_cast<size_t>(c.crank().phase)];
+    for (int k = 0; k < 16; k += mech::kLanes) {
+      Lanes phi, cp, sp;
+      for (int j = 0; j < mech::kLanes; ++j) {
+        phi[j] = 2 * std::numbers::pi * (k + j) / 16;
+        cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
+      }
+      ASSERT_TRUE((mech::linkage::solve_lanes<Lanes, true>(c, lanes.v.data(), phi, cp, sp, 1.0, 0.0, lanes.st)));
+      const auto dl = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
+      for (int j = 0; j < mech::kLanes; ++j) {
+        ASSERT_TRUE(mech::linkage::solve(c, v.data(), phi[j], ss));
+        const auto ds = mech::linkage::drive_point(c, v.data(), ss);
+        const std::string at = f.path().filename().string() + " at grid point " + std::to_string(k + j);
+        for (size_t p = 0; p < ss.point.size(); ++p)
+          for (auto [a, b] : {std::pair{lanes.st.point[p].x, ss.point[p].x}, {lanes.st.point[p].y, ss.point[p].y}}) {
+            EXPECT_EQ(a.v[j], b.v) << at << " " << c.point_names()[p];
+            EXPECT_EQ(a.d[j], b.d) << at << " " << c.point_names()[p];
+            EXPECT_EQ(a.dd[j], b.dd) << at << " " << c.point_names()[p];
+          }
+        for (size_t g = 0; g < ss.margin.size(); ++g) EXPECT_EQ(lanes.st.margin[g][j], ss.margin[g]) << at;
+        EXPECT_EQ(dl.torque[j], ds.torque) << at;
+        EXPECT_EQ(dl.energy[j], ds.energy) << at;
+      }
+    }
+  }
 }
 
 TEST(LinkageLanes, ATableOverTheCrankAngleRowByLane) {

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -96,6 +97,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<mech::CycleMaxSearch> searches;
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
+    std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
   };
 
   template <class S>
@@ -135,11 +137,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if (out.want(static_cast<int>(m))) ask(metrics_[m], ws.asked);
     const size_t nq = ws.asked.size(), un = static_cast<size_t>(n);
     ws.grids.resize(nq * un);
-    for (int i = 0; i < n; ++i) {
-      State<double>& st = ws.grid[static_cast<size_t>(i)];
-      if (!solve_at(vd, mech::kTwoPi * i / n, st, out)) return;
-      for (size_t q = 0; q < nq; ++q) ws.grids[q * un + static_cast<size_t>(i)] = quantity(ws.asked[q], vd, st, ws);
-    }
+    if (!solve_grid(vd, out, ws)) return;
     // Maxima, their slopes from the chain on a Dual in phi: first the
     // margins (a singular design stops there), then the metrics'.
     ws.searches.resize(nq);
@@ -353,6 +351,50 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     out.result.status = mech::Status::cannot_assemble;
     out.result.message = d_.chain.group_name(st.failed) + " cannot assemble at crank angle " + degrees(phi) + " deg";
     return false;
+  }
+
+  // The chain and the asked quantities at the n grid angles, kLanes at a
+  // time: solve_lanes checked, from the crank angle's own cosine and sine,
+  // the same bits as solve at each angle (the chain's lanes take the C
+  // library's functions); a block where some lane cannot assemble goes
+  // angle by angle, to name the first that fails.
+  template <class S>
+  bool solve_grid(const double* vd, MetricSink<S>& out, Workspace& ws) const {
+    const Chain& c = d_.chain;
+    const int n = d_.cycle_points;
+    const size_t un = static_cast<size_t>(n), nq = ws.asked.size();
+    if (ws.lanes) ws.lanes->reset(vd);
+    else ws.lanes.emplace(c, vd);
+    auto& lanes = *ws.lanes;
+    const double sense = c.crank().sense, phase = vd[c.crank().phase];
+    for (int k = 0; k < n; k += mech::kLanes) {
+      const int m = std::min(mech::kLanes, n - k);
+      mech::Lanes phi, cp, sp;
+      for (int j = 0; j < mech::kLanes; ++j) {
+        phi[j] = mech::kTwoPi * (k + std::min(j, m - 1)) / n;
+        cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
+      }
+      const bool whole =
+          mech::linkage::solve_lanes<mech::Lanes, true>(c, lanes.v.data(), phi, cp, sp, 1.0, 0.0, lanes.st);
+      for (int j = 0; j < m; ++j) {
+        State<double>& st = ws.grid[static_cast<size_t>(k + j)];
+        if (whole) mech::linkage::lane_state(lanes.st, j, st);
+        else if (!solve_at(vd, mech::kTwoPi * (k + j) / n, st, out)) return false;
+      }
+      for (size_t q = 0; q < nq; ++q) {
+        double* to = ws.grids.data() + q * un + static_cast<size_t>(k);
+        if (whole && lane_kind(ws.asked[q].kind)) {
+          mech::store_lanes(to, quantity(ws.asked[q], lanes.v.data(), lanes.st, ws), m);
+        } else {
+          for (int j = 0; j < m; ++j) to[j] = quantity(ws.asked[q], vd, ws.grid[static_cast<size_t>(k + j)], ws);
+        }
+      }
+    }
+    return true;
+  }
+  // Whether a quantity is computed on lanes (the joints' forces are not).
+  static bool lane_kind(Kind k) {
+    return k != Kind::reaction && k != Kind::guide && k != Kind::shaking_force && k != Kind::shaking_moment;
   }
 
   // The zeros of fns over the cycle (kinks.hpp).

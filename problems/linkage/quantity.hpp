@@ -155,6 +155,10 @@ T quantity(const Description& d, const mech::linkage::Joints& j, const Quantity&
     }
     case Kind::torque: return T(abs(mech::linkage::drive_point(c, v, st).torque));
     case Kind::energy: return T(mech::linkage::drive_point(c, v, st).energy * w * w);
+    default: break;
+  }
+  if constexpr (!mech::is_lanes<T>) {  // the joints' forces: on scalars
+    switch (q.kind) {
     case Kind::reaction: {
       const auto& r = reactions_of(c, j, v, st);
       return T(sqrt(T(r.x[i] * r.x[i] + r.y[i] * r.y[i])));
@@ -165,6 +169,8 @@ T quantity(const Description& d, const mech::linkage::Joints& j, const Quantity&
       return T(sqrt(T(r.shaking_x * r.shaking_x + r.shaking_y * r.shaking_y)));
     }
     case Kind::shaking_moment: return T(abs(reactions_of(c, j, v, st).shaking_m));
+    default: break;
+    }
   }
   return T(0.0);
 }

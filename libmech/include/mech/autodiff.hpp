@@ -65,8 +65,8 @@ inline Dual atan2(const Dual& y, const Dual& x) {
 template <class S>
 S atan2_of(const S& y, const S& x) {
   using std::atan2;
-  if constexpr (std::is_same_v<S, double> || std::is_same_v<S, Dual>) {
-    return atan2(y, x);
+  if constexpr (std::is_same_v<S, double> || std::is_same_v<S, Dual> || !requires { y.value(); }) {
+    return atan2(y, x);  // (lanes too: simd.hpp's)
   } else {
     const double yv = y.value(), xv = x.value();
     S out = (y * xv - x * yv) / (xv * xv + yv * yv);

@@ -364,17 +364,21 @@ inline constexpr bool is_lanes<Lanes> = true;
 template <int N>
 inline constexpr bool is_lanes<LaneDual<N>> = true;
 
-// The functions the linkage chain takes of its numbers, every lane as
-// sincos and the C library compute it: sin, cos (sincos above), exp and
-// atan2 (std's, lane by lane), with their derivatives on LaneDual.
+// The functions the linkage chain takes of its numbers, every lane as the
+// C library computes it (so a lane of the chain is the same bits as the
+// scalar chain at its angle): sin, cos, exp, atan2, with their derivatives
+// on LaneDual.
+inline void lane_sincos(const Lanes& x, Lanes& s, Lanes& c) {
+  for (int i = 0; i < kLanes; ++i) s[i] = std::sin(x[i]), c[i] = std::cos(x[i]);
+}
 inline Lanes sin(const Lanes& x) {
   Lanes s, c;
-  sincos(x, s, c);
+  lane_sincos(x, s, c);
   return s;
 }
 inline Lanes cos(const Lanes& x) {
   Lanes s, c;
-  sincos(x, s, c);
+  lane_sincos(x, s, c);
   return c;
 }
 inline Lanes exp(const Lanes& x) {
@@ -391,7 +395,7 @@ inline Lanes atan2(const Lanes& y, const Lanes& x) {
 template <int N>
 LaneDual<N> sin_or_cos(const LaneDual<N>& a, bool odd) {
   Lanes s, c;
-  sincos(a.v, s, c);
+  lane_sincos(a.v, s, c);
   LaneDual<N> r(odd ? s : c);
   const Lanes slope = odd ? c : -s;
   for (int i = 0; i < N; ++i) r.d[i] = slope * a.d[i];

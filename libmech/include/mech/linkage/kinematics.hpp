@@ -21,7 +21,9 @@ struct State {
   std::vector<Vec<S>> point;   // every point, by index
   std::vector<Vec<S>> axis;    // each link's unit x axis
   std::vector<Jet<S>> slide;   // a slider's (block's) coordinate along its line; 0 for other links
-  std::vector<double> margin;  // per group, its distance from a singular position (see solve)
+  // Per group, its distance from a singular position (see solve); on
+  // lanes, each lane's.
+  std::vector<std::conditional_t<is_lanes<S>, Lanes, double>> margin;
   int failed = kNone;          // the group that could not assemble, when solve returned false
   S phi = S(0.0);              // the crank angle it was solved at
   // A load held on one side of its switch (dynamics.hpp's `switching`):
@@ -85,8 +87,21 @@ Vec<S> crank_axis(const S& ct, const S& sn, double sense) {
   return {{ct, S(-sense * sn), S(-ct)}, {sn, S(sense * ct), S(-sn)}};
 }
 
-template <class S>
+template <class S, bool kChecked = !is_lanes<S>>
 bool solve_groups(const Chain& c, const S* v, State<S>& st);
+
+// A number's value (double), or its lanes' values (Lanes).
+inline double plain(double x) { return x; }
+template <class S>
+  requires(!is_lanes<S> && !std::is_same_v<S, double>)
+double plain(const S& x) {
+  return value(x);
+}
+inline const Lanes& plain(const Lanes& x) { return x; }
+template <int N>
+const Lanes& plain(const LaneDual<N>& x) {
+  return x.v;
+}
 
 }  // namespace detail
 
@@ -128,24 +143,29 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
     e = {cos(theta), sin(theta)};
   }
   detail::place_crank(c, v, st, e);
-  return detail::solve_groups(c, v, st);
+  return detail::solve_groups<S>(c, v, st);
 }
 
 // The chain at kLanes crank angles at once, on the lane form L of a scalar
 // (Lanes, or LaneDual with design derivatives): the crank's axis from the
 // angles' cosines cp and sines sp by the angle sum with its phase's (pc,
-// ps: the same in every lane), the groups as solve's without its checks:
-// the caller's grid and margin searches have shown the design assembles
-// clear of every singular position (st.margin is left as it was).
-template <class L>
-void solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, const Lanes& sp, const L& pc,
+// ps: the same in every lane), the groups as solve's. Unchecked (kChecked
+// false: a cycle mean's nodes, where the caller's grid and margin searches
+// have shown the design assembles clear of every singular position), no
+// assembly check or margin; checked, false where some lane cannot
+// assemble (st.failed names the group), st.margin each lane's. With pc =
+// 1, ps = 0 and cp, sense sp the cosine and sine of the crank's angle
+// itself, the same bits as solve's lane by lane.
+template <class L, bool kChecked = false>
+bool solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, const Lanes& sp, const L& pc,
                  const L& ps, State<L>& st) {
   static_assert(is_lanes<L>);
+  st.failed = kNone;
   st.phi = L(phi);
   const double sense = c.crank().sense;
   const L ct = L(pc * cp - ps * sense * sp), sn = L(ps * cp + pc * sense * sp);
   detail::place_crank(c, v, st, detail::crank_axis(ct, sn, sense));
-  detail::solve_groups(c, v, st);
+  return detail::solve_groups<L, kChecked>(c, v, st);
 }
 
 // The chain on lanes for one design (what a cycle mean's Gauss nodes
@@ -159,13 +179,18 @@ struct LaneSolver {
   L pc, ps;
   State<L> st;
   LaneSolver(const Chain& c, const S* values) : chain(c) {
+    st.resize(c);
+    reset(values);
+  }
+  // Another design's values.
+  void reset(const S* values) {
     using std::cos;
     using std::sin;
-    for (size_t i = 0; i < c.defaults().size(); ++i) v.push_back(LaneForm<S>::broadcast(values[i]));
-    const S& phase = values[c.crank().phase];
+    v.resize(chain.defaults().size());
+    for (size_t i = 0; i < v.size(); ++i) v[i] = LaneForm<S>::broadcast(values[i]);
+    const S& phase = values[chain.crank().phase];
     pc = LaneForm<S>::broadcast(S(cos(phase)));
     ps = LaneForm<S>::broadcast(S(sin(phase)));
-    st.resize(c);
   }
   // The chain at the angles phi, with their cosines and sines.
   const State<L>& at(const Lanes& phi, const Lanes& cp, const Lanes& sp) {
@@ -174,16 +199,30 @@ struct LaneSolver {
   }
 };
 
+// Lane j of a state on lanes, as a scalar state (sized for the chain).
+inline void lane_state(const State<Lanes>& from, int j, State<double>& to) {
+  auto jet = [j](const Jet<Lanes>& a) { return Jet<double>{a.v[j], a.d[j], a.dd[j]}; };
+  for (size_t p = 0; p < from.point.size(); ++p) to.point[p] = {jet(from.point[p].x), jet(from.point[p].y)};
+  for (size_t k = 0; k < from.axis.size(); ++k) {
+    to.axis[k] = {jet(from.axis[k].x), jet(from.axis[k].y)};
+    to.slide[k] = jet(from.slide[k]);
+  }
+  for (size_t g = 0; g < from.margin.size(); ++g) to.margin[g] = from.margin[g][j];
+  to.failed = kNone;
+  to.phi = from.phi[j];
+}
+
 namespace detail {
 
-// solve's groups, in the chain's order, on its crank's state.
-template <class S>
+// solve's groups, in the chain's order, on its crank's state; kChecked:
+// with the assembly checks and the margins (on lanes, false where a lane
+// fails; st.failed names the group).
+template <class S, bool kChecked>
 bool solve_groups(const Chain& c, const S* v, State<S>& st) {
   using std::abs;
   using std::cos;
   using std::sin;
   using std::sqrt;
-  constexpr bool kChecked = !is_lanes<S>;  // assembly and margins: on scalars
   const auto& links = c.links();
   const auto& groups = c.groups();
   for (size_t g = 0; g < groups.size(); ++g) {
@@ -220,12 +259,12 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const Jet<S> f = (constant(S(1.0)) + S(a * a - b * b) * inv) * 0.5;
         const Jet<S> g2 = S(a * a) * inv - f * f;
         if constexpr (kChecked)
-          if (!(value(g2.v) > 0)) return st.failed = static_cast<int>(g), false;
+          if (!positive_everywhere(g2.v)) return st.failed = static_cast<int>(g), false;
         const Jet<S> gb = sqrt(g2) * double(gr.branch);
         const Vec<S> B = P + Vec<S>{f * d.x - gb * d.y, f * d.y + gb * d.x};
         st.point[static_cast<size_t>(gr.joint)] = B;
         const Vec<S> e1 = (B - P) / a, e2 = (B - Q) / b;
-        if constexpr (kChecked) st.margin[g] = std::abs(value(cross(e1, e2).v));
+        if constexpr (kChecked) st.margin[g] = abs(plain(cross(e1, e2).v));
         place(e1, e2);
         break;
       }
@@ -239,12 +278,12 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const Jet<S> wn = dot(w, n);
         const Jet<S> disc = constant(S(a * a)) - wn * wn;
         if constexpr (kChecked)
-          if (!(value(disc.v) > 0)) return st.failed = static_cast<int>(g), false;
+          if (!positive_everywhere(disc.v)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = dot(w, u) + sqrt(disc) * double(gr.branch);
         const Vec<S> B = T + s * u;
         st.point[static_cast<size_t>(gr.joint)] = B;
         st.slide[static_cast<size_t>(gr.second)] = s;
-        if constexpr (kChecked) st.margin[g] = std::sqrt(value(disc.v)) / std::abs(value(a));
+        if constexpr (kChecked) st.margin[g] = sqrt(plain(disc.v)) / abs(plain(a));
         place((B - P) / a, u);
         break;
       }
@@ -255,12 +294,12 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const Jet<S> d2 = dot(d, d);
         const Jet<S> s2 = d2 - constant(S(offset * offset));
         if constexpr (kChecked)
-          if (!(value(s2.v) > 0)) return st.failed = static_cast<int>(g), false;
+          if (!positive_everywhere(s2.v)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = sqrt(s2);
         const Vec<S> rd = rot90(d);
         const Vec<S> u{(s * d.x - offset * rd.x) / d2, (s * d.y - offset * rd.y) / d2};
         st.slide[static_cast<size_t>(gr.first)] = s;
-        if constexpr (kChecked) st.margin[g] = value(s.v) / std::sqrt(value(d2.v));
+        if constexpr (kChecked) st.margin[g] = plain(s.v) / sqrt(plain(d2.v));
         place(u, u);
         break;
       }
@@ -274,12 +313,12 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const Vec<S> q = P - line_origin(second, n);
         const Jet<S> det = cross(u, w);
         if constexpr (kChecked)
-          if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
+          if (!positive_everywhere(abs(plain(det.v)))) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = cross(q, w) / det, t = cross(u, q) / det;
         st.point[static_cast<size_t>(gr.joint)] = P - t * w;
         st.slide[static_cast<size_t>(gr.second)] = s;
         st.slide[static_cast<size_t>(gr.first)] = t;
-        if constexpr (kChecked) st.margin[g] = std::abs(value(det.v));
+        if constexpr (kChecked) st.margin[g] = abs(plain(det.v));
         place(w, u);
         break;
       }
@@ -292,12 +331,12 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const Vec<S> d = line_origin(second, rot90(u2)) - T1;
         const Jet<S> det = cross(u1, u2);
         if constexpr (kChecked)
-          if (!(std::abs(value(det.v)) > 0)) return st.failed = static_cast<int>(g), false;
+          if (!positive_everywhere(abs(plain(det.v)))) return st.failed = static_cast<int>(g), false;
         const Jet<S> s1 = cross(d, u2) / det, s2 = cross(d, u1) / det;
         st.point[static_cast<size_t>(gr.joint)] = T1 + s1 * u1;
         st.slide[static_cast<size_t>(gr.first)] = s1;
         st.slide[static_cast<size_t>(gr.second)] = s2;
-        if constexpr (kChecked) st.margin[g] = std::abs(value(det.v));
+        if constexpr (kChecked) st.margin[g] = abs(plain(det.v));
         place(u1, u2);
         break;
       }
