@@ -98,6 +98,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
+    std::vector<mech::AngleQuery*> lane_queries;              // run_searches' block
   };
 
   template <class S>
@@ -272,11 +273,16 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
  private:
   // Runs searches [from, to) of ws (their quantities ws.asked[from, to)),
-  // slopes from the chain on a Dual in phi.
+  // slopes from the chain on a Dual in phi. Values and the jets' slopes go
+  // kLanes queries at a time through the grid's lanes (each lane solve's
+  // bits; a block with a lane that cannot assemble goes query by query).
   void run_searches(Workspace& ws, size_t from, size_t to) const {
     const Chain& c = d_.chain;
+    const double sense = c.crank().sense, phase = ws.plain[static_cast<size_t>(c.crank().phase)];
+    auto& lanes = *ws.lanes;
+    auto& block = ws.lane_queries;
     mech::find_cycle_maxima(std::span(ws.searches.data() + from, to - from), [&](std::span<mech::AngleQuery> qs) {
-      for (mech::AngleQuery& a : qs) {
+      auto one = [&](mech::AngleQuery& a) {
         const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
         // A value, or a slope the jets give, on doubles; else on a Dual in phi.
         const bool dual = a.slope && !has_jet_slope(q.kind);
@@ -284,12 +290,43 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
                              : mech::linkage::solve(c, ws.plain.data(), a.phi, ws.sd);
         if (!ok && (q.kind != Kind::margin || (dual ? ws.sdual.failed : ws.sd.failed) <= q.index)) {
           a.out = a.slope ? 0.0 : 1.0;  // past a failure: above every margin
-          continue;
+          return;
         }
         if (dual) a.out = quantity(q, ws.vdual.data(), ws.sdual, ws).d;
         else if (a.slope) a.out = jet_slope(d_, q, ws.plain.data(), ws.sd);
         else a.out = quantity(q, ws.plain.data(), ws.sd, ws);
+      };
+      auto on_lanes = [&](const mech::AngleQuery& a) {
+        const Kind k = ws.asked[from + static_cast<size_t>(a.fn)].kind;
+        return lane_kind(k) && !(a.slope && !has_jet_slope(k));
+      };
+      auto run_block = [&] {
+        const int m = static_cast<int>(block.size());
+        mech::Lanes phi, cp, sp;
+        for (int j = 0; j < mech::kLanes; ++j) {
+          phi[j] = block[static_cast<size_t>(std::min(j, m - 1))]->phi;
+          cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
+        }
+        if (!mech::linkage::solve_lanes<mech::Lanes, true>(c, lanes.v.data(), phi, cp, sp, 1.0, 0.0, lanes.st)) {
+          for (mech::AngleQuery* a : block) one(*a);
+        } else {
+          for (int j = 0; j < m; ++j) {
+            mech::AngleQuery& a = *block[static_cast<size_t>(j)];
+            const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
+            a.out = (a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws))[j];
+          }
+        }
+        block.clear();
+      };
+      for (mech::AngleQuery& a : qs) {
+        if (!on_lanes(a)) {
+          one(a);
+          continue;
+        }
+        block.push_back(&a);
+        if (block.size() == mech::kLanes) run_block();
       }
+      if (!block.empty()) run_block();
     }, ws.cycle);
   }
 

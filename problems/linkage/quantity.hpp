@@ -89,7 +89,15 @@ template <class T>
 T jet_slope(const Description& d, const Quantity& q, const T* v, const mech::linkage::State<T>& st) {
   const mech::linkage::Chain& c = d.chain;
   const T& w = v[c.crank().speed];
-  auto sign = [](const T& x) { return double((mech::value(x) > 0) - (mech::value(x) < 0)); };
+  auto sign = [](const T& x) {  // (on lanes, each lane's)
+    if constexpr (mech::is_lanes<T>) {
+      mech::Lanes s;
+      for (int j = 0; j < mech::kLanes; ++j) s[j] = double((x[j] > 0) - (x[j] < 0));
+      return s;
+    } else {
+      return double((mech::value(x) > 0) - (mech::value(x) < 0));
+    }
+  };
   auto sine = [&](bool pressure) {  // the group's pressure (transmission) sine as a jet
     const auto& g = c.groups()[static_cast<size_t>(q.index)];
     const auto &e1 = st.axis[static_cast<size_t>(g.first)], &e2 = st.axis[static_cast<size_t>(g.second)];
