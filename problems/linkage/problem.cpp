@@ -98,7 +98,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
-    std::vector<mech::AngleQuery*> lane_queries;              // run_searches' block
+    std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi)
+    std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
   };
 
   template <class S>
@@ -296,9 +297,24 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         else if (a.slope) a.out = jet_slope(d_, q, ws.plain.data(), ws.sd);
         else a.out = quantity(q, ws.plain.data(), ws.sd, ws);
       };
-      auto on_lanes = [&](const mech::AngleQuery& a) {
-        const Kind k = ws.asked[from + static_cast<size_t>(a.fn)].kind;
-        return lane_kind(k) && !(a.slope && !has_jet_slope(k));
+      // Slopes beyond the jets: on a LaneDual in phi, kLanes at a time.
+      auto run_dual_block = [&] {
+        auto& duals = ws.dual_queries;
+        const int m = static_cast<int>(duals.size());
+        using L = mech::LaneDual<1>;
+        L phi;
+        for (int j = 0; j < mech::kLanes; ++j) phi.v[j] = duals[static_cast<size_t>(std::min(j, m - 1))]->phi;
+        phi.d[0] = mech::Lanes(1.0);
+        auto& dl = *ws.dual_lanes;
+        if (!mech::linkage::solve_lanes_at(c, dl.v.data(), phi, dl.st)) {
+          for (mech::AngleQuery* a : duals) one(*a);
+        } else {
+          for (int j = 0; j < m; ++j) {
+            mech::AngleQuery& a = *duals[static_cast<size_t>(j)];
+            a.out = quantity(ws.asked[from + static_cast<size_t>(a.fn)], dl.v.data(), dl.st, ws).d[0][j];
+          }
+        }
+        duals.clear();
       };
       auto run_block = [&] {
         const int m = static_cast<int>(block.size());
@@ -319,14 +335,19 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         block.clear();
       };
       for (mech::AngleQuery& a : qs) {
-        if (!on_lanes(a)) {
+        const Kind k = ws.asked[from + static_cast<size_t>(a.fn)].kind;
+        if (!lane_kind(k)) {
           one(a);
-          continue;
+        } else if (a.slope && !has_jet_slope(k)) {
+          ws.dual_queries.push_back(&a);
+          if (ws.dual_queries.size() == mech::kLanes) run_dual_block();
+        } else {
+          block.push_back(&a);
+          if (block.size() == mech::kLanes) run_block();
         }
-        block.push_back(&a);
-        if (block.size() == mech::kLanes) run_block();
       }
       if (!block.empty()) run_block();
+      if (!ws.dual_queries.empty()) run_dual_block();
     }, ws.cycle);
   }
 
@@ -400,8 +421,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const Chain& c = d_.chain;
     const int n = d_.cycle_points;
     const size_t un = static_cast<size_t>(n), nq = ws.asked.size();
-    if (ws.lanes) ws.lanes->reset(vd);
-    else ws.lanes.emplace(c, vd);
+    if (ws.lanes) ws.lanes->reset(vd), ws.dual_lanes->reset(ws.vdual.data());
+    else ws.lanes.emplace(c, vd), ws.dual_lanes.emplace(c, ws.vdual.data());
     auto& lanes = *ws.lanes;
     const double sense = c.crank().sense, phase = vd[c.crank().phase];
     for (int k = 0; k < n; k += mech::kLanes) {

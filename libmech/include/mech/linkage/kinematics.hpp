@@ -168,6 +168,21 @@ bool solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, 
   return detail::solve_groups<L, kChecked>(c, v, st);
 }
 
+// The same at kLanes crank angles phi given on L itself (a LaneDual in
+// phi: the slopes a third order needs), the crank's axis from cos and sin
+// of its angle as solve's on a Dual in phi: lane by lane solve's bits.
+template <class L, bool kChecked = true>
+bool solve_lanes_at(const Chain& c, const L* v, const L& phi, State<L>& st) {
+  static_assert(is_lanes<L>);
+  st.failed = kNone;
+  st.phi = phi;
+  const Crank& k = c.crank();
+  const double sense = k.sense;
+  const Jet<L> theta{L(v[k.phase] + sense * phi), L(sense), L(0.0)};
+  detail::place_crank(c, v, st, Vec<L>{cos(theta), sin(theta)});
+  return detail::solve_groups<L, kChecked>(c, v, st);
+}
+
 // The chain on lanes for one design (what a cycle mean's Gauss nodes
 // ask, kLanes at a time): its values broadcast from the scalar S, its
 // crank phase's cosine and sine, a state to solve in.
