@@ -57,7 +57,8 @@ void expect_lanes_equal_scalars(const Chain& c, const std::vector<S0>& v, const 
       same(a.x.v, b.x.v, j, 1, name + ".x"), same(a.y.v, b.y.v, j, 1, name + ".y");
       same(a.x.d, b.x.d, j, 1, name + ".x'"), same(a.y.dd, b.y.dd, j, 1, name + ".y''");
     }
-    const double torque_scale = 1 + std::abs(mech::value(ds.torque)), energy_scale = 1 + std::abs(mech::value(ds.energy));
+    const double torque_scale = 1 + std::abs(mech::value(ds.torque));
+    const double energy_scale = 1 + std::abs(mech::value(ds.energy));
     same(dl.torque, ds.torque, j, torque_scale, "torque");
     same(dl.energy, ds.energy, j, energy_scale, "energy");
   }

@@ -147,7 +147,8 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
     if (!mech::linkage::switching(l)) {
       // A force's s comes back: no work. A torque's angle may turn round:
       // its constant size times the turns (no design derivative).
-      if (!force) add(l, S(v[l.value] * (mech::kTwoPi * detail::turns_between(l, 0.0, mech::kTwoPi, grid, grid[0], grid[0]))));
+      if (!force)
+        add(l, S(v[l.value] * (mech::kTwoPi * detail::turns_between(l, 0.0, mech::kTwoPi, grid, grid[0], grid[0]))));
       continue;
     }
     ends.clear();

@@ -1,0 +1,208 @@
+// A linkage's cycle means (problems/linkage/problem.cpp's evaluation):
+// the torque's |M| and M^2 by Gauss-Legendre arcs between its kinks, the
+// chain kLanes nodes at a time; the mean torque from the loads' work at
+// its arcs' ends where every load's allows (work.hpp), else by Gauss with
+// the torque's; the mean energy by the trapezoid rule on the grid where
+// the poles are far; the flywheel's work swing. W: the problem's
+// workspace (its grid's states, scratch and the values as doubles).
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "mech/linkage/dynamics.hpp"
+#include "mech/quadrature.hpp"
+#include "problems/linkage/description.hpp"
+#include "problems/linkage/kinks.hpp"
+#include "problems/linkage/metrics.hpp"
+#include "problems/linkage/work.hpp"
+#include "problems/model_problem.hpp"
+
+namespace problems::linkage {
+
+// The mean kinetic energy. It is smooth and periodic: the trapezoid
+// rule on the n-point grid errs like e^(-n w), w the half-width of the
+// strip around the real axis where it is analytic (the nearest pole's
+// imaginary part; a margin's quadratic model overstates a slider-crank's
+// sqrt(lambda^2 - 1) for its acosh(lambda) = asinh of it, which is taken
+// instead). Where n w >= 2 kPoleDigits the grid's states serve (solved
+// on S for a gradient); nearer a pole, Gauss panels graded toward it.
+template <class S, class W>
+S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<mech::NearPole>& near,
+              mech::linkage::LaneSolver<S>& lanes, W& ws) {
+  using L = mech::lanes_of<S>;
+  const mech::linkage::Chain& c = d.chain;
+  const int n = d.cycle_points;
+  const S& w = v[static_cast<size_t>(c.crank().speed)];
+  bool grid = true;
+  for (const mech::NearPole& p : near) grid = grid && n * std::asinh(p.width) >= 2 * mech::kPoleDigits;
+  if (!grid) {
+    const L ww = mech::LaneForm<S>::broadcast(S(w * w / 2.0));
+    return mech::piecewise_means<S>(
+               [&](const mech::Lanes& phi, const mech::Lanes& cp, const mech::Lanes& sp) {
+                 return L(mech::linkage::body_sums(c, lanes.v.data(), lanes.at(phi, cp, sp)).inertia * ww);
+               },
+               {}, 2 * n, ws.cycle, near)
+        .mean;
+  }
+  mech::linkage::State<S> ss;
+  if constexpr (mech::is_dual<S>) ss.resize(c);
+  S sum(0.0);
+  for (int i = 0; i < n; ++i) {
+    if constexpr (mech::is_dual<S>) {
+      mech::linkage::solve(c, v.data(), S(mech::kTwoPi * i / n), ss);
+      sum += mech::linkage::body_sums(c, v.data(), ss).inertia;
+    } else {
+      sum += mech::linkage::body_sums(c, v.data(), ws.grid[static_cast<size_t>(i)]).inertia;
+    }
+  }
+  return S(sum * w * w / (2.0 * n));
+}
+
+// The largest swing of the work W(phi) = integral from 0 to phi of (M -
+// mean M): W at the zeros of M - mean M (its extremes, found on the grid
+// and refined) by Gauss on the arcs between them and the torque's kinks
+// (a kink inside an arc would cost Gauss its accuracy), the largest less
+// the smallest (W' = 0 at the extremes: holding them is exact for the
+// gradient; W at a kink lies between them).
+template <class S, class W>
+S work_swing(const Description& d, const opt::Values<S>& v, const S& mean, const std::vector<double>& kinks,
+             const std::vector<Jump<S>>& js, const std::vector<mech::NearPole>& near, W& ws) {
+  const mech::linkage::Chain& c = d.chain;
+  const int n = d.cycle_points;
+  const double mean_d = mech::value(mean);
+  auto excess = [&](const mech::linkage::State<double>& st) {
+    return mech::linkage::drive_point(c, ws.plain.data(), st).torque - mean_d;
+  };
+  ws.grids.resize(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) ws.grids[static_cast<size_t>(i)] = excess(ws.grid[static_cast<size_t>(i)]);
+  const std::span<const double> grid[1] = {std::span<const double>(ws.grids.data(), static_cast<size_t>(n))};
+  std::vector<double> zeros = mech::periodic_roots_together(std::span(grid), [&](std::span<mech::AngleQuery> qs) {
+    for (mech::AngleQuery& q : qs) {
+      mech::linkage::solve(c, ws.plain.data(), q.phi, ws.sd);
+      q.out = excess(ws.sd);
+    }
+  });
+  if (zeros.size() < 2) return S(0.0);
+  zeros.insert(zeros.end(), kinks.begin(), kinks.end());
+  std::sort(zeros.begin(), zeros.end());  // each end once (a jump is a zero and a kink: its motion once)
+  zeros.erase(std::unique(zeros.begin(), zeros.end(), [](double a, double b) { return b - a < 1e-9; }), zeros.end());
+  mech::linkage::State<S> ss;
+  ss.resize(c);
+  S work(0.0), top(0.0), bottom(0.0);
+  for (size_t j = 0; j < zeros.size(); ++j) {
+    const double a = zeros[j], b = j + 1 < zeros.size() ? zeros[j + 1] : zeros[0] + mech::kTwoPi;
+    work -= jump_term(js, a, false, mean_d);  // a pressure law's jumps move with the design
+    mech::for_each_panel(a, b, 2 * n, near, [&](double mid, double half, int nodes) {
+      const mech::GaussRule& rule = mech::gauss_rule(nodes);
+      for (size_t i = 0; i < static_cast<size_t>(rule.m + 1) / 2; ++i) {
+        const bool centre = 2 * i + 1 == static_cast<size_t>(rule.m);
+        const double t = centre ? 0.0 : half * rule.nodes[i].first, weight = rule.nodes[i].second * half;
+        for (double phi : {mid + t, mid - t}) {
+          mech::linkage::solve(c, v.data(), S(phi), ss);
+          work += weight * (mech::linkage::drive_point(c, v.data(), ss).torque - mean);
+          if (centre) break;
+        }
+      }
+    });
+    work += jump_term(js, b, true, mean_d);
+    if (mech::value(work) > mech::value(top)) top = work;
+    if (mech::value(work) < mech::value(bottom)) bottom = work;
+  }
+  return S(top - bottom);
+}
+
+// The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
+// the torque's kinks (2 n nodes a revolution, the chain kLanes nodes at a
+// time), the loads' work from its arcs' ends where it can, the energy on
+// the grid. Returns the mean kinetic energy (0 when not computed).
+template <class S, class W>
+S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_law,
+            const std::vector<mech::NearPole>& near, const opt::Values<S>& v, MetricSink<S>& out, W& ws) {
+  using mech::Lanes;
+  using L = mech::lanes_of<S>;
+  const mech::linkage::Chain& c = d.chain;
+  mech::linkage::LaneSolver<S> lanes(c, v.data());
+  const int nodes = 2 * d.cycle_points;
+  const S& w = v[static_cast<size_t>(c.crank().speed)];
+  // Which integrals the wanted means need: the torque's (|M|, M^2), the
+  // loads' power (the mean torque: inertia, gravity and springs give
+  // back over a cycle what they take, so the mean is the loads' work,
+  // free of the cancellation of a large periodic torque: exactly zero
+  // without loads), the energy's.
+  bool torque = false, work = false, energy = false, flywheel = false;
+  for (size_t m = 0; m < metrics.size(); ++m) {
+    if (!out.want(static_cast<int>(m)) || metrics[m].form < Form::mean) continue;
+    if (metrics[m].q.kind == Kind::energy) energy = energy || metrics[m].form <= Form::k2;  // (k1, k2 too)
+    else if (metrics[m].form == Form::flywheel || metrics[m].form == Form::swing) flywheel = work = true;
+    else (metrics[m].form == Form::mean ? work : torque) = true;
+  }
+  const mech::ArcMeans<S> none{S(0.0), S(0.0), S(0.0)};
+  mech::ArcMeans<S> mt = none, ml = none, me = none;
+  // The loads' work from its arcs' ends where every load's allows
+  // (work.hpp): then the kinks only where the torque's own means need them.
+  const bool by_ends = work && work_from_ends(c);
+  const bool arcs = torque || flywheel || (work && !by_ends);
+  std::vector<std::pair<double, int>> switches;
+  const std::vector<double> kinks = arcs || by_ends ? torque_kinks(c, ws.plain.data(), d.cycle_points, ws.zero_grids,
+                                                                   ws.sd, ws.grid, &switches, arcs)
+                                                    : std::vector<double>{};
+  std::vector<Jump<S>> js;
+  if (has_law && arcs) {
+    contacts(c, ws.plain.data(), d.cycle_points, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
+    js = jumps(c, v.data(), ws.plain.data(), std::span<const Contact>(ws.contacts), ws.sd);
+  }
+  // Both on the same arcs: the torque's pass keeps the loads' power at
+  // its nodes, which the work's pass visits in the same order.
+  const bool fused = work && !by_ends;
+  auto loads = [&](const Lanes& phi, const mech::linkage::State<L>& st) {
+    return L(-mech::linkage::load_power(c, lanes.v.data(), st, L(phi), false));
+  };
+  std::vector<L> power;
+  size_t next = 0;
+  if (torque)
+    mt = mech::piecewise_means<S>(
+        [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {
+          const mech::linkage::State<L>& st = lanes.at(phi, cp, sp);
+          if (fused) power.push_back(loads(phi, st));
+          return mech::linkage::drive_point(c, lanes.v.data(), st).torque;
+        },
+        kinks, nodes, ws.cycle, near);
+  mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
+  if (by_ends) {
+    mech::linkage::State<double> se;
+    se.resize(c);
+    mech::linkage::State<S> sa, sb;
+    sa.resize(c);
+    sb.resize(c);
+    ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, ws.grid, ws.sd, se, sa, sb);
+  } else if (work) {
+    ml = mech::piecewise_means<S>(
+        [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {
+          return torque ? power.at(next++) : loads(phi, lanes.at(phi, cp, sp));
+        },
+        kinks, nodes, ws.cycle, near);
+  }
+  if (energy) me.mean = energy_mean(d, v, near, lanes, ws);
+  S swing(0.0);
+  add_jumps(js, mt, by_ends ? unused : ml);
+  if (flywheel) swing = work_swing(d, v, ml.mean, kinks, js, near, ws);
+  for (size_t m = 0; m < metrics.size(); ++m) {
+    const Metric& mt_m = metrics[m];
+    if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
+    using std::sqrt;
+    if (mt_m.form >= Form::k1) continue;  // put by the caller
+    if (mt_m.form == Form::swing)
+      out.put(static_cast<int>(m), swing);
+    else if (mt_m.form == Form::flywheel)
+      out.put(static_cast<int>(m), S(swing / (v[static_cast<size_t>(d.speed_fluctuation)] * w * w)));
+    else if (mt_m.q.kind == Kind::energy) out.put(static_cast<int>(m), me.mean);
+    else if (mt_m.form == Form::mean) out.put(static_cast<int>(m), ml.mean);
+    else out.put(static_cast<int>(m), mt_m.form == Form::mean_abs ? mt.mean_abs : S(sqrt(mt.mean_square)));
+  }
+  return me.mean;
+}
+
+}  // namespace problems::linkage
