@@ -63,10 +63,6 @@ void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
     st.point[static_cast<size_t>(lp.point)] = o + v[lp.u] * e + v[lp.v] * n;
 }
 
-}  // namespace detail
-
-namespace detail {
-
 // The ground points, then the crank at its axis e (with its transfer
 // functions) and the points on it.
 template <class S>
