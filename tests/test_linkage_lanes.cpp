@@ -94,8 +94,8 @@ TEST(LinkageLanes, EveryShippedLinkageAtFourAnglesAtOnce) {
   EXPECT_GE(n, 10);
 }
 
-// The grid's form (solve_lanes checked, the crank angle's own cosine and
-// sine, pc = 1, ps = 0): every lane the same bits as solve at its angle,
+// The grid's form (solve_lanes_exact: checked, the crank angle's own
+// cosine and sine, pc = 1, ps = 0): every lane the same bits as solve at its angle,
 // margins, torque and energy too (the lanes take the C library's sin, cos,
 // exp, atan2 and sqrt lane by lane, the same operations in the same order).
 TEST(LinkageLanes, TheGridsLanesAreTheScalarChainsBits) {
@@ -106,14 +106,10 @@ TEST(LinkageLanes, TheGridsLanesAreTheScalarChainsBits) {
     mech::linkage::LaneSolver<double> lanes(c, v.data());
     State<double> ss;
     ss.resize(c);
-    const double sense = c.crank().sense, phase = v[static_cast<size_t>(c.crank().phase)];
     for (int k = 0; k < 16; k += mech::kLanes) {
-      Lanes phi, cp, sp;
-      for (int j = 0; j < mech::kLanes; ++j) {
-        phi[j] = 2 * std::numbers::pi * (k + j) / 16;
-        cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
-      }
-      ASSERT_TRUE((mech::linkage::solve_lanes<Lanes, true>(c, lanes.v.data(), phi, cp, sp, 1.0, 0.0, lanes.st)));
+      Lanes phi;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = 2 * std::numbers::pi * (k + j) / 16;
+      ASSERT_TRUE(mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st));
       const auto dl = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
       for (int j = 0; j < mech::kLanes; ++j) {
         ASSERT_TRUE(mech::linkage::solve(c, v.data(), phi[j], ss));

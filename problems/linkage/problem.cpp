@@ -279,7 +279,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // bits; a block with a lane that cannot assemble goes query by query).
   void run_searches(Workspace& ws, size_t from, size_t to) const {
     const Chain& c = d_.chain;
-    const double sense = c.crank().sense, phase = ws.plain[static_cast<size_t>(c.crank().phase)];
     auto& lanes = *ws.lanes;
     auto& block = ws.lane_queries;
     mech::find_cycle_maxima(std::span(ws.searches.data() + from, to - from), [&](std::span<mech::AngleQuery> qs) {
@@ -318,12 +317,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       };
       auto run_block = [&] {
         const int m = static_cast<int>(block.size());
-        mech::Lanes phi, cp, sp;
-        for (int j = 0; j < mech::kLanes; ++j) {
-          phi[j] = block[static_cast<size_t>(std::min(j, m - 1))]->phi;
-          cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
-        }
-        if (!mech::linkage::solve_lanes<mech::Lanes, true>(c, lanes.v.data(), phi, cp, sp, 1.0, 0.0, lanes.st)) {
+        mech::Lanes phi;
+        for (int j = 0; j < mech::kLanes; ++j) phi[j] = block[static_cast<size_t>(std::min(j, m - 1))]->phi;
+        if (!mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st)) {
           for (mech::AngleQuery* a : block) one(*a);
         } else {
           for (int j = 0; j < m; ++j) {
@@ -414,10 +410,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   }
 
   // The chain and the asked quantities at the n grid angles, kLanes at a
-  // time: solve_lanes checked, from the crank angle's own cosine and sine,
-  // the same bits as solve at each angle (the chain's lanes take the C
-  // library's functions); a block where some lane cannot assemble goes
-  // angle by angle, to name the first that fails.
+  // time (solve_lanes_exact: the same bits as solve at each angle); a
+  // block where some lane cannot assemble goes angle by angle, to name the
+  // first that fails.
   template <class S>
   bool solve_grid(const double* vd, MetricSink<S>& out, Workspace& ws) const {
     const Chain& c = d_.chain;
@@ -426,16 +421,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (ws.lanes) ws.lanes->reset(vd), ws.dual_lanes->reset(ws.vdual.data());
     else ws.lanes.emplace(c, vd), ws.dual_lanes.emplace(c, ws.vdual.data());
     auto& lanes = *ws.lanes;
-    const double sense = c.crank().sense, phase = vd[c.crank().phase];
     for (int k = 0; k < n; k += mech::kLanes) {
       const int m = std::min(mech::kLanes, n - k);
-      mech::Lanes phi, cp, sp;
-      for (int j = 0; j < mech::kLanes; ++j) {
-        phi[j] = mech::kTwoPi * (k + std::min(j, m - 1)) / n;
-        cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
-      }
-      const bool whole =
-          mech::linkage::solve_lanes<mech::Lanes, true>(c, lanes.v.data(), phi, cp, sp, 1.0, 0.0, lanes.st);
+      mech::Lanes phi;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, m - 1)) / n;
+      const bool whole = mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st);
       for (int j = 0; j < m; ++j) {
         State<double>& st = ws.grid[static_cast<size_t>(k + j)];
         if (whole) mech::linkage::lane_state(lanes.st, j, st);

@@ -44,17 +44,25 @@ bool inertial(const Link& l, const S* v, const State<S>& st, int k, Inertial<S>&
   return true;
 }
 
-// A table's value at x (linear between rows, constant outside).
+// A table's row at x: its value y0 + slope (x - x0) there (linear between
+// rows; constant outside, slope 0).
+struct TableRow {
+  double y0, x0, slope;
+};
+inline TableRow table_row(const Load& l, double x) {
+  const auto& xs = l.xs;
+  if (x <= xs.front()) return {l.ys.front(), 0.0, 0.0};
+  if (x >= xs.back()) return {l.ys.back(), 0.0, 0.0};
+  size_t i = 1;
+  while (xs[i] < x) ++i;
+  return {l.ys[i - 1], xs[i - 1], (l.ys[i] - l.ys[i - 1]) / (xs[i] - xs[i - 1])};
+}
+
+// A table's value at x.
 template <class S>
 S interpolate(const Load& l, const S& x) {
-  const auto& xs = l.xs;
-  const double xv = value(x);
-  if (xv <= xs.front()) return S(l.ys.front());
-  if (xv >= xs.back()) return S(l.ys.back());
-  size_t i = 1;
-  while (xs[i] < xv) ++i;
-  const double slope = (l.ys[i] - l.ys[i - 1]) / (xs[i] - xs[i - 1]);
-  return S(l.ys[i - 1] + slope * (x - xs[i - 1]));
+  const TableRow r = table_row(l, value(x));
+  return S(r.y0 + r.slope * (x - r.x0));
 }
 
 // The rate whose sign switches load l (a `when`, an opposing load, a
@@ -181,14 +189,8 @@ L lane_loads(const Chain& c, const L* v, const State<L>& st, const Lanes& phi) {
       Lanes x = lane_values(coordinate), y0, slope(0.0), x0(0.0);
       for (int j = 0; j < kLanes; ++j) {
         if (!by_position) x[j] = phi[j] + (wrap_angle(phi[j]) - phi[j]);  // phi in [0, 2 pi)
-        const auto& xs = l.xs;
-        if (x[j] <= xs.front() || x[j] >= xs.back()) {
-          y0[j] = x[j] <= xs.front() ? l.ys.front() : l.ys.back();
-          continue;
-        }
-        size_t i = 1;
-        while (xs[i] < x[j]) ++i;
-        y0[j] = l.ys[i - 1], x0[j] = xs[i - 1], slope[j] = (l.ys[i] - l.ys[i - 1]) / (xs[i] - xs[i - 1]);
+        const TableRow row = table_row(l, x[j]);
+        y0[j] = row.y0, x0[j] = row.x0, slope[j] = row.slope;
       }
       size = L(L(y0) + L(slope) * L((by_position ? coordinate : L(x)) - L(x0)));
     }

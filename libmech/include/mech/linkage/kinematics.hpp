@@ -164,6 +164,17 @@ bool solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, 
   return detail::solve_groups<L, kChecked>(c, v, st);
 }
 
+// solve_lanes in the form of the grid and the searches: checked, the
+// crank's axis from the cosine and sine of its own angle in each lane (pc =
+// 1, ps = 0), so each lane is solve's bits at its angle.
+inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, State<Lanes>& st) {
+  const double sense = c.crank().sense, phase = v[c.crank().phase][0];
+  Lanes cp, sp;
+  for (int j = 0; j < kLanes; ++j)
+    cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
+  return solve_lanes<Lanes, true>(c, v, phi, cp, sp, 1.0, 0.0, st);
+}
+
 // The same at kLanes crank angles phi given on L itself (a LaneDual in
 // phi: the slopes a third order needs), the crank's axis from cos and sin
 // of its angle as solve's on a Dual in phi: lane by lane solve's bits.
