@@ -10,7 +10,8 @@
 // the quadrature's cosine and sine (simd.hpp's sincos), the scalar chain
 // the C library's cosine and sine of the whole angle: the two agree to
 // 1e-12 of each quantity's scale. From the crank angle's own cosine and
-// sine (the grid's form), a lane is the scalar chain's bits.
+// sine (the grid's form), a lane is the scalar chain's bits; so every
+// metric is the same bits with or without its gradient.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 
 #include "mech/linkage/dynamics.hpp"
 #include "opt/config.hpp"
+#include "opt/registry.hpp"
 #include "problems/linkage/description.hpp"
 
 namespace {
@@ -145,3 +147,26 @@ TEST(LinkageLanes, ATableOverTheCrankAngleRowByLane) {
 }
 
 }  // namespace
+
+// A value is the same bits with or without its gradient (a driver's line
+// search that asks for the value alone would read a difference as slope):
+// every metric of every shipped linkage with variables, at its start.
+TEST(LinkageLanes, AValueIsTheSameBitsWithOrWithoutItsGradient) {
+  int checked = 0;
+  for (const auto& f : std::filesystem::directory_iterator(std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage")) {
+    const auto p = opt::make_problem(opt::ConfigNode::load(f.path().string()));
+    if (p->variables().empty()) continue;
+    const Eigen::VectorXd x = p->initial_point();
+    const opt::Evaluation plain = p->evaluate(x, opt::MetricSet::all(), false);
+    const opt::Evaluation with = p->evaluate(x, opt::MetricSet::all(), true);
+    ASSERT_TRUE(plain.ok()) << f.path() << ": " << plain.message;
+    ASSERT_TRUE(with.ok()) << f.path() << ": " << with.message;
+    for (size_t m = 0; m < p->metric_names().size(); ++m) {
+      const auto id = static_cast<opt::MetricId>(m);
+      if (!plain.has(id)) continue;
+      EXPECT_EQ(plain[id].value, with[id].value) << f.path().filename() << " " << p->metric_names()[m];
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}

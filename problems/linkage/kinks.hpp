@@ -9,6 +9,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -63,11 +64,13 @@ using GridStates = std::span<const mech::linkage::State<double>>;
 // The angles in [0, 2 pi) where the functions fns cross zero (each
 // function's by grid cell), found on an n-point grid (kept in `grid`) and
 // refined; sd: a state to solve in; owner, where given: each zero's
-// function (its index in fns).
+// function (its index in fns); lanes, where given: the chain's lanes at v
+// (kept by the caller: none made per call).
 inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double* v, int n,
                                     const std::vector<KinkFn>& fns, std::vector<double>& grid,
                                     mech::linkage::State<double>& sd, GridStates solved = {},
-                                    std::vector<int>* owner = nullptr) {
+                                    std::vector<int>* owner = nullptr,
+                                    mech::linkage::LaneSolver<double>* lanes = nullptr) {
   const size_t un = static_cast<size_t>(n);
   grid.resize(fns.size() * un);
   for (int i = 0; i < n; ++i) {
@@ -80,18 +83,19 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
   // The searches' angles kLanes at a time on the chain's lanes (a lane
   // where the chain does not assemble, between grid points that do, takes
   // the scalar chain's stale state, as a lone query would).
-  mech::linkage::LaneSolver<double> lanes(c, v);
+  std::optional<mech::linkage::LaneSolver<double>> own;
+  if (!lanes) lanes = &own.emplace(c, v);
   return mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
     for (size_t i = 0; i < qs.size(); i += mech::kLanes) {
       const int m = static_cast<int>(std::min<size_t>(mech::kLanes, qs.size() - i));
       mech::Lanes phi, cp, sp, out;
       for (int j = 0; j < mech::kLanes; ++j) phi[j] = qs[i + static_cast<size_t>(std::min(j, m - 1))].phi;
       mech::sincos(phi, sp, cp);
-      const auto& st = lanes.at(phi, cp, sp);
+      const auto& st = lanes->at(phi, cp, sp);
       for (int j = 0; j < m; ++j) {
         mech::AngleQuery& q = qs[i + static_cast<size_t>(j)];
         if (j == 0 || q.fn != qs[i + static_cast<size_t>(j) - 1].fn)
-          out = kink_value(c, fns[static_cast<size_t>(q.fn)], st, lanes.v.data());
+          out = kink_value(c, fns[static_cast<size_t>(q.fn)], st, lanes->v.data());
         q.out = out[j];
         if (!std::isfinite(q.out)) {
           mech::linkage::solve(c, v, q.phi, sd);
@@ -106,11 +110,11 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
 // on or off, turns against a motion that reverses, or crosses a table's
 // row or a law's contact): the arcs of its means. With `torque` false,
 // the switches alone. switches, where given: each switching load's zeros
-// of its switch_rate, with the load.
+// of its switch_rate, with the load. lanes: as zeros_of's.
 inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const double* v, int n,
                                         std::vector<double>& grid, mech::linkage::State<double>& sd,
                                         GridStates solved = {}, std::vector<std::pair<double, int>>* switches = nullptr,
-                                        bool torque = true) {
+                                        bool torque = true, mech::linkage::LaneSolver<double>* lanes = nullptr) {
   using mech::linkage::Load;
   std::vector<KinkFn> fns;
   if (torque) fns.push_back({-1, -1});
@@ -124,7 +128,7 @@ inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const dou
     if (l.law_a != mech::linkage::kNone) fns.push_back({li, kDepth});
   }
   std::vector<int> owner;
-  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd, solved, &owner);
+  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd, solved, &owner, lanes);
   if (switches) {
     switches->clear();
     for (size_t z = 0; z < kinks.size(); ++z)

@@ -8,7 +8,9 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -22,19 +24,32 @@
 
 namespace problems::linkage {
 
+// What the means keep from one evaluation to the next on scalar S (the
+// workspace's `means` holds one per scalar, MeansScratches: no allocation
+// once warm): the chain's lanes at the design, and states to solve in.
+template <class S>
+struct MeansScratch {
+  std::optional<mech::linkage::LaneSolver<S>> lanes;
+  mech::linkage::State<S> a, b;
+  mech::linkage::State<double> e;
+};
+using MeansScratches = std::tuple<MeansScratch<double>, MeansScratch<mech::Dual>, MeansScratch<mech::DualN<2>>,
+                                  MeansScratch<mech::DualN<3>>, MeansScratch<mech::DualN<4>>>;
+
 // The mean kinetic energy. It is smooth and periodic: the trapezoid
 // rule on the n-point grid errs like e^(-n w), w the half-width of the
 // strip around the real axis where it is analytic (the nearest pole's
 // imaginary part; a margin's quadratic model overstates a slider-crank's
 // sqrt(lambda^2 - 1) for its acosh(lambda) = asinh of it, which is taken
-// instead). Where n w >= 2 kPoleDigits the grid's states serve (solved
-// on S for a gradient); nearer a pole, Gauss panels graded toward it.
+// instead). Where n w >= 2 kPoleDigits the grid serves: its energies
+// (`energies`, where the grid has them) or its states (solved on S, on
+// lanes, for a gradient); nearer a pole, Gauss panels graded toward it.
 template <class S, class W>
 S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<mech::NearPole>& near,
-              mech::linkage::LaneSolver<S>& lanes, W& ws) {
+              mech::linkage::LaneSolver<S>& lanes, const double* energies, W& ws) {
   using L = mech::lanes_of<S>;
   const mech::linkage::Chain& c = d.chain;
-  const int n = d.cycle_points;
+  const int n = static_cast<int>(ws.grid.size());
   const S& w = v[static_cast<size_t>(c.crank().speed)];
   bool grid = true;
   for (const mech::NearPole& p : near) grid = grid && n * std::asinh(p.width) >= 2 * mech::kPoleDigits;
@@ -47,18 +62,38 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
                {}, 2 * n, ws.cycle, near)
         .mean;
   }
-  mech::linkage::State<S> ss;
-  if constexpr (mech::is_dual<S>) ss.resize(c);
-  S sum(0.0);
-  for (int i = 0; i < n; ++i) {
-    if constexpr (mech::is_dual<S>) {
-      mech::linkage::solve(c, v.data(), S(mech::kTwoPi * i / n), ss);
-      sum += mech::linkage::body_sums(c, v.data(), ss).inertia;
-    } else {
-      sum += mech::linkage::body_sums(c, v.data(), ws.grid[static_cast<size_t>(i)]).inertia;
+  // kLanes grid angles at a time, each lane's energy (I / 2) w w as the
+  // grid's (quantity.hpp's drive_quantity), summed in one order: a value
+  // is the same bits with or without its gradient.
+  const L ww = mech::LaneForm<S>::broadcast(w);
+  L sums(0.0);
+  for (int k = 0; k < n; k += mech::kLanes) {
+    const int m = std::min(mech::kLanes, n - k);
+    if constexpr (mech::is_dual<S>) {  // the chain on S, each lane solve's bits at its angle
+      mech::Lanes phi;  // the grid's angles (problem.cpp's solve_grid)
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, m - 1)) / n;
+      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
+      sums += mech::first_lanes(L(L(mech::linkage::body_sums(c, lanes.v.data(), lanes.st).inertia / 2.0) * ww * ww), m);
+    } else {  // the grid's energies where the peak's search has them, else its states'
+      mech::Lanes e(0.0);
+      for (int j = 0; j < m; ++j) {
+        const size_t i = static_cast<size_t>(k + j);
+        e[j] = energies ? energies[i] : mech::linkage::body_sums(c, v.data(), ws.grid[i]).inertia / 2.0 * w * w;
+      }
+      sums += e;
     }
   }
-  return S(sum * w * w / (2.0 * n));
+  return S(mech::LaneForm<S>::sum(sums) / static_cast<double>(n));
+}
+
+// The grid's energies, where the evaluation asked for them (the peak's
+// search), else null.
+template <class W>
+const double* energy_grid(const W& ws) {
+  const size_t n = ws.grid.size();
+  for (size_t q = 0; q < ws.asked.size(); ++q)
+    if (ws.asked[q].kind == Kind::energy) return ws.grids.size() >= (q + 1) * n ? ws.grids.data() + q * n : nullptr;
+  return nullptr;
 }
 
 // The largest swing of the work W(phi) = integral from 0 to phi of (M -
@@ -69,9 +104,10 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
 // gradient; W at a kink lies between them).
 template <class S, class W>
 S work_swing(const Description& d, const opt::Values<S>& v, const S& mean, const std::vector<double>& kinks,
-             const std::vector<Jump<S>>& js, const std::vector<mech::NearPole>& near, W& ws) {
+             const std::vector<Jump<S>>& js, const std::vector<mech::NearPole>& near, mech::linkage::State<S>& ss,
+             W& ws) {
   const mech::linkage::Chain& c = d.chain;
-  const int n = d.cycle_points;
+  const int n = static_cast<int>(ws.grid.size());
   const double mean_d = mech::value(mean);
   auto excess = [&](const mech::linkage::State<double>& st) {
     return mech::linkage::drive_point(c, ws.plain.data(), st).torque - mean_d;
@@ -89,8 +125,6 @@ S work_swing(const Description& d, const opt::Values<S>& v, const S& mean, const
   zeros.insert(zeros.end(), kinks.begin(), kinks.end());
   std::sort(zeros.begin(), zeros.end());  // each end once (a jump is a zero and a kink: its motion once)
   zeros.erase(std::unique(zeros.begin(), zeros.end(), [](double a, double b) { return b - a < 1e-9; }), zeros.end());
-  mech::linkage::State<S> ss;
-  ss.resize(c);
   S work(0.0), top(0.0), bottom(0.0);
   for (size_t j = 0; j < zeros.size(); ++j) {
     const double a = zeros[j], b = j + 1 < zeros.size() ? zeros[j + 1] : zeros[0] + mech::kTwoPi;
@@ -124,8 +158,13 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   using mech::Lanes;
   using L = mech::lanes_of<S>;
   const mech::linkage::Chain& c = d.chain;
-  mech::linkage::LaneSolver<S> lanes(c, v.data());
-  const int nodes = 2 * d.cycle_points;
+  auto& kept = std::get<MeansScratch<S>>(ws.means);
+  if (kept.a.point.size() != c.point_names().size()) kept.a.resize(c), kept.b.resize(c), kept.e.resize(c);
+  if (kept.lanes) kept.lanes->reset(v.data());
+  else kept.lanes.emplace(c, v.data());
+  mech::linkage::LaneSolver<S>& lanes = *kept.lanes;
+  const int n = static_cast<int>(ws.grid.size());
+  const int nodes = 2 * n;
   const S& w = v[static_cast<size_t>(c.crank().speed)];
   // Which integrals the wanted means need: the torque's (|M|, M^2), the
   // loads' power (the mean torque: inertia, gravity and springs give
@@ -146,12 +185,12 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   const bool by_ends = work && work_from_ends(c);
   const bool arcs = torque || flywheel || (work && !by_ends);
   std::vector<std::pair<double, int>> switches;
-  const std::vector<double> kinks = arcs || by_ends ? torque_kinks(c, ws.plain.data(), d.cycle_points, ws.zero_grids,
-                                                                   ws.sd, ws.grid, &switches, arcs)
+  const std::vector<double> kinks = arcs || by_ends ? torque_kinks(c, ws.plain.data(), n, ws.zero_grids,
+                                                                   ws.sd, ws.grid, &switches, arcs, &*ws.lanes)
                                                     : std::vector<double>{};
   std::vector<Jump<S>> js;
   if (has_law && arcs) {
-    contacts(c, ws.plain.data(), d.cycle_points, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
+    contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
     js = jumps(c, v.data(), ws.plain.data(), std::span<const Contact>(ws.contacts), ws.sd);
   }
   // Both on the same arcs: the torque's pass keeps the loads' power at
@@ -172,12 +211,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
         kinks, nodes, ws.cycle, near);
   mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
   if (by_ends) {
-    mech::linkage::State<double> se;
-    se.resize(c);
-    mech::linkage::State<S> sa, sb;
-    sa.resize(c);
-    sb.resize(c);
-    ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, ws.grid, ws.sd, se, sa, sb);
+    ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, ws.grid, ws.sd, kept.e, kept.a, kept.b);
   } else if (work) {
     ml = mech::piecewise_means<S>(
         [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {
@@ -185,10 +219,10 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
         },
         kinks, nodes, ws.cycle, near);
   }
-  if (energy) me.mean = energy_mean(d, v, near, lanes, ws);
+  if (energy) me.mean = energy_mean(d, v, near, lanes, energy_grid(ws), ws);
   S swing(0.0);
   add_jumps(js, mt, by_ends ? unused : ml);
-  if (flywheel) swing = work_swing(d, v, ml.mean, kinks, js, near, ws);
+  if (flywheel) swing = work_swing(d, v, ml.mean, kinks, js, near, kept.a, ws);
   for (size_t m = 0; m < metrics.size(); ++m) {
     const Metric& mt_m = metrics[m];
     if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;

@@ -100,6 +100,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
     std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi)
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
+    MeansScratches means;
+    std::vector<double> grid_cs;  // the crank's cos and sin at the grid's angles (crank_cos_sin)
+    double grid_phase = 0;        // ... at this phase
+    std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
   };
 
   template <class S>
@@ -109,10 +113,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (ws.sd.point.size() != c.point_names().size()) {
       ws.sd.resize(c);
       ws.sdual.resize(c);
-    }
-    if (ws.grid.size() != static_cast<size_t>(n) || ws.grid[0].point.size() != c.point_names().size()) {
-      ws.grid.resize(static_cast<size_t>(n));
-      for (auto& st : ws.grid) st.resize(c);
     }
     opt::Values<S> placed;  // with the contacts of the laws given by their depth
     const opt::Values<S>& v =
@@ -139,7 +139,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if (out.want(static_cast<int>(m))) ask(metrics_[m], ws.asked);
     const size_t nq = ws.asked.size(), un = static_cast<size_t>(n);
     ws.grids.resize(nq * un);
-    if (!solve_grid(vd, out, ws)) return;
+    if (!solve_grid(vd, n, out, ws)) return;
     // Maxima, their slopes from the chain on a Dual in phi: first the
     // margins (a singular design stops there), then the metrics'.
     ws.searches.resize(nq);
@@ -205,13 +205,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       }
     };
     // The angle of search q's maximum; on S, moved with the design: phi -
-    // f'/f'' at it (f' ~ 0 there, its design derivatives kept).
+    // f'/f'' at it (f' ~ 0 there: its design derivatives alone, so the
+    // value is the search's, with or without a gradient).
     auto at_angle = [&](size_t q) -> S {
       if constexpr (!mech::is_dual<S>) {
         return ws.searches[q].phi;
       } else {
         const Jet<S> f = coordinate_jet(ws.asked[q], solved_at(q), ws);
-        return S(ws.searches[q].phi - f.d / mech::value(f.dd));
+        return S(ws.searches[q].phi - (f.d - mech::value(f.d)) / mech::value(f.dd));
       }
     };
     auto find = [&](Quantity q) {  // the search of q; over all groups of its kind where q names none
@@ -353,21 +354,43 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // local minimum m0 of a group's margin^2 (at phi_k, its second
   // derivative m2 there) is zero at about phi_k +- i sqrt(2 m0 / m2), a
   // toggle off the real line, whose transfer functions blow up there. The
-  // margins' searches are ws.searches[0, groups) over their grids.
+  // margins' searches are ws.searches[0, groups) over their grids. A
+  // minimum the grid resolves (the parabola through its three grid points
+  // puts the width at 4 steps or more, where the parabola's error, of
+  // order (h / width)^2, leaves a width within a few per cent: what the
+  // trapezoid's choice and the panels' grading need, both kPoleDigits
+  // clear) takes the parabola's; a group with a narrower one searches
+  // every minimum to its angle and takes the chain's jets there.
   std::vector<mech::NearPole> poles(Workspace& ws) const {
     const size_t groups = d_.chain.groups().size();
+    const int n = static_cast<int>(ws.grid.size());
+    const double h = mech::kTwoPi / n;
+    std::vector<mech::NearPole> out;
     for (size_t g = 0; g < groups; ++g) {
+      const std::span<const double> f = ws.searches[g].v;  // -margin^2 on the grid
+      const size_t first = out.size();
+      bool resolved = true;
+      for (int k = 0; k < n && resolved; ++k) {
+        const double a = -f[static_cast<size_t>((k + n - 1) % n)], b = -f[static_cast<size_t>(k)],
+                     c = -f[static_cast<size_t>((k + 1) % n)];
+        if (!(b <= a && b < c)) continue;  // (the first of two equal points)
+        const double m2 = (a - 2 * b + c) / (h * h), m1 = (c - a) / (2 * h);
+        const double shift = -m1 / m2, m0 = b - 0.5 * m1 * m1 / m2;
+        const double width = m2 > 0 && m0 > 0 ? std::sqrt(2 * m0 / m2) : 0.0;
+        resolved = width >= 4 * h;
+        if (resolved) out.push_back({k * h + shift, width});
+      }
+      if (resolved) continue;
+      out.resize(first);
       ws.searches[g].reset(ws.searches[g].v);
       ws.searches[g].global = false;
-    }
-    run_searches(ws, 0, groups);
-    std::vector<mech::NearPole> out;
-    for (size_t g = 0; g < groups; ++g)
+      run_searches(ws, g, g + 1);
       for (double phi : ws.searches[g].maxima) {
         mech::linkage::solve(d_.chain, ws.plain.data(), phi, ws.sd);
         const Jet<double> m = margin2(d_.chain, static_cast<int>(g), ws.sd);
         if (m.dd > 0) out.push_back({phi, std::sqrt(2 * m.v / m.dd)});
       }
+    }
     return out;
   }
 
@@ -409,32 +432,64 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return false;
   }
 
-  // The chain and the asked quantities at the n grid angles, kLanes at a
+  // The chain and the asked quantities at the n grid angles (ws.grid,
+  // ws.grids), kLanes at a
   // time (solve_lanes_exact: the same bits as solve at each angle); a
   // block where some lane cannot assemble goes angle by angle, to name the
   // first that fails.
   template <class S>
-  bool solve_grid(const double* vd, MetricSink<S>& out, Workspace& ws) const {
+  bool solve_grid(const double* vd, int n, MetricSink<S>& out, Workspace& ws) const {
     const Chain& c = d_.chain;
-    const int n = d_.cycle_points;
     const size_t un = static_cast<size_t>(n), nq = ws.asked.size();
+    if (ws.grid.size() != un || ws.grid[0].point.size() != c.point_names().size()) {
+      ws.grid.resize(un);
+      for (auto& st : ws.grid) st.resize(c);
+    }
     if (ws.lanes) ws.lanes->reset(vd), ws.dual_lanes->reset(ws.vdual.data());
     else ws.lanes.emplace(c, vd), ws.dual_lanes.emplace(c, ws.vdual.data());
     auto& lanes = *ws.lanes;
+    // The crank's cosines and sines at the grid's angles, kept while the phase is.
+    if (const double phase = vd[c.crank().phase]; ws.grid_cs.size() != 2 * un || phase != ws.grid_phase) {
+      ws.grid_cs.resize(2 * un);
+      for (size_t i = 0; i < un; ++i)
+        mech::linkage::crank_cos_sin(c, phase, mech::kTwoPi * static_cast<double>(i) / n, ws.grid_cs[2 * i],
+                                     ws.grid_cs[2 * i + 1]);
+      ws.grid_phase = phase;
+    }
+    // Each output's coordinate asked with both signs: the other's row.
+    std::vector<size_t>& mirror = ws.mirror;
+    mirror.assign(nq, nq);
+    for (size_t q = 0; q < nq; ++q)
+      for (size_t p = 0; p < nq; ++p)
+        if (ws.asked[q].index == ws.asked[p].index &&
+            ((ws.asked[q].kind == Kind::coordinate && ws.asked[p].kind == Kind::neg_coordinate) ||
+             (ws.asked[q].kind == Kind::neg_coordinate && ws.asked[p].kind == Kind::coordinate)))
+          mirror[q] = p;
     for (int k = 0; k < n; k += mech::kLanes) {
       const int m = std::min(mech::kLanes, n - k);
-      mech::Lanes phi;
-      for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, m - 1)) / n;
-      const bool whole = mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st);
+      mech::Lanes phi, cp, sp;
+      for (int j = 0; j < mech::kLanes; ++j) {
+        const int i = k + std::min(j, m - 1);
+        phi[j] = mech::kTwoPi * i / n;
+        cp[j] = ws.grid_cs[2 * static_cast<size_t>(i)], sp[j] = ws.grid_cs[2 * static_cast<size_t>(i) + 1];
+      }
+      const bool whole = mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, cp, sp, lanes.st);
       for (int j = 0; j < m; ++j) {
         State<double>& st = ws.grid[static_cast<size_t>(k + j)];
         if (whole) mech::linkage::lane_state(lanes.st, j, st);
         else if (!solve_at(vd, mech::kTwoPi * (k + j) / n, st, out)) return false;
       }
+      std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;  // the torque's and the energy's, once
       for (size_t q = 0; q < nq; ++q) {
         double* to = ws.grids.data() + q * un + static_cast<size_t>(k);
-        if (whole && lane_kind(ws.asked[q].kind)) {
-          mech::store_lanes(to, quantity(ws.asked[q], lanes.v.data(), lanes.st, ws), m);
+        const Quantity& a = ws.asked[q];
+        if (whole && (a.kind == Kind::torque || a.kind == Kind::energy)) {
+          if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
+          mech::store_lanes(to, drive_quantity(a.kind, *dp, lanes.v[static_cast<size_t>(c.crank().speed)]), m);
+        } else if (whole && mirror[q] < q) {  // a coordinate's other sign: its row's, negated
+          for (int j = 0; j < m; ++j) to[j] = -ws.grids[mirror[q] * un + static_cast<size_t>(k + j)];
+        } else if (whole && lane_kind(a.kind)) {
+          mech::store_lanes(to, quantity(a, lanes.v.data(), lanes.st, ws), m);
         } else {
           for (int j = 0; j < m; ++j) to[j] = quantity(ws.asked[q], vd, ws.grid[static_cast<size_t>(k + j)], ws);
         }
@@ -449,7 +504,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
   // The zeros of fns over the cycle (kinks.hpp).
   std::vector<double> zeros(Workspace& ws, const std::vector<KinkFn>& fns) const {
-    return zeros_of(d_.chain, ws.plain.data(), d_.cycle_points, fns, ws.zero_grids, ws.sd, ws.grid);
+    return zeros_of(d_.chain, ws.plain.data(), static_cast<int>(ws.grid.size()), fns, ws.zero_grids, ws.sd, ws.grid,
+                    nullptr, &*ws.lanes);
   }
 
   // A load that switches makes the forces it enters jump where its rate
@@ -485,7 +541,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // ws.moving: the contacts and the rows crossed (at_max takes their motion).
   void find_kinks(Workspace& ws, size_t from) const {
     const Chain& c = d_.chain;
-    const int n = d_.cycle_points;
+    const int n = static_cast<int>(ws.grid.size());
     ws.switches.clear(), ws.moving.clear(), ws.kinks.clear();
     bool loaded = false, jumps = false;
     for (size_t q = from; q < ws.asked.size(); ++q)

@@ -76,6 +76,13 @@ mech::linkage::Jet<T> coordinate_rates(const Description& d, const Quantity& q, 
   return q.kind == Kind::neg_coordinate ? -x : x;
 }
 
+// The torque's or the energy's quantity (kind k) from a drive point.
+template <class T>
+T drive_quantity(Kind k, const mech::linkage::DrivePoint<T>& p, const T& w) {
+  using std::abs;
+  return k == Kind::torque ? T(abs(p.torque)) : T(p.energy * w * w);
+}
+
 // Whether quantity kind k's slope in the crank angle comes from a state's
 // second-order jets alone (jet_slope); the torque's, an acceleration's and
 // the forces' need the third order (the chain on a Dual in phi).
@@ -161,8 +168,8 @@ T quantity(const Description& d, const mech::linkage::Joints& j, const Quantity&
       const auto& g = c.groups()[i];
       return T(-abs(cross_v(axis(g.first), axis(g.second))));
     }
-    case Kind::torque: return T(abs(mech::linkage::drive_point(c, v, st).torque));
-    case Kind::energy: return T(mech::linkage::drive_point(c, v, st).energy * w * w);
+    case Kind::torque:
+    case Kind::energy: return drive_quantity(q.kind, mech::linkage::drive_point(c, v, st), w);
     default: break;
   }
   if constexpr (!mech::is_lanes<T>) {  // the joints' forces: on scalars

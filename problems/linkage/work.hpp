@@ -156,26 +156,44 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
       if (load == static_cast<int>(i)) ends.push_back(phi);
     std::sort(ends.begin(), ends.end());
     if (ends.empty()) ends.push_back(0.0);  // never turns: one arc, the whole cycle
+    // Each end solved once: arc j's end b is arc j + 1's a (sa, swapped).
+    mech::linkage::solve(c, v, S(ends[0]), sa);
     for (size_t j = 0; j < ends.size(); ++j) {
       const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + mech::kTwoPi;
-      // The coordinate's direction on the arc (its rate's sign midway).
-      mech::linkage::solve(c, vd, 0.5 * (a + b), sd);
-      const double sign = mech::linkage::switch_rate(l, sd).v > 0 ? 1.0 : -1.0;
-      if (l.when * sign < 0) continue;  // held off on this arc
-      mech::linkage::solve(c, v, S(a), sa);
       mech::linkage::solve(c, v, S(b), sb);
-      if (force && !l.opposing) {
-        const size_t k = static_cast<size_t>(l.link);
-        add(l, S(detail::force_potential(l, v, sb.slide[k].v) - detail::force_potential(l, v, sa.slide[k].v)));
-        continue;
+      // The coordinate's direction on the arc: its rate's sign inside it
+      // (it has no zero there), at the grid angle nearest the middle where
+      // that lies a quarter of the arc from both ends, else at the middle.
+      const double mid = 0.5 * (a + b), h = mech::kTwoPi / static_cast<double>(grid.size());
+      const double i_mid = std::round(mid / h);
+      const bool on_grid = std::abs(i_mid * h - mid) <= 0.25 * (b - a);
+      if (!on_grid) mech::linkage::solve(c, vd, mid, sd);
+      const int n = static_cast<int>(grid.size()), at = (static_cast<int>(i_mid) % n + n) % n;
+      const double sign =
+          mech::linkage::switch_rate(l, on_grid ? grid[static_cast<size_t>(at)] : sd).v > 0 ? 1.0 : -1.0;
+      if (l.when * sign >= 0) {  // (else held off on this arc)
+        if (force && !l.opposing) {
+          const size_t k = static_cast<size_t>(l.link);
+          add(l, S(detail::force_potential(l, v, sb.slide[k].v) - detail::force_potential(l, v, sa.slide[k].v)));
+        } else {
+          double turns = 0;  // (a force's: none)
+          if (!force) {
+            if constexpr (mech::is_dual<S>) {
+              mech::linkage::solve(c, vd, a, sd);
+              mech::linkage::solve(c, vd, b, se);
+              turns = detail::turns_between(l, a, b, grid, sd, se);
+            } else {
+              turns = detail::turns_between(l, a, b, grid, sa, sb);
+            }
+          }
+          const S change = detail::coordinate_change(l, sa, sb, turns);
+          using std::abs;
+          const S& size = v[l.value];
+          // Against the motion: -|size| |change| (the change has the rate's sign).
+          add(l, l.opposing || l.kind == Load::Kind::friction ? S(-(abs(size) * change * sign)) : S(size * change));
+        }
       }
-      mech::linkage::solve(c, vd, a, sd);
-      mech::linkage::solve(c, vd, b, se);
-      const S change = detail::coordinate_change(l, sa, sb, detail::turns_between(l, a, b, grid, sd, se));
-      using std::abs;
-      const S& size = v[l.value];
-      // Against the motion: -|size| |change| (the change has the rate's sign).
-      add(l, l.opposing || l.kind == Load::Kind::friction ? S(-(abs(size) * change * sign)) : S(size * change));
+      std::swap(sa, sb);
     }
   }
   return S(-work / mech::kTwoPi);

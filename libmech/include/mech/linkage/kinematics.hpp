@@ -164,15 +164,25 @@ bool solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, 
   return detail::solve_groups<L, kChecked>(c, v, st);
 }
 
+// The cosine of the crank's own angle phase + sense phi, and its sine
+// times sense: what solve_lanes_exact takes for each lane (solve's bits).
+inline void crank_cos_sin(const Chain& c, double phase, double phi, double& cp, double& sp) {
+  const double sense = c.crank().sense;
+  cp = std::cos(phase + sense * phi), sp = sense * std::sin(phase + sense * phi);
+}
+
 // solve_lanes in the form of the grid and the searches: checked, the
 // crank's axis from the cosine and sine of its own angle in each lane (pc =
-// 1, ps = 0), so each lane is solve's bits at its angle.
-inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, State<Lanes>& st) {
-  const double sense = c.crank().sense, phase = v[c.crank().phase][0];
-  Lanes cp, sp;
-  for (int j = 0; j < kLanes; ++j)
-    cp[j] = std::cos(phase + sense * phi[j]), sp[j] = sense * std::sin(phase + sense * phi[j]);
+// 1, ps = 0; cp, sp: crank_cos_sin's at v's phase), so each lane is
+// solve's bits at its angle.
+inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, const Lanes& cp, const Lanes& sp,
+                              State<Lanes>& st) {
   return solve_lanes<Lanes, true>(c, v, phi, cp, sp, 1.0, 0.0, st);
+}
+inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, State<Lanes>& st) {
+  Lanes cp, sp;
+  for (int j = 0; j < kLanes; ++j) crank_cos_sin(c, v[c.crank().phase][0], phi[j], cp[j], sp[j]);
+  return solve_lanes_exact(c, v, phi, cp, sp, st);
 }
 
 // The same at kLanes crank angles phi given on L itself (a LaneDual in
