@@ -58,8 +58,11 @@ S kink_value(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage
 }
 
 // The chain solved at the n grid angles 2 pi i / n of an evaluation, once
-// for every pass that starts on the grid (empty: each solves its own).
+// for every pass that starts on the grid (empty: each solves its own):
+// its states, or the same in blocks of kLanes angles (block b holds
+// angles b kLanes, ...; the last block's spare lanes repeat its last).
 using GridStates = std::span<const mech::linkage::State<double>>;
+using GridBlocks = std::span<const mech::linkage::State<mech::Lanes>>;
 
 // The angles in [0, 2 pi) where the functions fns cross zero (each
 // function's by grid cell), found on an n-point grid (kept in `grid`) and
@@ -68,23 +71,31 @@ using GridStates = std::span<const mech::linkage::State<double>>;
 // (kept by the caller: none made per call).
 inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double* v, int n,
                                     const std::vector<KinkFn>& fns, std::vector<double>& grid,
-                                    mech::linkage::State<double>& sd, GridStates solved = {},
+                                    mech::linkage::State<double>& sd, GridBlocks solved = {},
                                     std::vector<int>* owner = nullptr,
                                     mech::linkage::LaneSolver<double>* lanes = nullptr) {
   const size_t un = static_cast<size_t>(n);
   grid.resize(fns.size() * un);
-  for (int i = 0; i < n; ++i) {
-    if (solved.empty()) mech::linkage::solve(c, v, mech::kTwoPi * i / n, sd);
-    const auto& st = solved.empty() ? sd : solved[static_cast<size_t>(i)];
-    for (size_t f = 0; f < fns.size(); ++f) grid[f * un + static_cast<size_t>(i)] = kink_value(c, fns[f], st, v);
+  std::optional<mech::linkage::LaneSolver<double>> own;
+  if (!lanes) lanes = &own.emplace(c, v);
+  if (solved.empty()) {
+    for (int i = 0; i < n; ++i) {
+      mech::linkage::solve(c, v, mech::kTwoPi * i / n, sd);
+      for (size_t f = 0; f < fns.size(); ++f) grid[f * un + static_cast<size_t>(i)] = kink_value(c, fns[f], sd, v);
+    }
+  } else {
+    for (size_t b = 0; b < solved.size(); ++b) {
+      const size_t k = b * mech::kLanes;
+      const int m = static_cast<int>(std::min<size_t>(mech::kLanes, un - k));
+      for (size_t f = 0; f < fns.size(); ++f)
+        mech::store_lanes(grid.data() + f * un + k, kink_value(c, fns[f], solved[b], lanes->v.data()), m);
+    }
   }
   std::vector<std::span<const double>> grids;
   for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(grid.data() + f * un, un);
   // The searches' angles kLanes at a time on the chain's lanes (a lane
   // where the chain does not assemble, between grid points that do, takes
   // the scalar chain's stale state, as a lone query would).
-  std::optional<mech::linkage::LaneSolver<double>> own;
-  if (!lanes) lanes = &own.emplace(c, v);
   return mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
     for (size_t i = 0; i < qs.size(); i += mech::kLanes) {
       const int m = static_cast<int>(std::min<size_t>(mech::kLanes, qs.size() - i));
@@ -113,7 +124,7 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
 // of its switch_rate, with the load. lanes: as zeros_of's.
 inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const double* v, int n,
                                         std::vector<double>& grid, mech::linkage::State<double>& sd,
-                                        GridStates solved = {}, std::vector<std::pair<double, int>>* switches = nullptr,
+                                        GridBlocks solved = {}, std::vector<std::pair<double, int>>* switches = nullptr,
                                         bool torque = true, mech::linkage::LaneSolver<double>* lanes = nullptr) {
   using mech::linkage::Load;
   std::vector<KinkFn> fns;
@@ -150,7 +161,7 @@ struct Contact {
   int load;
 };
 inline void contacts(const mech::linkage::Chain& c, const double* v, int n, std::vector<Contact>& out,
-                     std::vector<double>& grid, mech::linkage::State<double>& sd, GridStates solved = {}) {
+                     std::vector<double>& grid, mech::linkage::State<double>& sd, GridBlocks solved = {}) {
   out.clear();
   for (size_t i = 0; i < c.loads().size(); ++i) {
     const auto& l = c.loads()[i];
@@ -195,7 +206,7 @@ struct MovingKink {
 // the crank angle (fixed: appended to `fixed`).
 inline void table_rows(const mech::linkage::Chain& c, const double* v, int n, std::vector<MovingKink>& moving,
                        std::vector<double>& fixed, std::vector<double>& grid, mech::linkage::State<double>& sd,
-                       GridStates solved = {}) {
+                       GridBlocks solved = {}) {
   using mech::linkage::Load;
   std::vector<KinkFn> fns;
   for (size_t i = 0; i < c.loads().size(); ++i) {

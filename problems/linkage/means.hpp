@@ -66,6 +66,8 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
   // grid's (quantity.hpp's drive_quantity), summed in one order: a value
   // is the same bits with or without its gradient.
   const L ww = mech::LaneForm<S>::broadcast(w);
+  GridStates states;  // (the double pass's, where it has no energies)
+  if constexpr (!mech::is_dual<S>) states = energies ? GridStates{} : ws.states();
   L sums(0.0);
   for (int k = 0; k < n; k += mech::kLanes) {
     const int m = std::min(mech::kLanes, n - k);
@@ -78,7 +80,7 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
       mech::Lanes e(0.0);
       for (int j = 0; j < m; ++j) {
         const size_t i = static_cast<size_t>(k + j);
-        e[j] = energies ? energies[i] : mech::linkage::body_sums(c, v.data(), ws.grid[i]).inertia / 2.0 * w * w;
+        e[j] = energies ? energies[i] : mech::linkage::body_sums(c, v.data(), states[i]).inertia / 2.0 * w * w;
       }
       sums += e;
     }
@@ -113,7 +115,8 @@ S work_swing(const Description& d, const opt::Values<S>& v, const S& mean, const
     return mech::linkage::drive_point(c, ws.plain.data(), st).torque - mean_d;
   };
   ws.grids.resize(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) ws.grids[static_cast<size_t>(i)] = excess(ws.grid[static_cast<size_t>(i)]);
+  const GridStates states = ws.states();
+  for (int i = 0; i < n; ++i) ws.grids[static_cast<size_t>(i)] = excess(states[static_cast<size_t>(i)]);
   const std::span<const double> grid[1] = {std::span<const double>(ws.grids.data(), static_cast<size_t>(n))};
   std::vector<double> zeros = mech::periodic_roots_together(std::span(grid), [&](std::span<mech::AngleQuery> qs) {
     for (mech::AngleQuery& q : qs) {
@@ -186,11 +189,11 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   const bool arcs = torque || flywheel || (work && !by_ends);
   std::vector<std::pair<double, int>> switches;
   const std::vector<double> kinks = arcs || by_ends ? torque_kinks(c, ws.plain.data(), n, ws.zero_grids,
-                                                                   ws.sd, ws.grid, &switches, arcs, &*ws.lanes)
+                                                                   ws.sd, ws.blocks, &switches, arcs, &*ws.lanes)
                                                     : std::vector<double>{};
   std::vector<Jump<S>> js;
   if (has_law && arcs) {
-    contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
+    contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.blocks);
     js = jumps(c, v.data(), ws.plain.data(), std::span<const Contact>(ws.contacts), ws.sd);
   }
   // Both on the same arcs: the torque's pass keeps the loads' power at
@@ -211,7 +214,8 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
         kinks, nodes, ws.cycle, near);
   mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
   if (by_ends) {
-    ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, ws.grid, ws.sd, kept.e, kept.a, kept.b);
+    ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, n, ws.blocks, [&] { return ws.states(); },
+                               ws.sd, kept.e, kept.a, kept.b);
   } else if (work) {
     ml = mech::piecewise_means<S>(
         [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {

@@ -104,6 +104,20 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> grid_cs;  // the crank's cos and sin at the grid's angles (crank_cos_sin)
     double grid_phase = 0;        // ... at this phase
     std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
+    std::vector<State<mech::Lanes>> blocks;  // the grid's chain, kLanes angles a block (solve_grid)
+    std::vector<char> scattered;             // ... block b's states in `grid` already
+    // The grid's states as scalars, each block's lanes scattered into
+    // `grid` when first asked (a pass that reads none costs none).
+    GridStates states() {
+      for (size_t b = 0; b < scattered.size(); ++b) scatter(b);
+      return grid;
+    }
+    void scatter(size_t b) {
+      if (scattered[b]) return;
+      const size_t k = b * mech::kLanes, m = std::min<size_t>(mech::kLanes, grid.size() - k);
+      for (size_t j = 0; j < m; ++j) mech::linkage::lane_state(blocks[b], static_cast<int>(j), grid[k + j]);
+      scattered[b] = 1;
+    }
   };
 
   template <class S>
@@ -432,19 +446,23 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return false;
   }
 
-  // The chain and the asked quantities at the n grid angles (ws.grid,
-  // ws.grids), kLanes at a
-  // time (solve_lanes_exact: the same bits as solve at each angle); a
-  // block where some lane cannot assemble goes angle by angle, to name the
+  // The chain and the asked quantities at the n grid angles (ws.blocks,
+  // ws.grids; ws.states() the states as scalars), kLanes at a time
+  // (solve_lanes_exact: the same bits as solve at each angle); a block
+  // where some lane cannot assemble goes angle by angle, to name the
   // first that fails.
   template <class S>
   bool solve_grid(const double* vd, int n, MetricSink<S>& out, Workspace& ws) const {
     const Chain& c = d_.chain;
     const size_t un = static_cast<size_t>(n), nq = ws.asked.size();
+    const size_t nb = (un + mech::kLanes - 1) / mech::kLanes;
     if (ws.grid.size() != un || ws.grid[0].point.size() != c.point_names().size()) {
       ws.grid.resize(un);
       for (auto& st : ws.grid) st.resize(c);
+      ws.blocks.resize(nb);
+      for (auto& st : ws.blocks) st.resize(c);
     }
+    ws.scattered.assign(nb, 0);
     if (ws.lanes) ws.lanes->reset(vd), ws.dual_lanes->reset(ws.vdual.data());
     else ws.lanes.emplace(c, vd), ws.dual_lanes.emplace(c, ws.vdual.data());
     auto& lanes = *ws.lanes;
@@ -473,24 +491,27 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         phi[j] = mech::kTwoPi * i / n;
         cp[j] = ws.grid_cs[2 * static_cast<size_t>(i)], sp[j] = ws.grid_cs[2 * static_cast<size_t>(i) + 1];
       }
-      const bool whole = mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, cp, sp, lanes.st);
-      for (int j = 0; j < m; ++j) {
-        State<double>& st = ws.grid[static_cast<size_t>(k + j)];
-        if (whole) mech::linkage::lane_state(lanes.st, j, st);
-        else if (!solve_at(vd, mech::kTwoPi * (k + j) / n, st, out)) return false;
+      const size_t b = static_cast<size_t>(k / mech::kLanes);
+      const State<mech::Lanes>& st = ws.blocks[b];
+      const bool whole = mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, cp, sp, ws.blocks[b]);
+      if (!whole) {
+        for (int j = 0; j < m; ++j)
+          if (!solve_at(vd, mech::kTwoPi * (k + j) / n, ws.grid[static_cast<size_t>(k + j)], out)) return false;
+        ws.scattered[b] = 1;
       }
       std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;  // the torque's and the energy's, once
       for (size_t q = 0; q < nq; ++q) {
         double* to = ws.grids.data() + q * un + static_cast<size_t>(k);
         const Quantity& a = ws.asked[q];
         if (whole && (a.kind == Kind::torque || a.kind == Kind::energy)) {
-          if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
+          if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), st);
           mech::store_lanes(to, drive_quantity(a.kind, *dp, lanes.v[static_cast<size_t>(c.crank().speed)]), m);
         } else if (whole && mirror[q] < q) {  // a coordinate's other sign: its row's, negated
           for (int j = 0; j < m; ++j) to[j] = -ws.grids[mirror[q] * un + static_cast<size_t>(k + j)];
         } else if (whole && lane_kind(a.kind)) {
-          mech::store_lanes(to, quantity(a, lanes.v.data(), lanes.st, ws), m);
+          mech::store_lanes(to, quantity(a, lanes.v.data(), st, ws), m);
         } else {
+          ws.scatter(b);
           for (int j = 0; j < m; ++j) to[j] = quantity(ws.asked[q], vd, ws.grid[static_cast<size_t>(k + j)], ws);
         }
       }
@@ -504,8 +525,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
 
   // The zeros of fns over the cycle (kinks.hpp).
   std::vector<double> zeros(Workspace& ws, const std::vector<KinkFn>& fns) const {
-    return zeros_of(d_.chain, ws.plain.data(), static_cast<int>(ws.grid.size()), fns, ws.zero_grids, ws.sd, ws.grid,
-                    nullptr, &*ws.lanes);
+    return zeros_of(d_.chain, ws.plain.data(), static_cast<int>(ws.grid.size()), fns, ws.zero_grids, ws.sd,
+                    ws.blocks, nullptr, &*ws.lanes);
   }
 
   // A load that switches makes the forces it enters jump where its rate
@@ -547,9 +568,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     for (size_t q = from; q < ws.asked.size(); ++q)
       loaded = loaded || bears_loads(ws.asked[q].kind), jumps = jumps || jumps_at_switches(ws.asked[q].kind);
     if (!loaded) return;
-    if (has_law_) contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.grid);
+    if (has_law_) contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.blocks);
     for (const Contact& k : ws.contacts) ws.moving.push_back({k.phi, {k.load, kDepth}});  // (none without a law)
-    table_rows(c, ws.plain.data(), n, ws.moving, ws.kinks, ws.zero_grids, ws.sd, ws.grid);
+    table_rows(c, ws.plain.data(), n, ws.moving, ws.kinks, ws.zero_grids, ws.sd, ws.blocks);
     for (const MovingKink& k : ws.moving) ws.kinks.push_back(k.phi);
     for (size_t i = 0; i < c.loads().size() && jumps; ++i)
       if (mech::linkage::switching(c.loads()[i]))

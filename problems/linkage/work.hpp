@@ -126,12 +126,13 @@ inline double turns_between(const mech::linkage::Load& l, double phi_a, double p
 // reversed: the mean driving torque the loads ask for (dynamics.hpp's
 // load_power; springs, gravity and inertia give back what they take).
 // switches: (angle, load) where a switching load's coordinate turns
-// (zeros of its switch_rate, torque_kinks'); grid: the chain at the n
-// grid angles; vd: v's values; sd, sa, sb: states to solve in. Only where
-// work_from_ends(c).
-template <class S>
+// (zeros of its switch_rate, torque_kinks'); blocks: the chain at the n
+// grid angles, and states() the same as scalar states (GridStates: asked
+// only for a torque's turns); vd: v's values; sd, sa, sb: states to solve
+// in. Only where work_from_ends(c).
+template <class S, class States>
 S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
-                   const std::vector<std::pair<double, int>>& switches, GridStates grid,
+                   const std::vector<std::pair<double, int>>& switches, int n, GridBlocks blocks, States&& states,
                    mech::linkage::State<double>& sd, mech::linkage::State<double>& se,
                    mech::linkage::State<S>& sa, mech::linkage::State<S>& sb) {
   using mech::linkage::Load;
@@ -148,7 +149,8 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
       // A force's s comes back: no work. A torque's angle may turn round:
       // its constant size times the turns (no design derivative).
       if (!force)
-        add(l, S(v[l.value] * (mech::kTwoPi * detail::turns_between(l, 0.0, mech::kTwoPi, grid, grid[0], grid[0]))));
+        add(l, S(v[l.value] * (mech::kTwoPi * detail::turns_between(l, 0.0, mech::kTwoPi, states(), states()[0],
+                                                                    states()[0]))));
       continue;
     }
     ends.clear();
@@ -164,13 +166,17 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
       // The coordinate's direction on the arc: its rate's sign inside it
       // (it has no zero there), at the grid angle nearest the middle where
       // that lies a quarter of the arc from both ends, else at the middle.
-      const double mid = 0.5 * (a + b), h = mech::kTwoPi / static_cast<double>(grid.size());
+      const double mid = 0.5 * (a + b), h = mech::kTwoPi / n;
       const double i_mid = std::round(mid / h);
-      const bool on_grid = std::abs(i_mid * h - mid) <= 0.25 * (b - a);
-      if (!on_grid) mech::linkage::solve(c, vd, mid, sd);
-      const int n = static_cast<int>(grid.size()), at = (static_cast<int>(i_mid) % n + n) % n;
-      const double sign =
-          mech::linkage::switch_rate(l, on_grid ? grid[static_cast<size_t>(at)] : sd).v > 0 ? 1.0 : -1.0;
+      const int at = (static_cast<int>(i_mid) % n + n) % n;
+      double rate;
+      if (std::abs(i_mid * h - mid) <= 0.25 * (b - a)) {
+        rate = mech::linkage::switch_rate(l, blocks[static_cast<size_t>(at / mech::kLanes)]).v[at % mech::kLanes];
+      } else {
+        mech::linkage::solve(c, vd, mid, sd);
+        rate = mech::linkage::switch_rate(l, sd).v;
+      }
+      const double sign = rate > 0 ? 1.0 : -1.0;
       if (l.when * sign >= 0) {  // (else held off on this arc)
         if (force && !l.opposing) {
           const size_t k = static_cast<size_t>(l.link);
@@ -181,9 +187,9 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
             if constexpr (mech::is_dual<S>) {
               mech::linkage::solve(c, vd, a, sd);
               mech::linkage::solve(c, vd, b, se);
-              turns = detail::turns_between(l, a, b, grid, sd, se);
+              turns = detail::turns_between(l, a, b, states(), sd, se);
             } else {
-              turns = detail::turns_between(l, a, b, grid, sa, sb);
+              turns = detail::turns_between(l, a, b, states(), sa, sb);
             }
           }
           const S change = detail::coordinate_change(l, sa, sb, turns);
