@@ -41,9 +41,10 @@ using MeansScratches = std::tuple<MeansScratch<double>, MeansScratch<mech::Dual>
 // strip around the real axis where it is analytic (the nearest pole's
 // imaginary part; a margin's quadratic model overstates a slider-crank's
 // sqrt(lambda^2 - 1) for its acosh(lambda) = asinh of it, which is taken
-// instead). Where n w >= 2 kPoleDigits the grid serves: its energies
-// (`energies`, where the grid has them) or its states (solved on S, on
-// lanes, for a gradient); nearer a pole, Gauss panels graded toward it.
+// instead). Where n w >= 2 kPoleDigits the grid serves, or every s-th
+// point of it where that is enough: its energies (`energies`, where the
+// grid has them) or its states (solved on S, on lanes, for a gradient);
+// nearer a pole, Gauss panels graded toward it.
 template <class S, class W>
 S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<mech::NearPole>& near,
               mech::linkage::LaneSolver<S>& lanes, const double* energies, W& ws) {
@@ -51,9 +52,9 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
   const mech::linkage::Chain& c = d.chain;
   const int n = static_cast<int>(ws.grid.size());
   const S& w = v[static_cast<size_t>(c.crank().speed)];
-  bool grid = true;
-  for (const mech::NearPole& p : near) grid = grid && n * std::asinh(p.width) >= 2 * mech::kPoleDigits;
-  if (!grid) {
+  double a = HUGE_VAL;  // the least asinh(width)
+  for (const mech::NearPole& p : near) a = std::min(a, std::asinh(p.width));
+  if (n * a < 2 * mech::kPoleDigits) {
     const L ww = mech::LaneForm<S>::broadcast(S(w * w / 2.0));
     return mech::piecewise_means<S>(
                [&](const mech::Lanes& phi, const mech::Lanes& cp, const mech::Lanes& sp) {
@@ -62,30 +63,37 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
                {}, 2 * n, ws.cycle, near)
         .mean;
   }
-  // kLanes grid angles at a time, each lane's energy (I / 2) w w as the
-  // grid's (quantity.hpp's drive_quantity), summed in one order: a value
-  // is the same bits with or without its gradient.
+  // Every s-th grid point, s the largest divisor of n that leaves the
+  // trapezoid its n / s asinh(w) >= 2 kPoleDigits (and 16 points; with
+  // no pole known, every point), kLanes
+  // at a time, each lane's energy (I / 2) w w as the grid's
+  // (quantity.hpp's drive_quantity), summed in one order: a value is the
+  // same bits with or without its gradient.
+  int s = 1;
+  for (int t = 2; t <= n / 16 && a < HUGE_VAL; ++t)
+    if (n % t == 0 && (n / t) * a >= 2 * mech::kPoleDigits) s = t;
+  const int points = n / s;
   const L ww = mech::LaneForm<S>::broadcast(w);
   GridStates states;  // (the double pass's, where it has no energies)
   if constexpr (!mech::is_dual<S>) states = energies ? GridStates{} : ws.states();
   L sums(0.0);
-  for (int k = 0; k < n; k += mech::kLanes) {
-    const int m = std::min(mech::kLanes, n - k);
+  for (int k = 0; k < points; k += mech::kLanes) {
+    const int m = std::min(mech::kLanes, points - k);
     if constexpr (mech::is_dual<S>) {  // the chain on S, each lane solve's bits at its angle
       mech::Lanes phi;  // the grid's angles (problem.cpp's solve_grid)
-      for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, m - 1)) / n;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * ((k + std::min(j, m - 1)) * s) / n;
       mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
       sums += mech::first_lanes(L(L(mech::linkage::body_sums(c, lanes.v.data(), lanes.st).inertia / 2.0) * ww * ww), m);
     } else {  // the grid's energies where the peak's search has them, else its states'
       mech::Lanes e(0.0);
       for (int j = 0; j < m; ++j) {
-        const size_t i = static_cast<size_t>(k + j);
+        const size_t i = static_cast<size_t>((k + j) * s);
         e[j] = energies ? energies[i] : mech::linkage::body_sums(c, v.data(), states[i]).inertia / 2.0 * w * w;
       }
       sums += e;
     }
   }
-  return S(mech::LaneForm<S>::sum(sums) / static_cast<double>(n));
+  return S(mech::LaneForm<S>::sum(sums) / static_cast<double>(points));
 }
 
 // The grid's energies, where the evaluation asked for them (the peak's
