@@ -36,6 +36,34 @@ struct MeansScratch {
 using MeansScratches = std::tuple<MeansScratch<double>, MeansScratch<mech::Dual>, MeansScratch<mech::DualN<2>>,
                                   MeansScratch<mech::DualN<3>>, MeansScratch<mech::DualN<4>>>;
 
+// The poles of a group's margin^2 from its grid f = -margin^2 (periodic,
+// n points, step h): each local minimum's parabola through its three grid
+// points, m2 and m0 its curvature and least value, the width sqrt(2 m0 /
+// m2) at its vertex, appended to `out`. Where every minimum's width is 4
+// steps or more the parabola's error, of order (h / width)^2, leaves the
+// width within a few per cent (asinh of it within 0.8% of the refined one
+// over the linkage tests wherever n asinh(w) < 100): what the trapezoid's
+// choice and the panels' grading need, both kPoleDigits clear. Else false,
+// and nothing appended.
+inline bool grid_poles(std::span<const double> f, std::vector<mech::NearPole>& out) {
+  const int n = static_cast<int>(f.size());
+  const double h = mech::kTwoPi / n;
+  const size_t first = out.size();
+  for (int k = 0; k < n; ++k) {
+    const double a = -f[static_cast<size_t>((k + n - 1) % n)], b = -f[static_cast<size_t>(k)],
+                 c = -f[static_cast<size_t>((k + 1) % n)];
+    if (!(b <= a && b < c)) continue;  // (the first of two equal points)
+    const double m2 = (a - 2 * b + c) / (h * h), m1 = (c - a) / (2 * h);
+    const double m0 = b - 0.5 * m1 * m1 / m2, width = m2 > 0 && m0 > 0 ? std::sqrt(2 * m0 / m2) : 0.0;
+    if (!(width >= 4 * h)) {
+      out.resize(first);
+      return false;
+    }
+    out.push_back({k * h - m1 / m2, width});
+  }
+  return true;
+}
+
 // The mean kinetic energy. It is smooth and periodic: the trapezoid
 // rule on the n-point grid errs like e^(-n w), w the half-width of the
 // strip around the real axis where it is analytic (the nearest pole's

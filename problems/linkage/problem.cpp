@@ -368,34 +368,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // local minimum m0 of a group's margin^2 (at phi_k, its second
   // derivative m2 there) is zero at about phi_k +- i sqrt(2 m0 / m2), a
   // toggle off the real line, whose transfer functions blow up there. The
-  // margins' searches are ws.searches[0, groups) over their grids. A
-  // minimum the grid resolves (the parabola through its three grid points
-  // puts the width at 4 steps or more, where the parabola's error, of
-  // order (h / width)^2, leaves a width within a few per cent: what the
-  // trapezoid's choice and the panels' grading need, both kPoleDigits
-  // clear) takes the parabola's; a group with a narrower one searches
-  // every minimum to its angle and takes the chain's jets there.
+  // margins' searches are ws.searches[0, groups) over their grids: a group
+  // whose minima its grid resolves takes their parabolas (grid_poles), one
+  // with a narrower minimum searches each to its angle and takes the
+  // chain's jets there.
   std::vector<mech::NearPole> poles(Workspace& ws) const {
-    const size_t groups = d_.chain.groups().size();
-    const int n = static_cast<int>(ws.grid.size());
-    const double h = mech::kTwoPi / n;
     std::vector<mech::NearPole> out;
-    for (size_t g = 0; g < groups; ++g) {
-      const std::span<const double> f = ws.searches[g].v;  // -margin^2 on the grid
-      const size_t first = out.size();
-      bool resolved = true;
-      for (int k = 0; k < n && resolved; ++k) {
-        const double a = -f[static_cast<size_t>((k + n - 1) % n)], b = -f[static_cast<size_t>(k)],
-                     c = -f[static_cast<size_t>((k + 1) % n)];
-        if (!(b <= a && b < c)) continue;  // (the first of two equal points)
-        const double m2 = (a - 2 * b + c) / (h * h), m1 = (c - a) / (2 * h);
-        const double shift = -m1 / m2, m0 = b - 0.5 * m1 * m1 / m2;
-        const double width = m2 > 0 && m0 > 0 ? std::sqrt(2 * m0 / m2) : 0.0;
-        resolved = width >= 4 * h;
-        if (resolved) out.push_back({k * h + shift, width});
-      }
-      if (resolved) continue;
-      out.resize(first);
+    for (size_t g = 0; g < d_.chain.groups().size(); ++g) {
+      if (grid_poles(ws.searches[g].v, out)) continue;
       ws.searches[g].reset(ws.searches[g].v);
       ws.searches[g].global = false;
       run_searches(ws, g, g + 1);
@@ -474,15 +454,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
                                      ws.grid_cs[2 * i + 1]);
       ws.grid_phase = phase;
     }
-    // Each output's coordinate asked with both signs: the other's row.
-    std::vector<size_t>& mirror = ws.mirror;
-    mirror.assign(nq, nq);
-    for (size_t q = 0; q < nq; ++q)
-      for (size_t p = 0; p < nq; ++p)
-        if (ws.asked[q].index == ws.asked[p].index &&
-            ((ws.asked[q].kind == Kind::coordinate && ws.asked[p].kind == Kind::neg_coordinate) ||
-             (ws.asked[q].kind == Kind::neg_coordinate && ws.asked[p].kind == Kind::coordinate)))
-          mirror[q] = p;
+    const std::vector<size_t>& mirror = other_signs(ws.asked, ws.mirror);
     for (int k = 0; k < n; k += mech::kLanes) {
       const int m = std::min(mech::kLanes, n - k);
       mech::Lanes phi, cp, sp;

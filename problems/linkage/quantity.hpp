@@ -76,6 +76,19 @@ mech::linkage::Jet<T> coordinate_rates(const Description& d, const Quantity& q, 
   return q.kind == Kind::neg_coordinate ? -x : x;
 }
 
+// For each asked quantity, the one that is the same coordinate with the
+// other sign (its row negated is this one's), or asked.size(): in `out`.
+inline const std::vector<size_t>& other_signs(const std::vector<Quantity>& asked, std::vector<size_t>& out) {
+  out.assign(asked.size(), asked.size());
+  for (size_t q = 0; q < asked.size(); ++q)
+    for (size_t p = 0; p < asked.size(); ++p)
+      if (asked[q].index == asked[p].index && asked[q].kind != asked[p].kind &&
+          (asked[q].kind == Kind::coordinate || asked[q].kind == Kind::neg_coordinate) &&
+          (asked[p].kind == Kind::coordinate || asked[p].kind == Kind::neg_coordinate))
+        out[q] = p;
+  return out;
+}
+
 // The torque's or the energy's quantity (kind k) from a drive point.
 template <class T>
 T drive_quantity(Kind k, const mech::linkage::DrivePoint<T>& p, const T& w) {
