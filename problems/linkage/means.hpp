@@ -93,10 +93,9 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
   }
   // Every s-th grid point, s the largest divisor of n that leaves the
   // trapezoid its n / s asinh(w) >= 2 kPoleDigits (and 16 points; with
-  // no pole known, every point), kLanes
-  // at a time, each lane's energy (I / 2) w w as the grid's
-  // (quantity.hpp's drive_quantity), summed in one order: a value is the
-  // same bits with or without its gradient.
+  // no pole known, every point), kLanes at a time, each lane's energy
+  // (I / 2) w w as the grid's (quantity.hpp's drive_quantity), summed in
+  // one order: a value is the same bits with or without its gradient.
   int s = 1;
   for (int t = 2; t <= n / 16 && a < HUGE_VAL; ++t)
     if (n % t == 0 && (n / t) * a >= 2 * mech::kPoleDigits) s = t;
