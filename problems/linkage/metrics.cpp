@@ -131,4 +131,26 @@ void check_dynamics_asked(const opt::ConfigNode& root, const std::vector<Metric>
     for (const auto& name : root.at("constraints").keys()) check(root.at("constraints").at(name), name);
 }
 
+void ask(const Description& d, const std::vector<int>& masses, const Metric& m, std::vector<Quantity>& asked) {
+  using mech::linkage::kNone;
+  auto once = [&](Quantity q) {
+    for (const Quantity& a : asked)
+      if (a.kind == q.kind && a.index == q.index) return;
+    asked.push_back(q);
+  };
+  if (m.form == Form::k1 || m.form == Form::k3) once({Kind::energy, kNone});  // the peak energy
+  if (m.form >= Form::k2)  // T_min: the strokes
+    for (int o : masses) once({Kind::coordinate, o}), once({Kind::neg_coordinate, o});
+  if (m.form >= Form::mean) return;  // a mean asks for no maximum
+  for (const Quantity& q : {m.q, m.q2}) {
+    if (q.kind == Kind::margin) continue;
+    if (q.index != kNone || (q.kind != Kind::pressure && q.kind != Kind::transmission)) {
+      once(q);
+      continue;
+    }
+    for (size_t g = 0; g < d.chain.groups().size(); ++g)
+      if (measures(q.kind, d.chain.groups()[g].type)) once({q.kind, static_cast<int>(g)});
+  }
+}
+
 }  // namespace problems::linkage

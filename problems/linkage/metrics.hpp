@@ -88,6 +88,11 @@ std::vector<opt::MetricSpec> specs_of(const std::vector<Metric>& ms);
 // The outputs that count, by index (none: no T_min, k2 or k3).
 std::vector<int> moving_masses(const Description& d);
 
+// Appends to `asked` the quantities metric m searches the cycle for (a
+// group kind's: one per group of that type), each once; masses: the
+// outputs T_min counts (moving_masses).
+void ask(const Description& d, const std::vector<int>& masses, const Metric& m, std::vector<Quantity>& asked);
+
 // Output link l's M at the values v: a slider's mass, or a link's
 // inertia about its frame's origin (a rocker's pivot): a bar's q L^3 / 3,
 // a body's J + m |cg|^2.

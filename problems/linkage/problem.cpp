@@ -86,6 +86,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> plain;  // the values as doubles
     std::vector<Dual> vdual;    // ... as Duals (their slope: the crank angle's)
     std::vector<double> grids;
+    std::vector<double> slopes;  // their slopes, where solve_grid gives them (grid_slopes)
     std::vector<double> zero_grids;  // the grids zeros() searches
     std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
     std::vector<std::pair<double, int>> switches;  // the loads' switches: angle, load (find_kinks)
@@ -150,14 +151,19 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     for (size_t g = 0; g < c.groups().size(); ++g) ws.asked.push_back({Kind::margin, static_cast<int>(g)});
     const size_t n_margins = ws.asked.size();
     for (size_t m = 0; m < metrics_.size(); ++m)
-      if (out.want(static_cast<int>(m))) ask(metrics_[m], ws.asked);
+      if (out.want(static_cast<int>(m))) ask(d_, masses_, metrics_[m], ws.asked);
     const size_t nq = ws.asked.size(), un = static_cast<size_t>(n);
     ws.grids.resize(nq * un);
+    ws.slopes.resize(nq * un);
     if (!solve_grid(vd, n, out, ws)) return;
     // Maxima, their slopes from the chain on a Dual in phi: first the
-    // margins (a singular design stops there), then the metrics'.
+    // margins (a singular design stops there), then the metrics' (those
+    // whose slopes the jets give take the grid's: solve_grid).
     ws.searches.resize(nq);
-    for (size_t q = 0; q < nq; ++q) ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un));
+    for (size_t q = 0; q < nq; ++q)
+      ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un), {},
+                           grid_slopes(ws.asked[q].kind) ? std::span<const double>(ws.slopes.data() + q * un, un)
+                                                         : std::span<const double>{});
     find_kinks(ws, n_margins);
     auto search = [&](size_t from, size_t to) { run_searches(ws, from, to); };
     // A group whose grid keeps it clear of a singular position by more than
@@ -388,27 +394,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return out;
   }
 
-  // The quantities metric m needs: a group kind's metric one per group of that type.
-  void ask(const Metric& m, std::vector<Quantity>& asked) const {
-    auto once = [&](Quantity q) {
-      for (const Quantity& a : asked)
-        if (a.kind == q.kind && a.index == q.index) return;
-      asked.push_back(q);
-    };
-    if (m.form == Form::k1 || m.form == Form::k3) once({Kind::energy, kNone});  // the peak energy
-    if (m.form >= Form::k2)  // T_min: the strokes
-      for (int o : masses_) once({Kind::coordinate, o}), once({Kind::neg_coordinate, o});
-    if (m.form >= Form::mean) return;  // a mean asks for no maximum
-    for (const Quantity& q : {m.q, m.q2}) {
-      if (q.kind == Kind::margin) continue;
-      if (q.index != kNone || (q.kind != Kind::pressure && q.kind != Kind::transmission)) {
-        once(q);
-        continue;
-      }
-      for (size_t g = 0; g < d_.chain.groups().size(); ++g)
-        if (measures(q.kind, d_.chain.groups()[g].type)) once({q.kind, static_cast<int>(g)});
-    }
-  }
+
 
   static std::string degrees(double phi) {
     char buf[32];
@@ -472,27 +458,33 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         ws.scattered[b] = 1;
       }
       std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;  // the torque's and the energy's, once
+      const mech::Lanes& w = lanes.v[static_cast<size_t>(c.crank().speed)];
       for (size_t q = 0; q < nq; ++q) {
-        double* to = ws.grids.data() + q * un + static_cast<size_t>(k);
+        const size_t at = q * un + static_cast<size_t>(k);
+        double *to = ws.grids.data() + at, *slope = ws.slopes.data() + at;
         const Quantity& a = ws.asked[q];
+        const bool sloped = grid_slopes(a.kind);
         if (whole && (a.kind == Kind::torque || a.kind == Kind::energy)) {
           if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), st);
-          mech::store_lanes(to, drive_quantity(a.kind, *dp, lanes.v[static_cast<size_t>(c.crank().speed)]), m);
+          mech::store_lanes(to, drive_quantity(a.kind, *dp, w), m);
+          if (sloped) mech::store_lanes(slope, mech::Lanes(dp->energy_slope * w * w), m);  // jet_slope's
         } else if (whole && mirror[q] < q) {  // a coordinate's other sign: its row's, negated
           for (int j = 0; j < m; ++j) to[j] = -ws.grids[mirror[q] * un + static_cast<size_t>(k + j)];
+          for (int j = 0; j < m; ++j) slope[j] = -ws.slopes[mirror[q] * un + static_cast<size_t>(k + j)];
         } else if (whole && lane_kind(a.kind)) {
           mech::store_lanes(to, quantity(a, lanes.v.data(), st, ws), m);
+          if (sloped) mech::store_lanes(slope, jet_slope(d_, a, lanes.v.data(), st), m);
         } else {
           ws.scatter(b);
-          for (int j = 0; j < m; ++j) to[j] = quantity(ws.asked[q], vd, ws.grid[static_cast<size_t>(k + j)], ws);
+          for (int j = 0; j < m; ++j) {
+            const State<double>& sj = ws.grid[static_cast<size_t>(k + j)];
+            to[j] = quantity(a, vd, sj, ws);
+            if (sloped) slope[j] = jet_slope(d_, a, vd, sj);
+          }
         }
       }
     }
     return true;
-  }
-  // Whether a quantity is computed on lanes (the joints' forces are not).
-  static bool lane_kind(Kind k) {
-    return k != Kind::reaction && k != Kind::guide && k != Kind::shaking_force && k != Kind::shaking_moment;
   }
 
   // The zeros of fns over the cycle (kinks.hpp).

@@ -104,6 +104,15 @@ inline bool has_jet_slope(Kind k) {
          k == Kind::pressure || k == Kind::transmission || k == Kind::energy;
 }
 
+// Whether the grid keeps a quantity's slopes (its searches' first
+// queries): a metric's whose slope the jets give (a margin's search runs
+// only near a singular position).
+inline bool grid_slopes(Kind k) { return k != Kind::margin && has_jet_slope(k); }
+// Whether a quantity is computed on lanes (the joints' forces are not).
+inline bool lane_kind(Kind k) {
+  return k != Kind::reaction && k != Kind::guide && k != Kind::shaking_force && k != Kind::shaking_moment;
+}
+
 // Quantity q's slope in the crank angle (has_jet_slope(q.kind)).
 template <class T>
 T jet_slope(const Description& d, const Quantity& q, const T* v, const mech::linkage::State<T>& st) {
