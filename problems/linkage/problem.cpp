@@ -394,8 +394,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return out;
   }
 
-
-
   static std::string degrees(double phi) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.4g", phi * 180 / std::numbers::pi);
