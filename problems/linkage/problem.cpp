@@ -465,7 +465,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         if (whole && (a.kind == Kind::torque || a.kind == Kind::energy)) {
           if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), st);
           mech::store_lanes(to, drive_quantity(a.kind, *dp, w), m);
-          if (sloped) mech::store_lanes(slope, mech::Lanes(dp->energy_slope * w * w), m);  // jet_slope's
+          if (sloped) mech::store_lanes(slope, energy_slope(*dp, w), m);
         } else if (whole && mirror[q] < q) {  // a coordinate's other sign: its row's, negated
           for (int j = 0; j < m; ++j) to[j] = -ws.grids[mirror[q] * un + static_cast<size_t>(k + j)];
           for (int j = 0; j < m; ++j) slope[j] = -ws.slopes[mirror[q] * un + static_cast<size_t>(k + j)];

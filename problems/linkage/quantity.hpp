@@ -95,6 +95,11 @@ T drive_quantity(Kind k, const mech::linkage::DrivePoint<T>& p, const T& w) {
   using std::abs;
   return k == Kind::torque ? T(abs(p.torque)) : T(p.energy * w * w);
 }
+// The energy's slope in the crank angle from a drive point (jet_slope's).
+template <class T>
+T energy_slope(const mech::linkage::DrivePoint<T>& p, const T& w) {
+  return T(p.energy_slope * w * w);
+}
 
 // Whether quantity kind k's slope in the crank angle comes from a state's
 // second-order jets alone (jet_slope); the torque's, an acceleration's and
@@ -148,7 +153,7 @@ T jet_slope(const Description& d, const Quantity& q, const T* v, const mech::lin
       const auto s = sine(false);
       return T(-sign(s.v) * s.d);
     }
-    case Kind::energy: return T(mech::linkage::drive_point(c, v, st).energy_slope * w * w);
+    case Kind::energy: return energy_slope(mech::linkage::drive_point(c, v, st), w);
     default: return T(0.0);
   }
 }
