@@ -13,7 +13,8 @@ export CCACHE_BASEDIR := $(CURDIR)
 RUN_PACKAGES = cmake g++ make pkg-config ccache libeigen3-dev libnlopt-cxx-dev \
   coinor-libipopt-dev libsundials-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev \
   libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin libgtest-dev libbenchmark-dev
-TEST_PACKAGES = python3-numpy python3-scipy python3-mpmath python3-yaml librsvg2-bin
+TEST_PACKAGES = python3-numpy python3-scipy python3-mpmath python3-yaml librsvg2-bin \
+  python3-dev pybind11-dev python3-pytest
 
 .PHONY: deps deps-test configure mechopt build run test bench bench-smoke clean sanitize fuzz fuzz-linkage
 
@@ -47,7 +48,12 @@ mechopt: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target mechopt > $(BUILD)/build.log 2>&1 || \
 	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
 
+# The Python module's packages come with deps-test: a build directory
+# configured before them (`make run` first) looks for them again.
 build: configure deps-test
+	@if grep -qs '^MECHOPT_PYTHON_MISSING:INTERNAL=1' $(BUILD)/CMakeCache.txt; then \
+	  echo "configure: cmake again, for the Python module (log: $(BUILD)/configure.log)"; \
+	  cmake $(BUILD) >> $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; exit 1); fi
 	@echo "build: everything, $(JOBS) jobs (log: $(BUILD)/build.log)"
 	@cmake --build $(BUILD) -j $(JOBS) > $(BUILD)/build.log 2>&1 || \
 	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
