@@ -14,7 +14,7 @@ RUN_PACKAGES = cmake g++ make pkg-config ccache libeigen3-dev libnlopt-cxx-dev \
   coinor-libipopt-dev libsundials-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev \
   libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin libgtest-dev libbenchmark-dev
 TEST_PACKAGES = python3-numpy python3-scipy python3-mpmath python3-yaml librsvg2-bin \
-  python3-dev pybind11-dev python3-pytest
+  python3-dev pybind11-dev python3-pytest python3-pandas python3-matplotlib
 
 .PHONY: deps deps-test configure mechopt build run test bench bench-smoke clean sanitize fuzz fuzz-linkage
 

@@ -457,17 +457,6 @@ void print_check(const opt::doe::StoreCheck& c) {
   for (const auto& p : c.problems) std::cout << "  " << p << "\n";
 }
 
-int run_doe(const Args& a, const opt::ConfigNode& root, const opt::Problem& problem) {
-  opt::doe::DoeSpec spec = opt::doe::parse_doe(root, opt::model_parameters(root), problem,
-                                                      a.batch.force || a.batch.dry_run);
-  const opt::RunSpec run = opt::parse_run(root, problem);  // output
-  opt::doe::BatchOptions o = a.batch;
-  o.peers = opt::doe::mpi_peers();
-  o.output_directory = !a.output.empty() ? a.output : run.output_directory;
-  opt::doe::run_batch(root, opt::make_problem, spec, o, std::cout, std::cerr);
-  return stopped(o.output_directory + "/store.sqlite");
-}
-
 // Exit 2: the config (or the store it meets) is wrong, with the message that says where.
 int bad_input(const std::exception& e) {
   std::cerr << "mechopt: error: " << e.what() << "\n";
@@ -487,17 +476,16 @@ int run(const Args& a) {
     return 0;
   }
   if (a.command == "check-derivatives") return check(*problem);
-  const bool doe = root.has("study") && root.at("study").has("type") && root.at("study").at("type").text() == "doe";
+  const bool doe = opt::is_doe(root);
   if (a.doe_only_flags && !doe) usage_error("--progress, --shard, --new and --dry-run go with a doe study");
+  if (a.batch_flags && !doe && opt::parse_run(root, *problem, a.batch.force).type != "sweep")
+    usage_error("--threads and --force go with a doe or sweep study");
   opt::install_stop_handlers();
-  if (doe) return run_doe(a, root, *problem);
-  opt::RunSpec spec = opt::parse_run(root, *problem, a.batch.force);
-  if (a.batch_flags && spec.type != "sweep") usage_error("--threads and --force go with a doe or sweep study");
-  if (!a.output.empty()) spec.output_directory = a.output;
-  spec.threads = a.batch.threads;
-  spec.force = a.batch.force;
-  opt::run_study(*problem, spec, std::cout);
-  return stopped(spec.output_directory + "/result.json");
+  opt::doe::BatchOptions o = a.batch;
+  o.output_directory = a.output;
+  if (doe) o.peers = opt::doe::mpi_peers();
+  opt::run_config(root, *problem, o, std::cout, std::cerr);
+  return stopped(o.output_directory + (doe ? "/store.sqlite" : "/result.json"));
 }
 
 // Freed memory stays with the process (up to 64 MB at the top of each

@@ -6,17 +6,21 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <csignal>
 #include <cmath>
+#include <csignal>
+#include <iostream>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "opt/doe/batch.hpp"
 #include "opt/evaluate_rows.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/parameters.hpp"
 #include "opt/registry.hpp"
+#include "opt/study.hpp"
 
 namespace py = pybind11;
 
@@ -60,16 +64,51 @@ class StopHandlers {
   struct sigaction int_ {}, term_{};
 };
 
-// A problem made from a config: the file `config` with `text` (YAML or
-// JSON, named `origin` in errors) laid over it, or `text` alone.
+// KeyboardInterrupt where a stop was requested (cleared for the next call).
+void raise_if_stopped() {
+  if (!opt::stop_requested()) return;
+  opt::clear_stop();
+  PyErr_SetNone(PyExc_KeyboardInterrupt);
+  throw py::error_already_set();
+}
+
+// A config: the file `config` with `text` (YAML or JSON, named `origin` in
+// errors) laid over it, or `text` alone.
+opt::ConfigNode config_root(const std::string& text, const std::string& origin, const std::string& config) {
+  return config.empty() ? opt::ConfigNode::parse(text, origin)
+         : text.empty() ? opt::ConfigNode::load(config)
+                        : opt::ConfigNode::load(config).with(YAML::Load(text), origin);
+}
+
+// The config's study as `mechopt run` runs it, into `output` (or the
+// config's directory where ""), its printed lines on stdout unless quiet;
+// result.json's content as JSON text. Ctrl-C stops it: what was done is
+// written, marked interrupted, and KeyboardInterrupt is raised.
+std::string run_config(const opt::ConfigNode& root, const opt::Problem& problem, const std::string& output,
+                       int threads, bool quiet) {
+  opt::doe::BatchOptions o;
+  o.output_directory = output;
+  o.threads = threads;
+  o.progress = "none";
+  std::ostringstream sink;
+  nlohmann::json j;
+  {
+    py::gil_scoped_release free;
+    StopHandlers stop;
+    j = opt::run_config(root, problem, o, quiet ? sink : std::cout, quiet ? sink : std::cerr);
+    std::cout.flush();
+  }
+  raise_if_stopped();
+  return j.dump();
+}
+
+// A problem made from a config (config_root), kept with it for its runs.
 class PyProblem {
  public:
-  PyProblem(const std::string& text, const std::string& origin, const std::string& config) {
-    const auto root = config.empty() ? opt::ConfigNode::parse(text, origin)
-                      : text.empty() ? opt::ConfigNode::load(config)
-                                     : opt::ConfigNode::load(config).with(YAML::Load(text), origin);
-    problem_ = opt::make_problem(root);
-    parameters_ = parameter_list(opt::model_parameters(root));
+  PyProblem(const std::string& text, const std::string& origin, const std::string& config)
+      : root_(config_root(text, origin, config)) {
+    problem_ = opt::make_problem(root_);
+    parameters_ = parameter_list(opt::model_parameters(root_));
   }
   std::string name() const { return problem_->name(); }
   const std::vector<std::string>& metrics() const { return problem_->metric_names(); }
@@ -94,6 +133,13 @@ class PyProblem {
     return out;
   }
   py::list parameters() const { return parameters_; }
+  // The config's own study, or the study `text` (objective, constraints,
+  // study, output: YAML or JSON named `origin` in errors) on this problem.
+  std::string run(const std::string& text, const std::string& origin, const std::string& output, int threads,
+                  bool quiet) const {
+    return run_config(text.empty() ? root_ : opt::ConfigNode::parse(text, origin), *problem_, output, threads,
+                      quiet);
+  }
   Eigen::VectorXd initial() const { return problem_->initial_point(false); }
   std::string settings() const { return problem_->record().dump(); }
 
@@ -149,11 +195,7 @@ class PyProblem {
         }
       });
     }
-    if (!done) {
-      opt::clear_stop();
-      PyErr_SetNone(PyExc_KeyboardInterrupt);
-      throw py::error_already_set();
-    }
+    if (!done) raise_if_stopped();
     py::dict out;
     for (std::size_t j = 0; j < ids.size(); ++j) {
       out[py::str(wanted[j])] = values[j];
@@ -176,6 +218,7 @@ class PyProblem {
     return s + (a.ndim() == 1 ? ",)" : ")");
   }
 
+  opt::ConfigNode root_;
   std::unique_ptr<opt::Problem> problem_;
   py::list parameters_;
 };
@@ -210,6 +253,8 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("variables", &PyProblem::variables)
       .def_property_readonly("parameters", &PyProblem::parameters)
       .def_property_readonly("settings_json", &PyProblem::settings)
+      .def("run", &PyProblem::run, py::arg("text"), py::arg("origin"), py::arg("output"), py::arg("threads"),
+           py::arg("quiet"))
       .def("evaluate", &PyProblem::evaluate, py::arg("X"), py::arg("metrics"), py::arg("gradient"),
            py::arg("threads"));
 }

@@ -2,8 +2,10 @@
 #include <iostream>
 
 #include "core/text.hpp"
+#include "opt/doe/batch.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/record.hpp"
+#include "opt/registry.hpp"
 #include "opt/study.hpp"
 #include "report/report.hpp"
 #include "studies/studies.hpp"
@@ -18,6 +20,25 @@ nlohmann::json metrics_json(const Problem& p, const Eigen::VectorXd& x) {
   nlohmann::json j = {{"status", mech::to_string(e.status)}, {"metrics", m}};
   if (!e.message.empty()) j["message"] = e.message;
   return j;
+}
+
+bool is_doe(const ConfigNode& root) {
+  return root.has("study") && root.at("study").has("type") && root.at("study").at("type").text() == "doe";
+}
+
+nlohmann::json run_config(const ConfigNode& root, const Problem& problem, doe::BatchOptions& options,
+                          std::ostream& out, std::ostream& err) {
+  const bool doe = is_doe(root);
+  RunSpec spec = parse_run(root, problem, options.force || doe);
+  if (options.output_directory.empty()) options.output_directory = spec.output_directory;
+  if (doe)
+    return doe::run_batch(root, make_problem,
+                          doe::parse_doe(root, model_parameters(root), problem, options.force || options.dry_run),
+                          options, out, err);
+  spec.output_directory = options.output_directory;
+  spec.threads = options.threads;
+  spec.force = options.force;
+  return run_study(problem, spec, out);
 }
 
 nlohmann::json run_study(const Problem& p, const RunSpec& s, std::ostream& out) {
