@@ -12,188 +12,21 @@
 #include <string>
 #include <vector>
 
+#include "opt/dakota.hpp"
 #include "opt/derivatives.hpp"
 #include "opt/doe/batch.hpp"
 #include "opt/doe/recover.hpp"
 #include "opt/doe/store.hpp"
 #include "opt/drivers/nlopt.hpp"
 #include "opt/interrupt.hpp"
+#include "opt/record.hpp"
 #include "opt/study.hpp"
 #include "opt/units.hpp"
 #include "opt/registry.hpp"
 #include "problems/linkage/drawing.hpp"
+#include "help.hpp"
 
 namespace {
-
-const char* kUsage = R"(mechopt — optimisation of planar mechanisms of heavy machines
-
-usage:
-  mechopt run CONFIG [--output DIR]       run the config's study; writes DIR/result.json,
-                                          DIR/sweep.csv (sweeps) and DIR/chart.svg
-      a doe study (docs/doe.md) writes DIR/store.sqlite and resumes it when run again:
-      [--threads N] [--progress bar|jsonl|none] [--new] [--force] [--dry-run] [--shard I/N|auto]
-  mechopt export STORE --csv|--json|--canonical
-                                          a results store's rows on stdout (--canonical: the
-                                          CSV without wall times, equal for equal results)
-  mechopt merge OUT STORE...              shard stores into OUT/store.sqlite, checking that
-                                          their configs agree and no sample is missing or doubled
-  mechopt check STORE                     SQLite's integrity check, every row's checksum, every
-                                          sample index once, counts by status, the config hash;
-                                          exit 0 when sound, 1 with what is wrong
-  mechopt recover STORE OUT               every readable, intact row of a damaged store (and its
-                                          meta) into OUT/store.sqlite; running the config on OUT
-                                          evaluates only the samples that were lost
-  mechopt eval CONFIG [--set KEY=VALUE]   every metric at the config's model values as JSON
-                                          (a variable at its initial); --set overrides
-                                          model.KEY and a variable's initial (VALUE may carry a unit)
-  mechopt check-derivatives CONFIG [--set KEY=VALUE]
-                                          every metric's gradient (autodiff) against central
-                                          differences at the model values, per variable
-  mechopt kinematics CONFIG [--angles "0,37,90 deg"] [--svg FILE]
-                                          a linkage's points, links, torque and energy at
-                                          crank angles, as JSON; --svg draws it (docs/linkage.md)
-  mechopt list [--markdown]               problems (every model key with its default, domain
-                                          and source; variables; metrics) and algorithms
-  mechopt COMMAND --help                  a command's arguments and options
-  mechopt --help | --version
-
-exit codes: 0 done, 1 runtime failure (or a derivative mismatch), 2 bad input (or an
-  output directory whose store another run is writing),
-  130/143 stopped by SIGINT/SIGTERM (what was done is written, marked interrupted)
-)";
-
-// `mechopt COMMAND --help`: each command's arguments and options.
-struct Command {
-  const char* name;
-  const char* help;
-};
-const Command kCommands[] = {
-    {"run", R"(usage: mechopt run CONFIG [options]
-
-Runs the config's study and writes DIR/result.json with the study's files
-(sweep.csv, history.csv, charts). A doe study (docs/doe.md) writes
-DIR/store.sqlite and resumes it when run again; a sweep does too.
-
-arguments:
-  CONFIG                  the YAML config (keys: docs/config.md)
-
-options:
-  --output DIR            the output directory (default: the config's output.directory)
-  --threads N             threads of a doe or sweep study, 1 to 4096 (default: every core)
-  --force                 a doe or sweep of more than 10^7 samples
-  --progress bar|jsonl|none
-                          doe: progress on stderr (default: a bar on a terminal, else jsonl)
-  --new                   doe: move the existing store aside and start afresh
-  --dry-run               doe: estimate the time and the store's size; writes nothing
-  --shard I/N|auto        doe: run piece I of N into its own store (auto: from a Slurm
-                          job array's SLURM_ARRAY_TASK_ID, _MIN and _COUNT)
-  -h, --help              this help
-)"},
-    {"kinematics", R"(usage: mechopt kinematics CONFIG [--angles LIST] [--svg FILE]
-
-Prints a `problem: linkage` config's mechanism at its model values as JSON
-(SI): every point's position, velocity and acceleration, every link's angle,
-rate and acceleration, each slider's motion along its line, the groups'
-transmission and pressure angles, the driving torque and kinetic energy.
-
-options:
-  --angles LIST           crank angles, e.g. "0,37,90 deg" (a unit after the
-                          last applies to those without one); default every 30 deg
-  --svg FILE              also draws the mechanism at those angles into FILE (SVG)
-  -h, --help              this help
-)"},
-    {"eval", R"(usage: mechopt eval CONFIG [--set KEY=VALUE]...
-
-Prints every metric at the config's model values as JSON (SI), a variable at
-its initial value.
-
-arguments:
-  CONFIG                  the YAML config
-
-options:
-  --set KEY=VALUE         sets model.KEY (a dotted KEY walks the model: ground.O4.x), and the
-                          initial value of a variable KEY (VALUE may carry a unit:
-                          --set rod_length=800mm); repeatable
-  -h, --help              this help
-)"},
-    {"check-derivatives", R"(usage: mechopt check-derivatives CONFIG [--set KEY=VALUE]...
-
-Compares every metric's gradient (autodiff) with central differences at the
-model values, per variable; exit 1 on a mismatch.
-
-arguments:
-  CONFIG                  the YAML config, with at least one variable
-
-options:
-  --set KEY=VALUE         sets model.KEY, and the initial value of a variable KEY; repeatable
-  -h, --help              this help
-)"},
-    {"export", R"(usage: mechopt export STORE --csv|--json|--canonical
-
-Writes a doe store's rows on stdout, in SI.
-
-arguments:
-  STORE                   a store.sqlite file
-
-options:
-  --csv                   CSV, one row per sample, with wall times
-  --json                  JSON
-  --canonical             the CSV without wall times, rows by index, every number exact:
-                          equal bytes for equal results whatever threads, ranks or shards
-  -h, --help              this help
-)"},
-    {"merge", R"(usage: mechopt merge OUT STORE...
-
-Merges shard stores into OUT/store.sqlite, checking that their configs agree
-and that no sample is missing or doubled.
-
-arguments:
-  OUT                     the output directory
-  STORE...                the shards' store.sqlite files
-
-options:
-  -h, --help              this help
-)"},
-    {"check", R"(usage: mechopt check STORE
-
-Checks a doe store: SQLite's integrity check, every row's checksum, every
-sample index once and within the run, counts by status, the config hash.
-Reads only; a store that a run is writing can be checked.
-
-arguments:
-  STORE                   a store.sqlite file (or the directory holding it)
-
-options:
-  -h, --help              this help
-
-exit codes: 0 sound, 1 damaged (what is wrong is printed), 2 bad arguments
-)"},
-    {"recover", R"(usage: mechopt recover STORE OUT
-
-Copies every readable row whose checksum holds, and the readable meta, of a
-damaged store into OUT/store.sqlite. Running the config with OUT as its
-output directory then evaluates only the samples that were lost.
-
-arguments:
-  STORE                   the damaged store.sqlite file (or its directory)
-  OUT                     a directory with no store yet
-
-options:
-  -h, --help              this help
-
-exit codes: 0 recovered, 1 nothing could be saved (e.g. the first page is
-damaged), 2 bad arguments
-)"},
-    {"list", R"(usage: mechopt list [--markdown]
-
-Lists the problems (every model key with its default, domain and source;
-variables; metrics) and the drivers' algorithms.
-
-options:
-  --markdown              the config reference of docs/config.md, as Markdown
-  -h, --help              this help
-)"},
-};
 
 struct Args {
   std::string command, config, output;
@@ -277,9 +110,12 @@ Args parse_args(int argc, char** argv) {
       a.doe_only_flags = a.doe_only_flags || v[i] != "--force";
     } else if ((v[i] == "--csv" || v[i] == "--json" || v[i] == "--canonical") && a.command == "export") {
       a.export_format = v[i].substr(2);
-    } else if ((a.command == "export" || a.command == "merge" || a.command == "check" || a.command == "recover") &&
+    } else if ((a.command == "export" || a.command == "merge" || a.command == "check" || a.command == "recover" ||
+                a.command == "dakota") &&
                v[i][0] != '-') {
-      a.stores.push_back(v[i]);
+      a.stores.push_back(v[i]);  // (dakota: PARAMS and RESULTS)
+    } else if (v[i] == "--config" && a.command == "dakota") {
+      a.config = value();
     } else if (v[i] == "--output" || v[i] == "--set") {
       if (i + 1 == v.size()) usage_error(v[i] + " needs a value");
       const std::string val = v[++i];
@@ -313,6 +149,8 @@ Args parse_args(int argc, char** argv) {
   if (a.command == "merge" && a.stores.size() < 2) usage_error("merge expects OUT and at least one STORE");
   if (a.command == "check" && a.stores.size() != 1) usage_error("check expects one STORE");
   if (a.command == "recover" && a.stores.size() != 2) usage_error("recover expects STORE and OUT");
+  if (a.command == "dakota" && (a.stores.size() != 2 || a.config.empty()))
+    usage_error("dakota expects PARAMS RESULTS --config CONFIG");
   return a;
 }
 
@@ -556,6 +394,15 @@ int main(int argc, char** argv) {
       }
       std::cout << "saved " << c.saved << " rows into " << a.stores[1] << "/store.sqlite"
                 << (c.config_hash ? "" : " without meta: the config given to its next run supplies it") << "\n";
+      return 0;
+    }
+    if (a.command == "dakota") {  // Dakota's analysis driver (docs/interfaces.md)
+      const opt::ConfigNode root = opt::ConfigNode::load(a.config);
+      const auto problem = opt::make_problem(root);
+      const auto responses =  // what Dakota's default labels stand for, where the config says
+          root.has("objective") ? opt::dakota_responses(opt::parse_run(root, *problem)) : std::vector<std::string>{};
+      const std::string results = opt::dakota_results(*problem, responses, opt::read_dakota_params(a.stores[0]));
+      opt::write_file_atomically(a.stores[1], results);
       return 0;
     }
     if (a.command == "merge") {
