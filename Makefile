@@ -16,7 +16,7 @@ RUN_PACKAGES = cmake g++ make pkg-config ccache libeigen3-dev libnlopt-cxx-dev \
 TEST_PACKAGES = python3-numpy python3-scipy python3-mpmath python3-yaml librsvg2-bin \
   python3-dev pybind11-dev python3-pytest python3-pandas python3-matplotlib
 
-.PHONY: deps deps-test configure mechopt build run test bench bench-smoke clean sanitize fuzz fuzz-linkage
+.PHONY: deps deps-test configure mechopt build run test install bench bench-smoke clean sanitize fuzz fuzz-linkage
 
 deps:
 	@bash tools/install_deps.sh $(RUN_PACKAGES)
@@ -24,6 +24,9 @@ deps-test:
 	@bash tools/install_deps.sh $(RUN_PACKAGES) $(TEST_PACKAGES)
 
 SUNDIALS_PREFIX = $(abspath $(BUILD))/sundials
+# Extra cmake arguments for a new build directory, e.g. a package for any
+# x86-64: make install BUILD=build-portable CMAKE_ARGS=-DMECHOPT_AVX2=OFF
+CMAKE_ARGS ?=
 IPOPT_HEADERS = $(abspath $(BUILD))/ipopt-internal/include
 # Configured once: a build directory that has its CMakeCache.txt is left to
 # cmake's own checks (it re-runs itself when a CMakeLists.txt changes), so
@@ -38,7 +41,7 @@ $(BUILD)/CMakeCache.txt:
 	  $$(command -v ccache >/dev/null && echo -DCMAKE_CXX_COMPILER_LAUNCHER=ccache) \
 	  $$(test -f $(SUNDIALS_PREFIX)/lib/cmake/sundials/SUNDIALSConfig.cmake && \
 	     echo -DSUNDIALS_DIR=$(SUNDIALS_PREFIX)/lib/cmake/sundials) \
-	  -DIPOPT_INTERNAL_INCLUDE=$(IPOPT_HEADERS) \
+	  -DIPOPT_INTERNAL_INCLUDE=$(IPOPT_HEADERS) $(CMAKE_ARGS) \
 	  > $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; rm -f $@; exit 1)
 
 # `mechopt` builds the command line and its libraries only; `build` the rest
@@ -50,10 +53,11 @@ mechopt: configure
 
 # The Python module's packages come with deps-test: a build directory
 # configured before them (`make run` first) looks for them again.
-build: configure deps-test
-	@if grep -qs '^MECHOPT_PYTHON_MISSING:INTERNAL=1' $(BUILD)/CMakeCache.txt; then \
+PYTHON_AGAIN = if grep -qs '^MECHOPT_PYTHON_MISSING:INTERNAL=1' $(BUILD)/CMakeCache.txt; then \
 	  echo "configure: cmake again, for the Python module (log: $(BUILD)/configure.log)"; \
 	  cmake $(BUILD) >> $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; exit 1); fi
+build: configure deps-test
+	@$(PYTHON_AGAIN)
 	@echo "build: everything, $(JOBS) jobs (log: $(BUILD)/build.log)"
 	@cmake --build $(BUILD) -j $(JOBS) > $(BUILD)/build.log 2>&1 || \
 	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
@@ -63,6 +67,17 @@ run: mechopt
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The package (docs/package.md): the binary, shared libraries, headers, the
+# CMake and pkg-config files and the Python module under PREFIX.
+PREFIX ?= /usr/local
+install: configure deps-test
+	@$(PYTHON_AGAIN)
+	@echo "build: the binary, the libraries and the Python module, $(JOBS) jobs (log: $(BUILD)/build.log)"
+	@cmake --build $(BUILD) -j $(JOBS) --target mechopt mechopt_mech mechopt_opt $$(grep -qs \
+	  '^MECHOPT_PYTHON_MISSING:INTERNAL=0' $(BUILD)/CMakeCache.txt && echo _core) > $(BUILD)/build.log 2>&1 || \
+	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
