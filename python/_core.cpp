@@ -11,6 +11,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -137,8 +138,12 @@ class PyProblem {
   // study, output: YAML or JSON named `origin` in errors) on this problem.
   std::string run(const std::string& text, const std::string& origin, const std::string& output, int threads,
                   bool quiet) const {
-    return run_config(text.empty() ? root_ : opt::ConfigNode::parse(text, origin), *problem_, output, threads,
-                      quiet);
+    if (!text.empty()) return run_config(opt::ConfigNode::parse(text, origin), *problem_, output, threads, quiet);
+    opt::ConfigNode own = [&] {  // a copy for this run: yaml-cpp trees are not read from two threads at once
+      std::lock_guard lock(root_m_);
+      return root_.clone();
+    }();
+    return run_config(own, *problem_, output, threads, quiet);
   }
   Eigen::VectorXd initial() const { return problem_->initial_point(false); }
   std::string settings() const { return problem_->record().dump(); }
@@ -219,6 +224,7 @@ class PyProblem {
   }
 
   opt::ConfigNode root_;
+  mutable std::mutex root_m_;  // held while a run copies root_
   std::unique_ptr<opt::Problem> problem_;
   py::list parameters_;
 };
