@@ -200,3 +200,40 @@ def test_ctrl_c_stops_a_batch_and_gives_python_its_handler_back():
         os.kill(os.getpid(), signal.SIGINT)
         time.sleep(1)
     assert p.evaluate(p.initial)["status"][0] == "ok"  # the stop request is cleared
+
+
+def test_one_problem_serves_python_threads_at_once(tmp_path):
+    """A Problem is shared: evaluate and run from several Python threads at
+    once give what they give one at a time."""
+    p = mechopt.Problem(config=CONVEYOR)
+    X = big_batch(p, 300)
+    alone = p.evaluate(X, threads=1)
+    twin = mechopt.Problem(config=TWIN)
+    ran_alone = twin._p.run("", "", str(tmp_path / "alone"), 1, True)
+    results, runs, errors = [None] * 4, [None] * 2, []
+
+    def evaluate(i):
+        try:
+            results[i] = p.evaluate(X, threads=1)
+        except Exception as e:  # noqa: BLE001 (reported below)
+            errors.append(e)
+
+    def run(i):
+        try:
+            runs[i] = twin._p.run("", "", str(tmp_path / ("run%d" % i)), 1, True)
+        except Exception as e:  # noqa: BLE001
+            errors.append(e)
+
+    threads = [threading.Thread(target=evaluate, args=(i,)) for i in range(4)]
+    threads += [threading.Thread(target=run, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    for r in results:
+        for name in p.metrics:
+            assert np.array_equal(r[name], alone[name], equal_nan=True), name
+    for r in runs:
+        a, b = json.loads(r), json.loads(ran_alone)
+        assert a["variables"] == b["variables"] and a["metrics"] == b["metrics"]
