@@ -8,7 +8,7 @@ import sys
 
 import mechopt
 
-SOURCE = os.environ.get("MECHOPT_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+from common import SOURCE
 
 
 def example_code():

@@ -18,10 +18,7 @@ import pytest
 
 import mechopt
 
-SOURCE = os.environ.get("MECHOPT_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-BINARY = os.environ.get("MECHOPT_BINARY", os.path.join(SOURCE, "build", "bin", "mechopt"))
-TWIN = os.path.join(SOURCE, "configs", "recuperative_drive", "rod_length.yaml")
-CONVEYOR = os.path.join(SOURCE, "configs", "linkage", "conveyor_swing.yaml")
+from common import SOURCE, BINARY, TWIN, CONVEYOR
 
 
 def cli_eval(config, sets=()):

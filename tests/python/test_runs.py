@@ -16,9 +16,7 @@ import pytest
 
 import mechopt
 
-SOURCE = os.environ.get("MECHOPT_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-BINARY = os.environ.get("MECHOPT_BINARY", os.path.join(SOURCE, "build", "bin", "mechopt"))
-TWIN = os.path.join(SOURCE, "configs", "recuperative_drive", "rod_length.yaml")
+from common import BINARY, TWIN
 
 DOE = """problem: recuperative_drive
 model: {crank_speed: 100 rpm, cart_mass: 1000 kg, rod_mass_per_length: 80 kg/m, efficiency: 0.9,
