@@ -14,7 +14,7 @@ RUN_PACKAGES = cmake g++ make pkg-config ccache libeigen3-dev libnlopt-cxx-dev \
   coinor-libipopt-dev libsundials-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev \
   libsqlite3-dev librandom123-dev libopenmpi-dev openmpi-bin libgtest-dev libbenchmark-dev
 TEST_PACKAGES = python3-numpy python3-scipy python3-mpmath python3-yaml librsvg2-bin \
-  python3-dev pybind11-dev python3-pytest python3-pandas python3-matplotlib
+  python3-dev pybind11-dev python3-pytest python3-pandas python3-matplotlib libpagmo-dev
 
 .PHONY: deps deps-test configure mechopt build run test install bench bench-smoke clean sanitize fuzz fuzz-linkage
 
@@ -51,13 +51,13 @@ mechopt: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target mechopt > $(BUILD)/build.log 2>&1 || \
 	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
 
-# The Python module's packages come with deps-test: a build directory
-# configured before them (`make run` first) looks for them again.
-PYTHON_AGAIN = if grep -qs '^MECHOPT_PYTHON_MISSING:INTERNAL=1' $(BUILD)/CMakeCache.txt; then \
-	  echo "configure: cmake again, for the Python module (log: $(BUILD)/configure.log)"; \
+# The Python module's and pagmo's packages come with deps-test: a build
+# directory configured before them (`make run` first) looks for them again.
+LOOK_AGAIN = if grep -qsE '^MECHOPT_(PYTHON|PAGMO)_MISSING:INTERNAL=1' $(BUILD)/CMakeCache.txt; then \
+	  echo "configure: cmake again, for the Python module and pagmo (log: $(BUILD)/configure.log)"; \
 	  cmake $(BUILD) >> $(BUILD)/configure.log 2>&1 || (tail -n 30 $(BUILD)/configure.log; exit 1); fi
 build: configure deps-test
-	@$(PYTHON_AGAIN)
+	@$(LOOK_AGAIN)
 	@echo "build: everything, $(JOBS) jobs (log: $(BUILD)/build.log)"
 	@cmake --build $(BUILD) -j $(JOBS) > $(BUILD)/build.log 2>&1 || \
 	  (grep -E -A5 "error|Error" $(BUILD)/build.log | head -n 60; exit 1)
@@ -72,7 +72,7 @@ test: build
 # CMake and pkg-config files and the Python module under PREFIX.
 PREFIX ?= /usr/local
 install: configure deps-test
-	@$(PYTHON_AGAIN)
+	@$(LOOK_AGAIN)
 	@echo "build: the binary, the libraries and the Python module, $(JOBS) jobs (log: $(BUILD)/build.log)"
 	@cmake --build $(BUILD) -j $(JOBS) --target mechopt mechopt_mech mechopt_opt $$(grep -qs \
 	  '^MECHOPT_PYTHON_MISSING:INTERNAL=0' $(BUILD)/CMakeCache.txt && echo _core) > $(BUILD)/build.log 2>&1 || \

@@ -62,7 +62,7 @@ arguments:
 
 options:
   --output DIR            the output directory (default: the config's output.directory)
-  --threads N             threads of a doe or sweep study, 1 to 4096 (default: every core)
+  --threads N             threads of a doe, a sweep or a pagmo front, 1 to 4096 (default: every core)
   --force                 a doe or sweep of more than 10^7 samples
   --progress bar|jsonl|none
                           doe: progress on stderr (default: a bar on a terminal, else jsonl)

@@ -316,8 +316,11 @@ int run(const Args& a) {
   if (a.command == "check-derivatives") return check(*problem);
   const bool doe = opt::is_doe(root);
   if (a.doe_only_flags && !doe) usage_error("--progress, --shard, --new and --dry-run go with a doe study");
-  if (a.batch_flags && !doe && opt::parse_run(root, *problem, a.batch.force).type != "sweep")
-    usage_error("--threads and --force go with a doe or sweep study");
+  if (a.batch_flags && !doe) {
+    const opt::RunSpec s = opt::parse_run(root, *problem, a.batch.force);
+    if (s.type != "sweep" && !(s.driver.library == "pagmo" && !a.batch.force))
+      usage_error("--threads and --force go with a doe or sweep study (--threads also with a pagmo front)");
+  }
   opt::install_stop_handlers();
   opt::doe::BatchOptions o = a.batch;
   o.output_directory = a.output;

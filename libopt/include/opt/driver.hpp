@@ -58,6 +58,10 @@ struct DriverOptions {
   std::string local_algorithm = "LD_LBFGS";
   // A local driver run from the first driver's answer (global-then-local).
   std::shared_ptr<const DriverOptions> polish;
+  // pagmo (a pareto study's evolutionary front; algorithm nsga2, moead or
+  // nspso): the population's size and the generations it evolves, from `seed`.
+  int population = 100;
+  int generations = 100;
 };
 
 struct HistoryRow {

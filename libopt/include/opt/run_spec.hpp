@@ -41,6 +41,9 @@ struct RunSpec {
   std::vector<std::string> columns;  // metrics printed and charted
   std::vector<std::string> objectives;  // pareto: the two metrics traded, both minimised
   int points = 11;                   // pareto: points on the front
+  // pareto with a pagmo driver: the gradient driver that finds the front's
+  // two ends, which scale the objectives for the hypervolume.
+  DriverOptions anchor_driver;
   Reference reference;
   std::string output_directory = "results";
   int threads = 0;     // sweeps: --threads (0: every core)
@@ -49,6 +52,7 @@ struct RunSpec {
 };
 
 // Reads a `driver:` map (library, algorithm, tolerances, limits, polish).
+// library: pagmo only where this mechopt was built with pagmo.
 DriverOptions parse_driver(const ConfigNode& n);
 
 // The most designs one run evaluates without --force: a sweep's grid points

@@ -66,8 +66,20 @@ std::string metric(const ConfigNode& n, const Problem& p, const std::string& nam
 
 DriverOptions parse_driver(const ConfigNode& n) {
   DriverOptions o;
-  if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt", "line"});
-  if (o.library == "ipopt") {
+  if (n.has("library")) o.library = n.at("library").choice({"nlopt", "ipopt", "line", "pagmo"});
+  if (o.library == "pagmo") {
+#ifndef MECHOPT_PAGMO
+    n.at("library").fail("this mechopt was built without pagmo: install libpagmo-dev (make deps-test) and build "
+                         "again (cmake finds it)");
+#endif
+    n.allow_only({"library", "algorithm", "population", "generations", "seed", "max_seconds"});
+    o.algorithm = n.has("algorithm") ? n.at("algorithm").choice({"nsga2", "moead", "nspso"}) : "nsga2";
+    if (n.has("population")) o.population = n.at("population").integer(8, 100000);
+    if (n.has("generations")) o.generations = n.at("generations").integer(1, 1000000);
+    if (o.algorithm == "nsga2" && o.population % 4 != 0)
+      n.at("population").fail("NSGA-II takes a population that is a multiple of 4");
+    o.max_seconds = 3600;
+  } else if (o.library == "ipopt") {
     n.allow_only({"library", "tol", "max_iterations", "max_seconds", "constraint_tol",
                   "print_level", "epigraph", "hessian", "linear_solver"});
     o.algorithm = "interior-point";
@@ -162,7 +174,7 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p, bool force) {
     if (st.has("type") && st.at("type").text() == "doe") {
       s.type = "doe";  // its own keys: opt::doe::parse_doe
     } else {
-      st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points"});
+      st.allow_only({"type", "driver", "grid", "optimize", "columns", "objectives", "points", "anchor_driver"});
       s.type = st.at("type").choice({"optimize", "sweep", "pareto", "evaluate"});
       if (s.type == "pareto") {
         const ConfigNode ob = st.at("objectives");
@@ -178,6 +190,14 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p, bool force) {
         st.fail("'objectives' and 'points' go with type: pareto");
       }
       if (st.has("driver")) s.driver = parse_driver(st.at("driver"));
+      if (s.driver.library == "pagmo") {
+        if (s.type != "pareto") st.at("driver").fail("pagmo evolves fronts: it goes with type: pareto");
+        if (st.has("points")) st.at("points").fail("a pagmo front has its population's designs, not points");
+        if (st.has("anchor_driver")) s.anchor_driver = parse_driver(st.at("anchor_driver"));
+        if (s.anchor_driver.library == "pagmo") st.at("anchor_driver").fail("expected a gradient driver");
+      } else if (st.has("anchor_driver")) {
+        st.at("anchor_driver").fail("goes with driver: {library: pagmo}");
+      }
       if (st.has("optimize")) s.optimize = st.at("optimize").boolean();
       if (s.type == "sweep") {
         const ConfigNode g = st.at("grid");
@@ -209,11 +229,15 @@ RunSpec parse_run(const ConfigNode& root, const Problem& p, bool force) {
     root.fail("missing required key 'variables': an optimisation needs at least one");
   if (s.type == "optimize" || s.type == "pareto" || (s.type == "sweep" && s.optimize)) {
     // The driver takes the problem, or the run stops here (exit 2), before any evaluation.
+    // A pagmo front checks the driver of its two ends, which take the
+    // constraints alone.
+    const bool pagmo = s.driver.library == "pagmo";
     std::vector<Constraint> cons = s.constraints;
-    if (s.type == "pareto") cons.push_back({s.objectives[1], true, 0});  // the front's f2 <= epsilon
-    const std::string why = driver_incompatibility(s.driver, p, s.objective, cons);
-    const bool written = root.has("study") && root.at("study").has("driver");
-    if (!why.empty()) (written ? root.at("study").at("driver") : root).fail(why);
+    if (s.type == "pareto" && !pagmo) cons.push_back({s.objectives[1], true, 0});  // the front's f2 <= epsilon
+    const std::string why = driver_incompatibility(pagmo ? s.anchor_driver : s.driver, p, s.objective, cons);
+    const char* key = pagmo ? "anchor_driver" : "driver";
+    const bool written = root.has("study") && root.at("study").has(key);
+    if (!why.empty()) (written ? root.at("study").at(key) : root).fail(why);
   }
   if (s.columns.empty() && s.type != "doe") {
     s.columns.push_back(s.objective.metric);

@@ -53,7 +53,7 @@ void remove_previous_outputs(const std::string& dir) {
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     const bool ours = name == "result.json" || name == "sweep.csv" || name == "history.csv" ||
-                      name == "pareto.csv" || name == "cycle.csv" || name == "cycle.svg" || name == "mechanism.svg" ||
+                      name == "pareto.csv" || name == "generations.csv" || name == "cycle.csv" || name == "cycle.svg" || name == "mechanism.svg" ||
                       name == "pareto.svg" || ((name.rfind("chart", 0) == 0 || name.rfind("main_effects_", 0) == 0) && e.path().extension() == ".svg") ||
                       e.path().extension() == ".partial";
     if (ours && e.is_regular_file()) fs::remove(e.path(), ec);

@@ -30,9 +30,15 @@ struct SweepOutcome {
 };
 SweepOutcome sweep(const Problem& p, const RunSpec& s, std::ostream& out, const std::string& dir);
 
-// The epsilon-constraint front of two metrics: pareto.csv and pareto.svg;
-// adds the files it wrote to `files`.
+// The epsilon-constraint front of two metrics, or pagmo's (below):
+// pareto.csv and pareto.svg; adds the files it wrote to `files`.
 nlohmann::json pareto(const Problem& p, const RunSpec& s, std::ostream& out, const std::string& dir,
                       std::vector<std::string>& files);
+
+// The front of a population evolved by pagmo (driver library: pagmo):
+// pareto.csv (the final non-dominated feasible designs), generations.csv
+// (the hypervolume after each generation) and pareto.svg.
+nlohmann::json pareto_evolution(const Problem& p, const RunSpec& s, std::ostream& out, const std::string& dir,
+                                std::vector<std::string>& files);
 
 }  // namespace opt::studies

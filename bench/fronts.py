@@ -1,0 +1,73 @@
+#!/usr/bin/env python3
+"""Epsilon-constraint against evolutionary Pareto fronts (docs/drivers.md,
+"Evolutionary fronts"): for the conveyor and the sawmill, runs the shipped
+pareto.yaml (Ipopt, 101 points) and pareto_evolution.yaml under NSGA-II,
+MOEA/D and NSPSO (pagmo, 100 designs, 100 generations, seed 1) through the
+mechopt binary, each --repetitions times, and prints one Markdown row per
+method: the normalised hypervolume, its ratio to the epsilon-constraint
+front's, the designs evaluated, the median seconds of the front itself (the
+evolutionary runs' two Ipopt optima apart, in their own column) and, for an
+evolutionary front, the generation, designs and seconds at which its
+hypervolume first came within 1% of the epsilon-constraint front's.
+Usage: /usr/bin/python3 bench/fronts.py [--binary build/bin/mechopt] [--repetitions 5] [--threads 1]
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PROBLEMS = ["conveyor_swing", "balanced_slider_crank"]
+ALGORITHMS = ["nsga2", "moead", "nspso"]
+
+
+def run(binary, config, threads, algorithm=None):
+    """result.json's pareto of one run; the algorithm replaced in a copy of the config."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(ROOT, "configs", config)
+        if algorithm:
+            text = open(path).read().replace("algorithm: nsga2", "algorithm: " + algorithm)
+            path = os.path.join(tmp, "config.yaml")
+            with open(path, "w") as f:
+                f.write(text)
+        cmd = [binary, "run", path, "--output", os.path.join(tmp, "out")]
+        if algorithm:
+            cmd += ["--threads", str(threads)]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        with open(os.path.join(tmp, "out", "result.json")) as f:
+            return json.load(f)["pareto"]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--binary", default=os.path.join(ROOT, "build", "bin", "mechopt"))
+    ap.add_argument("--repetitions", type=int, default=5)
+    ap.add_argument("--threads", type=int, default=1)
+    a = ap.parse_args()
+    print("| problem | front | hypervolume | / epsilon | designs | seconds (median) | the two optima [s] "
+          "| within 1% at: generation, designs, seconds |")
+    print("|---|---|---:|---:|---:|---:|---:|---|")
+    for problem in PROBLEMS:
+        eps = [run(a.binary, problem + "/pareto.yaml", a.threads) for _ in range(a.repetitions)]
+        target = eps[0]["hypervolume"]
+        print(f"| {problem} | epsilon-constraint, Ipopt, {eps[0]['points_done']} points | {target:.5f} | 1 "
+              f"| {eps[0]['evaluations']} | {statistics.median(r['seconds'] for r in eps):.3f} | (in the front) | |")
+        for algorithm in ALGORITHMS:
+            evo = [run(a.binary, problem + "/pareto_evolution.yaml", a.threads, algorithm)
+                   for _ in range(a.repetitions)]
+            hv = evo[0]["hypervolume"]
+            reached = [h for h in evo[0]["history"] if h["hypervolume"] >= 0.99 * target]
+            at = "never"
+            if reached:
+                g = reached[0]["generation"]
+                seconds = statistics.median(r["history"][g - 1]["seconds"] for r in evo)
+                at = f"{g}, {reached[0]['evaluations']}, {seconds:.3f}"
+            print(f"| {problem} | {algorithm}, {len(evo[0]['points'])} points | {hv:.5f} | {hv / target:.4f} "
+                  f"| {evo[0]['evaluations']} | {statistics.median(r['seconds'] for r in evo):.3f} "
+                  f"| {statistics.median(r['anchor_seconds'] for r in evo):.3f} | {at} |")
+
+
+if __name__ == "__main__":
+    main()
