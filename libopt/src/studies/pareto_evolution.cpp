@@ -147,8 +147,10 @@ struct Udp {
 
 // One generation per evolve call, so the study can measure the front, report
 // progress and stop between generations; the algorithm keeps its random
-// engine from call to call. NSGA-II's mutation rate is 1 / (variables), as
-// Deb's paper sets it; everything else is pagmo's default.
+// engine from call to call, and NSPSO its swarm's velocities and memories
+// (memory: true; without it every call would start a new swarm). NSGA-II's
+// mutation rate is 1 / (variables), as Deb's paper sets it; everything else
+// is pagmo's default.
 pagmo::algorithm make_algorithm(const DriverOptions& d, size_t variables) {
   const auto seed = static_cast<unsigned>(d.seed);
   if (d.algorithm == "moead") {
@@ -156,7 +158,7 @@ pagmo::algorithm make_algorithm(const DriverOptions& d, size_t variables) {
     return pagmo::algorithm{pagmo::moead(1u, "grid", "tchebycheff", neighbours, 1.0, 0.5, 20., 0.9, 2u, true, seed)};
   }
   if (d.algorithm == "nspso") {
-    pagmo::nspso a(1u, 0.6, 2.0, 2.0, 1.0, 0.5, 60u, "crowding distance", false, seed);
+    pagmo::nspso a(1u, 0.6, 2.0, 2.0, 1.0, 0.5, 60u, "crowding distance", true, seed);
     a.set_bfe(pagmo::bfe{pagmo::member_bfe{}});
     return pagmo::algorithm{a};
   }
