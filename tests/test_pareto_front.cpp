@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 
+#include "cli.hpp"
 #include "opt/front.hpp"
 #include "opt/registry.hpp"
 #include "opt/study.hpp"
@@ -169,6 +170,20 @@ TEST(EvolutionaryFront, RepeatsAtAnyThreadCount) {
     EXPECT_EQ(one.json["points"], two.json["points"]) << algorithm;
     EXPECT_EQ(one.json["hypervolume"], two.json["hypervolume"]) << algorithm;
   }
+}
+
+// --threads goes with a pagmo front (its population's batches), and still
+// not with an epsilon-constraint one, whose driver runs one design at a time.
+TEST(EvolutionaryFront, TakesThreadsFromTheCommandLine) {
+  const std::string dir = cli::fresh_dir("front_cli");
+  const cli::Outcome evo =
+      cli::run("run " + cli::source("configs/conveyor_swing/pareto_evolution.yaml") + " --threads 2 --output " + dir);
+  EXPECT_TRUE(evo.exited(0)) << evo.output;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/generations.csv"));
+  const cli::Outcome eps =
+      cli::run("run " + cli::source("configs/conveyor_swing/pareto.yaml") + " --threads 2 --output " + dir);
+  EXPECT_TRUE(eps.exited(2)) << eps.output;
+  EXPECT_NE(eps.output.find("--threads also with a pagmo front"), std::string::npos) << eps.output;
 }
 #endif
 
