@@ -128,7 +128,14 @@ void expect_same_front(const std::string& problem) {
 }
 
 TEST(EvolutionaryFront, ConveyorMatchesTheEpsilonConstraintFront) { expect_same_front("conveyor_swing"); }
-TEST(EvolutionaryFront, SawmillMatchesTheEpsilonConstraintFront) { expect_same_front("balanced_slider_crank"); }
+// Under ASan the sawmill's 101 Ipopt runs take about 100 s; the conveyor's
+// comparison takes the same code through the sanitizers.
+TEST(EvolutionaryFront, SawmillMatchesTheEpsilonConstraintFront) {
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP() << "the conveyor's comparison runs the same code under the sanitizers";
+#endif
+  expect_same_front("balanced_slider_crank");
+}
 
 // A disconnected front (configs/conveyor_swing/pareto_gap.yaml): the
 // constraint time_ratio >= 1.08 leaves two pieces of the l_CO1 family, and
@@ -162,11 +169,12 @@ TEST(EvolutionaryFront, FindsThePieceTheEpsilonConstraintFrontMisses) {
 }
 
 // The population is evaluated over threads with each result placed by its
-// index: one thread and two give the same front, bit for bit.
+// index: one thread and two give the same front, bit for bit (on the
+// disconnected front, where both constraints cut designs out).
 TEST(EvolutionaryFront, RepeatsAtAnyThreadCount) {
-  for (const char* algorithm : {"nsga2", "moead"}) {
-    const Front one = run("balanced_slider_crank/pareto_evolution.yaml", algorithm, 1);
-    const Front two = run("balanced_slider_crank/pareto_evolution.yaml", algorithm, 2);
+  for (const char* algorithm : {"nsga2", "moead", "nspso"}) {
+    const Front one = run("conveyor_swing/pareto_gap_evolution.yaml", algorithm, 1);
+    const Front two = run("conveyor_swing/pareto_gap_evolution.yaml", algorithm, 2);
     EXPECT_EQ(one.json["points"], two.json["points"]) << algorithm;
     EXPECT_EQ(one.json["hypervolume"], two.json["hypervolume"]) << algorithm;
   }
