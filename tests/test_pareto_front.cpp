@@ -9,11 +9,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <thread>
 #include <random>
 #include <sstream>
 
 #include "cli.hpp"
 #include "opt/front.hpp"
+#include "opt/interrupt.hpp"
 #include "opt/registry.hpp"
 #include "opt/study.hpp"
 
@@ -178,6 +182,36 @@ TEST(EvolutionaryFront, RepeatsAtAnyThreadCount) {
     EXPECT_EQ(one.json["points"], two.json["points"]) << algorithm;
     EXPECT_EQ(one.json["hypervolume"], two.json["hypervolume"]) << algorithm;
   }
+}
+
+// A stop request (Ctrl-C) ends the evolution after the generation under
+// way; the front found so far is written, every design on it feasible.
+TEST(EvolutionaryFront, AStopKeepsTheFrontSoFar) {
+  const std::string config = "balanced_slider_crank/pareto_evolution.yaml";
+  const auto root = opt::ConfigNode::load(std::string(MECHOPT_SOURCE_DIR) + "/configs/" + config);
+  const auto p = opt::make_problem(root);
+  opt::RunSpec spec = opt::parse_run(root, *p);
+  spec.driver.generations = 1000000;
+  spec.output_directory = cli::fresh_dir("front_stop");
+  std::ostringstream log;
+  nlohmann::json j;
+  std::thread run([&] { j = opt::run_study(*p, spec, log); });
+  // After three generations are recorded (a generation takes milliseconds).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  for (int lines = 0; lines < 4 && std::chrono::steady_clock::now() < deadline;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    std::ifstream in(spec.output_directory + "/generations.csv.partial");
+    lines = static_cast<int>(std::count(std::istreambuf_iterator<char>(in), {}, '\n'));
+  }
+  opt::request_stop();
+  run.join();
+  opt::clear_stop();
+  EXPECT_EQ(j["run_status"], "interrupted");
+  EXPECT_EQ(j["pareto"]["stopped_by"], "interrupted");
+  EXPECT_LT(j["pareto"]["generations_done"].get<int>(), 1000000);
+  EXPECT_FALSE(j["pareto"]["points"].empty()) << log.str();
+  expect_feasible_non_dominated(config, j["pareto"]);
+  EXPECT_TRUE(std::filesystem::exists(spec.output_directory + "/pareto.csv"));
 }
 
 // --threads goes with a pagmo front (its population's batches), and still

@@ -5,6 +5,7 @@
 // values, feasibility first (Penalised below). Built where CMake finds
 // pagmo (MECHOPT_PAGMO); the config is refused before any evaluation
 // otherwise (config/run_spec.cpp).
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -77,11 +78,16 @@ class Penalised {
     for (auto& c : cons_) wanted_.add(c.id = p.metric_id(c.metric));
   }
 
-  // Rows [0, n) of X, k = the variables' count values each, over the threads.
-  std::vector<Assessed> assess(const double* X, std::int64_t n) {
+  // Rows [0, n) of X, k = the variables' count values each, over the
+  // threads; a stop request leaves the rest unevaluated (their status
+  // evaluation_error). `whole`: every row, one thread, whatever a stop
+  // request says (the final population, which the front is made of).
+  std::vector<Assessed> assess(const double* X, std::int64_t n, bool whole = false) {
     std::vector<Assessed> a(static_cast<size_t>(n));
-    const auto k = static_cast<std::int64_t>(p_.variables().size());
-    evaluate_rows(p_, X, n, k, wanted_, false, n > 1 ? threads_ : 1, [&](std::int64_t i, const Evaluation& e) {
+    const auto k = static_cast<Eigen::Index>(p_.variables().size());
+    std::atomic<std::int64_t> done{0};
+    auto put = [&](std::int64_t i, const Evaluation& e) {
+      ++done;
       Assessed& r = a[static_cast<size_t>(i)];
       r.status = e.status;
       if (!e.ok()) return;
@@ -90,8 +96,17 @@ class Penalised {
         const double v = e[c.id].value;
         if (!c.met(v)) r.violation += c.violation(v) / std::max(1.0, std::abs(c.bound));
       }
-    });
-    evaluations_ += n;
+    };
+    if (whole) {
+      Evaluation e;
+      for (std::int64_t i = 0; i < n; ++i) {
+        p_.evaluate(Eigen::Map<const Eigen::VectorXd>(X + i * k, k), wanted_, false, e);
+        put(i, e);
+      }
+    } else {
+      evaluate_rows(p_, X, n, k, wanted_, false, n > 1 ? threads_ : 1, put);
+      evaluations_ += done;
+    }
     return a;
   }
 
@@ -218,12 +233,13 @@ nlohmann::json pareto_evolution(const Problem& p, const RunSpec& s, std::ostream
   const std::int64_t evaluations = values->evaluations();
 
   // The front: the final population's feasible designs that no other one
-  // dominates, evaluated again for their status and constraints.
+  // dominates, evaluated again for their status and constraints (after a
+  // stop too: the front found so far is written).
   const auto xs = pop.get_x();
   const size_t k = p.variables().size();
   pagmo::vector_double flat;
   for (const auto& x : xs) flat.insert(flat.end(), x.begin(), x.end());
-  const std::vector<Assessed> a = values->assess(flat.data(), static_cast<std::int64_t>(xs.size()));
+  const std::vector<Assessed> a = values->assess(flat.data(), static_cast<std::int64_t>(xs.size()), true);
   std::vector<Objectives> feasible_f;
   std::vector<size_t> feasible;
   for (size_t i = 0; i < a.size(); ++i)
