@@ -239,7 +239,10 @@ void list(bool markdown) {
   list_units(false);
   std::cout << "drivers:\n  nlopt:";
   for (const auto& a : opt::nlopt_algorithms()) std::cout << " " << a;
-  std::cout << "\n  ipopt: interior point, L-BFGS Hessian, epigraph rows for cycle maxima\n";
+  std::cout << "\n  ipopt: interior point, L-BFGS Hessian, epigraph rows for cycle maxima\n"
+            << "  line: one variable, Brent on the derivative\n"
+            << (opt::evolutionary_fronts_built() ? "  pagmo (pareto fronts): nsga2 moead nspso\n"
+                                                 : "  pagmo (pareto fronts): not in this build (libpagmo-dev)\n");
 }
 
 int check(const opt::Problem& p) {

@@ -226,6 +226,8 @@ TEST(EvolutionaryFront, TakesThreadsFromTheCommandLine) {
       cli::run("run " + cli::source("configs/conveyor_swing/pareto.yaml") + " --threads 2 --output " + dir);
   EXPECT_TRUE(eps.exited(2)) << eps.output;
   EXPECT_NE(eps.output.find("--threads also with a pagmo front"), std::string::npos) << eps.output;
+  // `mechopt list` names the algorithms this build has.
+  EXPECT_NE(cli::run("list").output.find("pagmo (pareto fronts): nsga2 moead nspso"), std::string::npos);
 }
 #endif
 

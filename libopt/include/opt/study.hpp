@@ -1,6 +1,7 @@
 // Studies orchestrate runs of a Problem: `optimize` (one driver run),
 // `sweep` (1-D or 2-D grid, like the paper's tables, optionally followed by an
-// optimisation) and `pareto` (epsilon-constraint front of two metrics). Every
+// optimisation) and `pareto` (the front of two metrics: epsilon-constraint,
+// or evolved by pagmo). Every
 // evaluation's status is recorded; results go to result.json, sweep.csv,
 // history.csv, pareto.csv and SVG charts in the output directory.
 #pragma once
@@ -30,6 +31,9 @@ nlohmann::json run_config(const ConfigNode& root, const Problem& problem, doe::B
                           std::ostream& out, std::ostream& err);
 // Whether the config's study is a doe.
 bool is_doe(const ConfigNode& root);
+
+// Whether this build has pagmo's evolutionary fronts (driver library: pagmo).
+bool evolutionary_fronts_built();
 
 // Every metric at x as JSON {status, metrics: {name: value}}.
 nlohmann::json metrics_json(const Problem& problem, const Eigen::VectorXd& x);

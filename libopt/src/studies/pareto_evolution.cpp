@@ -293,3 +293,15 @@ nlohmann::json pareto_evolution(const Problem&, const RunSpec&, std::ostream&, c
 #endif
 
 }  // namespace opt::studies
+
+namespace opt {
+
+bool evolutionary_fronts_built() {
+#ifdef MECHOPT_PAGMO
+  return true;
+#else
+  return false;
+#endif
+}
+
+}  // namespace opt
