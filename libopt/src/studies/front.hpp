@@ -35,7 +35,6 @@ class FrontTable {
   void row(const std::vector<double>& lead, const Eigen::VectorXd& x, const std::string& status) const;
 
  private:
-  const Problem& p_;
   std::ostream& out_;
   std::vector<std::string> head_;
   std::vector<double> scale_;  // of each column, to its shown unit

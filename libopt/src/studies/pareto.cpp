@@ -54,7 +54,7 @@ FrontEnds front_ends(const Problem& p, const RunSpec& s, const DriverOptions& dr
 
 FrontTable::FrontTable(const Problem& p, std::ostream& out, const std::vector<std::string>& lead,
                        const std::vector<std::string>& lead_units)
-    : p_(p), out_(out) {
+    : out_(out) {
   for (size_t c = 0; c < lead.size(); ++c) {
     head_.push_back(shown_label(lead[c], lead_units[c]));
     scale_.push_back(shown_unit(lead_units[c]).scale);
