@@ -132,14 +132,7 @@ void expect_same_front(const std::string& problem) {
 }
 
 TEST(EvolutionaryFront, ConveyorMatchesTheEpsilonConstraintFront) { expect_same_front("conveyor_swing"); }
-// Under ASan the sawmill's 101 Ipopt runs take about 100 s; the conveyor's
-// comparison takes the same code through the sanitizers.
-TEST(EvolutionaryFront, SawmillMatchesTheEpsilonConstraintFront) {
-#ifdef __SANITIZE_ADDRESS__
-  GTEST_SKIP() << "the conveyor's comparison runs the same code under the sanitizers";
-#endif
-  expect_same_front("balanced_slider_crank");
-}
+TEST(EvolutionaryFront, SawmillMatchesTheEpsilonConstraintFront) { expect_same_front("balanced_slider_crank"); }
 
 // A disconnected front (configs/conveyor_swing/pareto_gap.yaml): the
 // constraint time_ratio >= 1.08 leaves two pieces of the l_CO1 family, and
