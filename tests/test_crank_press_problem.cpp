@@ -19,6 +19,7 @@
 #include "opt/driver.hpp"
 #include "opt/study.hpp"
 #include "opt/registry.hpp"
+#include "paths.hpp"
 
 namespace {
 

@@ -515,7 +515,7 @@ bool lock_is_free(const std::string& out) {
   return free;
 }
 
-// Killed with SIGKILL at 20 moments drawn from a fixed seed, each after
+// Killed with SIGKILL at 20 moments (6 under ASan) drawn from a fixed seed, each after
 // this round committed something and before the whole design was (the test
 // checks both), resumed each time, on one thread and four in turn (whose
 // rows go to segments when store.sqlite is busy; DoeStore.KilledWriter...
@@ -524,11 +524,14 @@ bool lock_is_free(const std::string& out) {
 // canonical dump equals a run's that was never killed, every index once.
 TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
   const std::string dir = cli::fresh_dir("doe_kill"), clean = cli::fresh_dir("doe_kill_clean");
-  constexpr long kSamples = 200000;  // a round commits <= ~0.3 s of its threads' work
+  // A round commits <= ~0.3 s of its threads' work; the rounds take under
+  // half of a whole run's evaluations (13 s in Release, 15 s under ASan).
+  constexpr long kSamples = cli::kSanitized ? 50000 : 200000;
+  constexpr int kRounds = cli::kSanitized ? 6 : 20;
   const std::string config = sobol_config(dir, kSamples);
   std::mt19937 moments(20261123);
   long kept = 0;
-  for (int k = 0; k < 20; ++k) {
+  for (int k = 0; k < kRounds; ++k) {
     const pid_t pid = start_run(config, dir + "/out", k % 2 ? "4" : "1");
     // After a commit of this round, then 0-50 ms more: mid-batch or mid-commit.
     wait_for_rows(dir + "/out", kept);
@@ -543,7 +546,7 @@ TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
     ASSERT_LT(now, kSamples) << "round " << k << ": killed after everything was committed";
     kept = now;
   }
-  // 200 000 samples: under ASan, on a loaded machine, more than cli::run's 120 s.
+  // On a loaded machine, more than cli::run's 120 s.
   const auto again = cli::run("run " + config + " --output " + dir + "/out --progress=none", 600);
   ASSERT_TRUE(again.exited(0)) << again.output;
   EXPECT_NE(again.output.find("resuming: " + std::to_string(kept) + " done"), std::string::npos) << again.output;
@@ -562,7 +565,8 @@ TEST(DoeBatch, SigkillAtTwentyMomentsLosesNothingCommitted) {
 // ends complete, with the canonical dump of a run alone.
 TEST(DoeBatch, SecondRunOnAStoreInUseIsRefused) {
   const std::string dir = cli::fresh_dir("doe_busy"), clean = cli::fresh_dir("doe_busy_clean");
-  constexpr long kSamples = 100000;  // one thread: seconds, so the first is still running
+  // One thread: seconds (7 s in Release, 7 s under ASan), so the first is still running.
+  constexpr long kSamples = cli::kSanitized ? 25000 : 100000;
   const std::string config = sobol_config(dir, kSamples);
   const pid_t first = start_run(config, dir + "/out");
   wait_for_rows(dir + "/out", 0);

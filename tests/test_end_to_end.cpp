@@ -14,6 +14,7 @@
 
 #include "opt/display_units.hpp"
 #include "opt/registry.hpp"
+#include "paths.hpp"
 
 namespace {
 

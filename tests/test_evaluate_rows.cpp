@@ -11,6 +11,7 @@
 #include "opt/evaluate_rows.hpp"
 #include "opt/interrupt.hpp"
 #include "opt/registry.hpp"
+#include "paths.hpp"
 
 namespace {
 

@@ -12,6 +12,7 @@
 #include "opt/config.hpp"
 #include "opt/derivatives.hpp"
 #include "opt/registry.hpp"
+#include "paths.hpp"
 
 namespace {
 

@@ -16,6 +16,7 @@
 #include "opt/interrupt.hpp"
 #include "opt/registry.hpp"
 #include "test_problems.hpp"
+#include "paths.hpp"
 
 namespace {
 

@@ -21,6 +21,7 @@
 #include "opt/problem.hpp"
 #include "opt/registry.hpp"
 #include "problems/linkage/description.hpp"
+#include "paths.hpp"
 
 namespace {
 
@@ -32,7 +33,7 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kStart = 10.686;  // synchronous crank speed 104.72 / 9.8
 
 // The drive's twin slider-crank as a linkage (the config says how).
-constexpr const char* kTwin = MECHOPT_SOURCE_DIR "/configs/elastic_drive/linkage_twin.yaml";
+const std::string kTwin = std::string(MECHOPT_SOURCE_DIR) + "/configs/elastic_drive/linkage_twin.yaml";
 
 Description description(const std::string& yaml) {
   return problems::linkage::read_model(opt::ConfigNode::parse(yaml, "<machine>"));

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "opt/registry.hpp"
+#include "paths.hpp"
 
 namespace {
 

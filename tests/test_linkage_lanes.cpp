@@ -24,6 +24,7 @@
 #include "opt/config.hpp"
 #include "opt/registry.hpp"
 #include "problems/linkage/description.hpp"
+#include "paths.hpp"
 
 namespace {
 

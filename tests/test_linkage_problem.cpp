@@ -15,6 +15,7 @@
 #include "mech/linkage/dynamics.hpp"
 #include "opt/registry.hpp"
 #include "problems/linkage/description.hpp"
+#include "paths.hpp"
 
 namespace {
 
