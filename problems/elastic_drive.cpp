@@ -272,9 +272,9 @@ class ElasticDriveProblem : public TabledProblem {
     if (!machine_->derived.empty()) {
       mech::linkage::State<double> sd;
       sd.resize(machine_->chain);
-      linkage::placed(machine_->chain, machine_->cycle_points, mv, plain, grid, sd);
+      linkage::placed(machine_->chain, machine_->mean_points(), mv, plain, grid, sd);
     }
-    const mech::linkage::LinkageMachine m(machine_->chain, std::move(mv), machine_->cycle_points);
+    const mech::linkage::LinkageMachine m(machine_->chain, std::move(mv), machine_->mean_points());
     d.machine = &m;
     return f(d);
   }

@@ -160,6 +160,8 @@ TEST(LinkageProblem, BadDescriptionsAreLocatedErrors) {
       {slider_crank("  loads: {p: {link: ram, law: exponential, a: 1 MPa, b: 0 1/m, area: 1 m^2, depth: 1 mm}}\n",
                     "variables: {loads.p.contact: {min: 0 m, max: 1 m}}\n"),
        "the contact follows the law's depth"},
+      {slider_crank("  cycle_points: many\n"), "key 'model.cycle_points': expected auto or a whole number from 8 to 100000, got 'many'"},
+      {slider_crank("  cycle_points: 4\n"), "key 'model.cycle_points': expected a whole number from 8 to 100000, got '4'"},
   };
   for (const auto& c : cases) {
     const std::string what = error_of(c.yaml);

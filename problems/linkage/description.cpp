@@ -62,7 +62,15 @@ class Reader {
       else
         d_.chain.set_gravity(g.quantity(Dimension::acceleration, opt::kNonNegative));
     }
-    if (model_.has("cycle_points")) d_.cycle_points = model_.at("cycle_points").integer(8, 100000);
+    if (model_.has("cycle_points")) {
+      const ConfigNode points = model_.at("cycle_points");
+      const std::string t = points.text();
+      char* end = nullptr;
+      std::strtod(t.c_str(), &end);
+      if (t != "auto" && (t.empty() || *end != '\0'))
+        points.fail("expected auto or a whole number from 8 to 100000, got '" + t + "'");
+      if (t != "auto") d_.cycle_points = points.integer(8, 100000);
+    }
     if (model_.has("speed_fluctuation"))
       d_.speed_fluctuation = number(model_.at("speed_fluctuation"), "speed_fluctuation", Dimension::dimensionless,
                                     {0, 1, true, false}, "the coefficient of speed fluctuation a flywheel keeps");
@@ -401,7 +409,7 @@ class Reader {
     std::vector<double> v = d_.chain.defaults(), plain, grid;
     mech::linkage::State<double> sd;
     sd.resize(d_.chain);
-    placed(d_.chain, d_.cycle_points, v, plain, grid, sd);
+    placed(d_.chain, d_.mean_points(), v, plain, grid, sd);
     for (const auto s : d_.derived) {
       d_.chain.set_default(s, v[static_cast<size_t>(s)]);
       d_.table[static_cast<size_t>(s)].value = v[static_cast<size_t>(s)];

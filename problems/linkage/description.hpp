@@ -26,7 +26,13 @@ struct Description {
   mech::linkage::Chain chain;
   std::vector<opt::Parameter> table;  // row i is the chain's slot i
   std::vector<Output> outputs;
-  int cycle_points = 64;
+  // Grid points a revolution (model.cycle_points); 0: auto, the grid
+  // from the groups' poles (problem.cpp's grid_points), 32 to 64 points.
+  int cycle_points = 0;
+  // The points of the grids that do not follow the poles (a law's contact
+  // by its depth), and half the Gauss nodes a revolution of the means:
+  // the given grid's, 64 under auto.
+  int mean_points() const { return cycle_points ? cycle_points : 64; }
   bool has_mass = false;
   // Whether anything takes a torque from the crank: masses, loads, springs.
   bool has_dynamics() const { return has_mass || !chain.loads().empty() || !chain.springs().empty(); }

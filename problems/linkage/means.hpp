@@ -88,7 +88,7 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
                [&](const mech::Lanes& phi, const mech::Lanes& cp, const mech::Lanes& sp) {
                  return L(mech::linkage::body_sums(c, lanes.v.data(), lanes.at(phi, cp, sp)).inertia * ww);
                },
-               {}, 2 * n, ws.cycle, near)
+               {}, 2 * d.mean_points(), ws.cycle, near)
         .mean;
   }
   // Every s-th grid point, s the largest divisor of n that leaves the
@@ -167,7 +167,7 @@ S work_swing(const Description& d, const opt::Values<S>& v, const S& mean, const
   for (size_t j = 0; j < zeros.size(); ++j) {
     const double a = zeros[j], b = j + 1 < zeros.size() ? zeros[j + 1] : zeros[0] + mech::kTwoPi;
     work -= jump_term(js, a, false, mean_d);  // a pressure law's jumps move with the design
-    mech::for_each_panel(a, b, 2 * n, near, [&](double mid, double half, int nodes) {
+    mech::for_each_panel(a, b, 2 * d.mean_points(), near, [&](double mid, double half, int nodes) {
       const mech::GaussRule& rule = mech::gauss_rule(nodes);
       for (size_t i = 0; i < static_cast<size_t>(rule.m + 1) / 2; ++i) {
         const bool centre = 2 * i + 1 == static_cast<size_t>(rule.m);
@@ -187,7 +187,7 @@ S work_swing(const Description& d, const opt::Values<S>& v, const S& mean, const
 }
 
 // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
-// the torque's kinks (2 n nodes a revolution, the chain kLanes nodes at a
+// the torque's kinks (2 mean_points() nodes a revolution, the chain kLanes nodes at a
 // time), the loads' work from its arcs' ends where it can, the energy on
 // the grid. Returns the mean kinetic energy (0 when not computed).
 template <class S, class W>
@@ -202,7 +202,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   else kept.lanes.emplace(c, v.data());
   mech::linkage::LaneSolver<S>& lanes = *kept.lanes;
   const int n = static_cast<int>(ws.grid.size());
-  const int nodes = 2 * n;
+  const int nodes = 2 * d.mean_points();
   const S& w = v[static_cast<size_t>(c.crank().speed)];
   // Which integrals the wanted means need: the torque's (|M|, M^2), the
   // loads' power (the mean torque: inertia, gravity and springs give
@@ -222,10 +222,13 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   // (work.hpp): then the kinks only where the torque's own means need them.
   const bool by_ends = work && work_from_ends(c);
   const bool arcs = torque || flywheel || (work && !by_ends);
+  // (the switches alone: the peaks' searches' where they found them, the same bits)
   std::vector<std::pair<double, int>> switches;
-  const std::vector<double> kinks = arcs || by_ends ? torque_kinks(c, ws.plain.data(), n, ws.zero_grids,
-                                                                   ws.sd, ws.blocks, &switches, arcs, &*ws.lanes)
-                                                    : std::vector<double>{};
+  if (!arcs && by_ends && ws.switches_found) switches = ws.switches;
+  const std::vector<double> kinks = arcs || (by_ends && !ws.switches_found)
+                                        ? torque_kinks(c, ws.plain.data(), n, ws.zero_grids, ws.sd, ws.blocks,
+                                                       &switches, arcs, &*ws.lanes)
+                                        : std::vector<double>{};
   std::vector<Jump<S>> js;
   if (has_law && arcs) {
     contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.blocks);

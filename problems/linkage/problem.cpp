@@ -41,6 +41,10 @@ using mech::linkage::State;
 // kinematics.hpp) is singular_position.
 constexpr double kSingular = 1e-6;
 
+// The grid of `cycle_points: auto` (grid_points): kAutoFirst points, or
+// kAutoLast where the poles are near.
+constexpr int kAutoFirst = 32, kAutoLast = 64;
+
 class LinkageProblem : public ModelProblem<LinkageProblem> {
  public:
   LinkageProblem(Description d, std::vector<Metric> metrics, opt::Values<double> values,
@@ -58,7 +62,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return {{"model", model_json()},
             {"groups", groups},
             {"numerics",
-             {{"cycle_points", d_.cycle_points},
+             {{"cycle_points", d_.cycle_points ? nlohmann::json(d_.cycle_points) : nlohmann::json("auto")},
               {"kinematics", "closed form per class II group on second-order jets in the crank angle"},
               {"maximum", "grid bracket + root of the angle derivative (the chain on a Dual in phi); Danskin gradients"},
               {"singular", "each group's sine measure refined to its cycle minimum; below 1e-6: singular_position"}}},
@@ -71,7 +75,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> v = values_at(x), plain, grid;
     State<double> sd;
     sd.resize(d_.chain);
-    if (!d_.derived.empty()) placed(d_.chain, d_.cycle_points, v, plain, grid, sd);
+    if (!d_.derived.empty()) placed(d_.chain, d_.mean_points(), v, plain, grid, sd);
     return linkage::cycle_curves(d_, v, n);
   }
   // mechanism.svg: the design at six crank angles with its points' paths.
@@ -90,12 +94,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<double> zero_grids;  // the grids zeros() searches
     std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
     std::vector<std::pair<double, int>> switches;  // the loads' switches: angle, load (find_kinks)
-    std::vector<double> kinks, jump_kinks;  // the torque's kinks: contacts, tables' rows; the forces': switches too
+    bool switches_found = false;                   // ... found in this evaluation
+    std::vector<double> kinks;  // the torque's and the forces' kinks: contacts, tables' rows, switches
     std::vector<MovingKink> moving;         // the contacts and rows crossed, which move with the design
     std::vector<double> ref;  // each output's direction at phi = 0 (x, y, its angle)
     std::vector<Contact> contacts;     // the pressure laws' contacts
     std::vector<double> contact_grid;  // scratch
     std::vector<mech::CycleMaxSearch> searches;
+    std::vector<mech::NearPole> near;  // grid_points' scratch
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
@@ -124,14 +130,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   template <class S>
   void evaluate_model(const opt::Values<S>& given, MetricSink<S>& out, Workspace& ws) const {
     const Chain& c = d_.chain;
-    const int n = d_.cycle_points;
+    int n = d_.cycle_points ? d_.cycle_points : kAutoFirst;
     if (ws.sd.point.size() != c.point_names().size()) {
       ws.sd.resize(c);
       ws.sdual.resize(c);
     }
     opt::Values<S> placed;  // with the contacts of the laws given by their depth
     const opt::Values<S>& v =
-        d_.derived.empty() ? given : linkage::placed(c, n, placed = given, ws.plain, ws.contact_grid, ws.sd);
+        d_.derived.empty() ? given : linkage::placed(c, d_.mean_points(), placed = given, ws.plain, ws.contact_grid, ws.sd);
     for (size_t m = 0; m < metrics_.size(); ++m)  // defined for every design: a driver's constraint
       if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(c, metrics_[m].q.index, v.data()));
     ws.plain.resize(v.size());
@@ -152,10 +158,17 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     const size_t n_margins = ws.asked.size();
     for (size_t m = 0; m < metrics_.size(); ++m)
       if (out.want(static_cast<int>(m))) ask(d_, masses_, metrics_[m], ws.asked);
-    const size_t nq = ws.asked.size(), un = static_cast<size_t>(n);
-    ws.grids.resize(nq * un);
-    ws.slopes.resize(nq * un);
-    if (!solve_grid(vd, n, out, ws)) return;
+    const size_t nq = ws.asked.size();
+    size_t un;
+    while (true) {  // under auto, a second grid where the first's poles ask for more points
+      un = static_cast<size_t>(n);
+      ws.grids.resize(nq * un);
+      ws.slopes.resize(nq * un);
+      if (!solve_grid(vd, n, out, ws)) return;
+      const int more = d_.cycle_points || n != kAutoFirst ? n : grid_points(ws, n_margins);
+      if (more == n) break;
+      n = more;
+    }
     // Maxima, their slopes from the chain on a Dual in phi: first the
     // margins (a singular design stops there), then the metrics' (those
     // whose slopes the jets give take the grid's: solve_grid).
@@ -329,9 +342,12 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         if (!mech::linkage::solve_lanes_at(c, dl.v.data(), phi, dl.st)) {
           for (mech::AngleQuery* a : duals) one(*a);
         } else {
+          L out;  // a quantity once for the lanes in a row that ask it
           for (int j = 0; j < m; ++j) {
             mech::AngleQuery& a = *duals[static_cast<size_t>(j)];
-            a.out = quantity(ws.asked[from + static_cast<size_t>(a.fn)], dl.v.data(), dl.st, ws).d[0][j];
+            if (j == 0 || a.fn != duals[static_cast<size_t>(j - 1)]->fn)
+              out = quantity(ws.asked[from + static_cast<size_t>(a.fn)], dl.v.data(), dl.st, ws);
+            a.out = out.d[0][j];
           }
         }
         duals.clear();
@@ -343,11 +359,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         if (!mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st)) {
           for (mech::AngleQuery* a : block) one(*a);
         } else {
+          mech::Lanes out;  // a quantity (or slope) once for the lanes in a row that ask it
           for (int j = 0; j < m; ++j) {
             mech::AngleQuery& a = *block[static_cast<size_t>(j)];
-            const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
-            const mech::Lanes out =
-                a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
+            const mech::AngleQuery* before = j ? block[static_cast<size_t>(j - 1)] : nullptr;
+            if (!before || a.fn != before->fn || a.slope != before->slope) {
+              const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
+              out = a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
+            }
             a.out = out[j];
           }
         }
@@ -392,6 +411,23 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       }
     }
     return out;
+  }
+
+  // The grid of an `auto` evaluation, from its first of kAutoFirst points:
+  // those where they give the mean energy's trapezoid rule its n asinh(w)
+  // >= 2 kPoleDigits (energy_mean; seed 000's n >= 45 / acosh(l / r) on a
+  // slider-crank), w the nearest pole's width from the margins' grids
+  // (grid_poles), else kAutoLast. Two sizes only: a grid between them
+  // would save little and leave the searches' starts on more grids than
+  // the tests see.
+  int grid_points(Workspace& ws, size_t n_margins) const {
+    const size_t n = ws.grid.size();
+    ws.near.clear();
+    for (size_t g = 0; g < n_margins; ++g)
+      if (!grid_poles(std::span<const double>(ws.grids.data() + g * n, n), ws.near)) return kAutoLast;
+    for (const mech::NearPole& p : ws.near)
+      if (static_cast<double>(n) * std::asinh(p.width) < 2 * mech::kPoleDigits) return kAutoLast;
+    return static_cast<int>(n);
   }
 
   static std::string degrees(double phi) {
@@ -485,12 +521,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return true;
   }
 
-  // The zeros of fns over the cycle (kinks.hpp).
-  std::vector<double> zeros(Workspace& ws, const std::vector<KinkFn>& fns) const {
-    return zeros_of(d_.chain, ws.plain.data(), static_cast<int>(ws.grid.size()), fns, ws.zero_grids, ws.sd,
-                    ws.blocks, nullptr, &*ws.lanes);
-  }
-
   // A load that switches makes the forces it enters jump where its rate
   // changes sign (the torque does not: the load's power is zero there), so
   // the peak of a reaction can be a one-sided limit at a switch: each
@@ -499,6 +529,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   void hold_switches(Workspace& ws, size_t from) const {
     const Chain& c = d_.chain;
     ws.held.assign(ws.asked.size(), {kNone, 0});
+    bool jumps = false;
+    for (size_t q = from; q < ws.asked.size(); ++q) jumps = jumps || jumps_at_switches(ws.asked[q].kind);
+    if (!jumps) return;
     for (const auto& [phi, i] : ws.switches) {
       mech::linkage::solve(c, ws.plain.data(), phi, ws.sd);
       for (int side : {-1, 1}) {
@@ -518,30 +551,28 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   }
   // The kinks of the searches of [from, end) the loads enter (the torque
   // and the forces): a pressure law's contacts (jumps), the tables' rows
-  // (kinks.hpp's table_rows) and, for the forces, the loads' switches
-  // (ws.switches: angle, load), where they jump. A maximum at a kink is
-  // the kink's value, one just before a jump is not mistaken for it.
-  // ws.moving: the contacts and the rows crossed (at_max takes their motion).
+  // (kinks.hpp's table_rows) and the loads' switches (ws.switches: angle,
+  // load; the torque bends there, the forces jump). A maximum at a kink is
+  // the kink's value, one just before a jump is not mistaken for it; two
+  // maxima a kink apart within a grid step are both seen. ws.moving: the
+  // contacts and the rows crossed (at_max takes their motion).
   void find_kinks(Workspace& ws, size_t from) const {
     const Chain& c = d_.chain;
     const int n = static_cast<int>(ws.grid.size());
     ws.switches.clear(), ws.moving.clear(), ws.kinks.clear();
-    bool loaded = false, jumps = false;
-    for (size_t q = from; q < ws.asked.size(); ++q)
-      loaded = loaded || bears_loads(ws.asked[q].kind), jumps = jumps || jumps_at_switches(ws.asked[q].kind);
+    ws.switches_found = false;
+    bool loaded = false;
+    for (size_t q = from; q < ws.asked.size(); ++q) loaded = loaded || bears_loads(ws.asked[q].kind);
     if (!loaded) return;
     if (has_law_) contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.blocks);
     for (const Contact& k : ws.contacts) ws.moving.push_back({k.phi, {k.load, kDepth}});  // (none without a law)
     table_rows(c, ws.plain.data(), n, ws.moving, ws.kinks, ws.zero_grids, ws.sd, ws.blocks);
     for (const MovingKink& k : ws.moving) ws.kinks.push_back(k.phi);
-    for (size_t i = 0; i < c.loads().size() && jumps; ++i)
-      if (mech::linkage::switching(c.loads()[i]))
-        for (double phi : zeros(ws, {{static_cast<int>(i), -1}})) ws.switches.emplace_back(phi, static_cast<int>(i));
-    ws.jump_kinks = ws.kinks;
-    for (const auto& sw : ws.switches) ws.jump_kinks.push_back(sw.first);
+    torque_kinks(c, ws.plain.data(), n, ws.zero_grids, ws.sd, ws.blocks, &ws.switches, false, &*ws.lanes);
+    ws.switches_found = true;  // (put_means takes them)
+    for (const auto& sw : ws.switches) ws.kinks.push_back(sw.first);
     for (size_t q = from; q < ws.asked.size(); ++q)
-      if (bears_loads(ws.asked[q].kind))
-        ws.searches[q].kinks = jumps_at_switches(ws.asked[q].kind) ? ws.jump_kinks : ws.kinks;
+      if (bears_loads(ws.asked[q].kind)) ws.searches[q].kinks = ws.kinks;
   }
   static bool jumps_at_switches(Kind k) { return k == Kind::reaction || k == Kind::guide; }
   static bool bears_loads(Kind k) { return k == Kind::torque || jumps_at_switches(k); }
