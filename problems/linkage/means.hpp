@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -71,8 +72,8 @@ inline bool grid_poles(std::span<const double> f, std::vector<mech::NearPole>& o
 // sqrt(lambda^2 - 1) for its acosh(lambda) = asinh of it, which is taken
 // instead). Where n w >= 2 kPoleDigits the grid serves, or every s-th
 // point of it where that is enough: its energies (`energies`, where the
-// grid has them) or its states (solved on S, on lanes, for a gradient);
-// nearer a pole, Gauss panels graded toward it.
+// grid has them) or its states; a gradient, the chain on S at as few
+// points as the rule asks; nearer a pole, Gauss panels graded toward it.
 template <class S, class W>
 S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<mech::NearPole>& near,
               mech::linkage::LaneSolver<S>& lanes, const double* energies, W& ws) {
@@ -91,36 +92,53 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
                {}, 2 * d.mean_points(), ws.cycle, near)
         .mean;
   }
-  // Every s-th grid point, s the largest divisor of n that leaves the
-  // trapezoid its n / s asinh(w) >= 2 kPoleDigits (and 16 points; with
-  // no pole known, every point), kLanes at a time, each lane's energy
-  // (I / 2) w w as the grid's (quantity.hpp's drive_quantity), summed in
-  // one order: a value is the same bits with or without its gradient.
+  // The value: every s-th grid point, s the largest divisor of n that
+  // leaves the trapezoid its n / s asinh(w) >= 2 kPoleDigits (and 16
+  // points; with no pole known, every point), kLanes at a time, each
+  // lane's energy (I / 2) w w as the grid's (quantity.hpp's
+  // drive_quantity), or from the grid's states, summed in one order: the
+  // same bits with or without a gradient.
   int s = 1;
   for (int t = 2; t <= n / 16 && a < HUGE_VAL; ++t)
     if (n % t == 0 && (n / t) * a >= 2 * mech::kPoleDigits) s = t;
   const int points = n / s;
-  const L ww = mech::LaneForm<S>::broadcast(w);
-  GridStates states;  // (the double pass's, where it has no energies)
-  if constexpr (!mech::is_dual<S>) states = energies ? GridStates{} : ws.states();
-  L sums(0.0);
+  const double wd = mech::value(w);
+  const GridStates states = energies ? GridStates{} : ws.states();
+  mech::Lanes sums(0.0);
   for (int k = 0; k < points; k += mech::kLanes) {
-    const int m = std::min(mech::kLanes, points - k);
-    if constexpr (mech::is_dual<S>) {  // the chain on S, each lane solve's bits at its angle
-      mech::Lanes phi;  // the grid's angles (problem.cpp's solve_grid)
-      for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * ((k + std::min(j, m - 1)) * s) / n;
-      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
-      sums += mech::first_lanes(L(L(mech::linkage::body_sums(c, lanes.v.data(), lanes.st).inertia / 2.0) * ww * ww), m);
-    } else {  // the grid's energies where the peak's search has them, else its states'
-      mech::Lanes e(0.0);
-      for (int j = 0; j < m; ++j) {
-        const size_t i = static_cast<size_t>((k + j) * s);
-        e[j] = energies ? energies[i] : mech::linkage::body_sums(c, v.data(), states[i]).inertia / 2.0 * w * w;
-      }
-      sums += e;
+    mech::Lanes e(0.0);
+    for (int j = 0; j < std::min(mech::kLanes, points - k); ++j) {
+      const size_t i = static_cast<size_t>((k + j) * s);
+      e[j] = energies ? energies[i] : mech::linkage::body_sums(c, ws.plain.data(), states[i]).inertia / 2.0 * wd * wd;
     }
+    sums += e;
   }
-  return S(mech::LaneForm<S>::sum(sums) / static_cast<double>(points));
+  const double mean = mech::sum(sums) / static_cast<double>(points);
+  if constexpr (!mech::is_dual<S>) {
+    return mean;
+  } else {
+    // Its gradient: the trapezoid on the fewest points that give it the
+    // same m asinh(w) >= 2 kPoleDigits (a multiple of kLanes, 16 at
+    // least, the value's at most), the chain on S kLanes angles a call.
+    const int m = a < HUGE_VAL ? std::clamp(mech::kLanes * static_cast<int>(std::ceil(2 * mech::kPoleDigits / a /
+                                                                                     mech::kLanes)),
+                                            std::min(16, points), points)
+                               : points;
+    const L ww = mech::LaneForm<S>::broadcast(w);
+    L grads(0.0);
+    for (int k = 0; k < m; k += mech::kLanes) {
+      const int lanes_used = std::min(mech::kLanes, m - k);
+      mech::Lanes phi;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, lanes_used - 1)) / m;
+      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
+      grads += mech::first_lanes(L(L(mech::linkage::body_sums(c, lanes.v.data(), lanes.st).inertia / 2.0) * ww * ww),
+                                 lanes_used);
+    }
+    S r = S(mech::LaneForm<S>::sum(grads) / static_cast<double>(m));
+    if constexpr (std::is_same_v<S, mech::Dual>) r.v = mean;
+    else r.value() = mean;
+    return r;
+  }
 }
 
 // The grid's energies, where the evaluation asked for them (the peak's
