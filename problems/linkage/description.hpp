@@ -27,7 +27,7 @@ struct Description {
   std::vector<opt::Parameter> table;  // row i is the chain's slot i
   std::vector<Output> outputs;
   // Grid points a revolution (model.cycle_points); 0: auto, the grid
-  // from the groups' poles (problem.cpp's grid_points), 32 to 64 points.
+  // from the groups' poles (problem.cpp's grid_points), 32 or 64 points.
   int cycle_points = 0;
   // The points of the grids that do not follow the poles (a law's contact
   // by its depth), and half the Gauss nodes a revolution of the means:

@@ -120,10 +120,8 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
     // Its gradient: the trapezoid on the fewest points that give it the
     // same m asinh(w) >= 2 kPoleDigits (a multiple of kLanes, 16 at
     // least, the value's at most), the chain on S kLanes angles a call.
-    const int m = a < HUGE_VAL ? std::clamp(mech::kLanes * static_cast<int>(std::ceil(2 * mech::kPoleDigits / a /
-                                                                                     mech::kLanes)),
-                                            std::min(16, points), points)
-                               : points;
+    const double all = points, fewest = mech::kLanes * std::ceil(2 * mech::kPoleDigits / a / mech::kLanes);
+    const int m = a < HUGE_VAL ? static_cast<int>(std::clamp(fewest, std::min(16.0, all), all)) : points;
     const L ww = mech::LaneForm<S>::broadcast(w);
     L grads(0.0);
     for (int k = 0; k < m; k += mech::kLanes) {

@@ -91,7 +91,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<Dual> vdual;    // ... as Duals (their slope: the crank angle's)
     std::vector<double> grids;
     std::vector<double> slopes;  // their slopes, where solve_grid gives them (grid_slopes)
-    std::vector<double> zero_grids;  // the grids zeros() searches
+    std::vector<double> zero_grids;  // the grids the kinks' roots search (kinks.hpp)
     std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
     std::vector<std::pair<double, int>> switches;  // the loads' switches: angle, load (find_kinks)
     bool switches_found = false;                   // ... found in this evaluation
@@ -137,7 +137,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     }
     opt::Values<S> placed;  // with the contacts of the laws given by their depth
     const opt::Values<S>& v =
-        d_.derived.empty() ? given : linkage::placed(c, d_.mean_points(), placed = given, ws.plain, ws.contact_grid, ws.sd);
+        d_.derived.empty() ? given
+                           : linkage::placed(c, d_.mean_points(), placed = given, ws.plain, ws.contact_grid, ws.sd);
     for (size_t m = 0; m < metrics_.size(); ++m)  // defined for every design: a driver's constraint
       if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(c, metrics_[m].q.index, v.data()));
     ws.plain.resize(v.size());
