@@ -12,7 +12,6 @@
 #include <sys/wait.h>
 
 #include "paths.hpp"
-#include "paths.hpp"
 
 namespace cli {
 
