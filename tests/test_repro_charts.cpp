@@ -149,11 +149,7 @@ TEST(ChartSvg, MillionPointsAreThinned) {
 // optimum fails; never a signal, a hang, or a file of gigabytes. The time
 // limit is for a hang: the crank_radius 0.8 front takes ~5 s of CPU in
 // Release (Ipopt, ~1100 evaluations) and ~60 s under ASan.
-#ifdef __SANITIZE_ADDRESS__
-constexpr int kHangSeconds = 400;
-#else
-constexpr int kHangSeconds = 60;
-#endif
+constexpr int kHangSeconds = cli::kSanitized ? 400 : 60;
 
 void run_repro(const std::string& config) {
   const std::string dir = cli::fresh_dir("repro_" + config);

@@ -65,11 +65,12 @@ class Reader {
     if (model_.has("cycle_points")) {
       const ConfigNode points = model_.at("cycle_points");
       const std::string t = points.text();
-      char* end = nullptr;
-      std::strtod(t.c_str(), &end);
-      if (t != "auto" && (t.empty() || *end != '\0'))
-        points.fail("expected auto or a whole number from 8 to 100000, got '" + t + "'");
-      if (t != "auto") d_.cycle_points = points.integer(8, 100000);
+      if (t != "auto") {
+        char* end = nullptr;
+        std::strtod(t.c_str(), &end);
+        if (t.empty() || *end != '\0') points.fail("expected auto or a whole number from 8 to 100000, got '" + t + "'");
+        d_.cycle_points = points.integer(8, 100000);
+      }
     }
     if (model_.has("speed_fluctuation"))
       d_.speed_fluctuation = number(model_.at("speed_fluctuation"), "speed_fluctuation", Dimension::dimensionless,

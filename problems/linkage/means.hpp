@@ -238,13 +238,13 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   // (work.hpp): then the kinks only where the torque's own means need them.
   const bool by_ends = work && work_from_ends(c);
   const bool arcs = torque || flywheel || (work && !by_ends);
-  // (the switches alone: the peaks' searches' where they found them, the same bits)
-  std::vector<std::pair<double, int>> switches;
-  if (!arcs && by_ends && ws.switches_found) switches = ws.switches;
-  const std::vector<double> kinks = arcs || (by_ends && !ws.switches_found)
-                                        ? torque_kinks(c, ws.plain.data(), n, ws.zero_grids, ws.sd, ws.blocks,
-                                                       &switches, arcs, &*ws.lanes)
-                                        : std::vector<double>{};
+  // The switches alone: the peaks' searches' where they found them (the same bits).
+  const bool found = !arcs && by_ends && ws.switches_found;
+  std::vector<std::pair<double, int>> own;
+  const std::vector<double> kinks = arcs || (by_ends && !found) ? torque_kinks(c, ws.plain.data(), n, ws.zero_grids,
+                                                                               ws.sd, ws.blocks, &own, arcs, &*ws.lanes)
+                                                                : std::vector<double>{};
+  const std::vector<std::pair<double, int>>& switches = found ? ws.switches : own;
   std::vector<Jump<S>> js;
   if (has_law && arcs) {
     contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.blocks);
