@@ -50,9 +50,9 @@ inline bool grid_poles(std::span<const double> f, std::vector<mech::NearPole>& o
   const int n = static_cast<int>(f.size());
   const double h = mech::kTwoPi / n;
   const size_t first = out.size();
-  for (int k = 0; k < n; ++k) {
-    const double a = -f[static_cast<size_t>((k + n - 1) % n)], b = -f[static_cast<size_t>(k)],
-                 c = -f[static_cast<size_t>((k + 1) % n)];
+  for (int k = 0, before = n - 1; k < n; before = k++) {  // (no division per point)
+    const int after = k + 1 == n ? 0 : k + 1;
+    const double a = -f[static_cast<size_t>(before)], b = -f[static_cast<size_t>(k)], c = -f[static_cast<size_t>(after)];
     if (!(b <= a && b < c)) continue;  // (the first of two equal points)
     const double m2 = (a - 2 * b + c) / (h * h), m1 = (c - a) / (2 * h);
     const double m0 = b - 0.5 * m1 * m1 / m2, width = m2 > 0 && m0 > 0 ? std::sqrt(2 * m0 / m2) : 0.0;

@@ -101,7 +101,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<Contact> contacts;     // the pressure laws' contacts
     std::vector<double> contact_grid;  // scratch
     std::vector<mech::CycleMaxSearch> searches;
-    std::vector<mech::NearPole> near;  // grid_points' scratch
+    std::vector<mech::NearPole> near;  // the poles (poles(); grid_points' where it keeps its grid)
+    bool near_known = false;           // ... found for this evaluation's grid
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
@@ -161,6 +162,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if (out.want(static_cast<int>(m))) ask(d_, masses_, metrics_[m], ws.asked);
     const size_t nq = ws.asked.size();
     size_t un;
+    ws.near_known = false;
     while (true) {  // under auto, a second grid where the first's poles ask for more points
       un = static_cast<size_t>(n);
       ws.grids.resize(nq * un);
@@ -398,8 +400,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // whose minima its grid resolves takes their parabolas (grid_poles), one
   // with a narrower minimum searches each to its angle and takes the
   // chain's jets there.
-  std::vector<mech::NearPole> poles(Workspace& ws) const {
-    std::vector<mech::NearPole> out;
+  const std::vector<mech::NearPole>& poles(Workspace& ws) const {
+    std::vector<mech::NearPole>& out = ws.near;
+    if (ws.near_known) return out;  // (grid_points': every group's from its grid)
+    out.clear();
     for (size_t g = 0; g < d_.chain.groups().size(); ++g) {
       if (grid_poles(ws.searches[g].v, out)) continue;
       ws.searches[g].reset(ws.searches[g].v);
@@ -428,6 +432,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if (!grid_poles(std::span<const double>(ws.grids.data() + g * n, n), ws.near)) return kAutoLast;
     for (const mech::NearPole& p : ws.near)
       if (static_cast<double>(n) * std::asinh(p.width) < 2 * mech::kPoleDigits) return kAutoLast;
+    ws.near_known = true;
     return static_cast<int>(n);
   }
 

@@ -332,6 +332,14 @@ MECH_INLINE bool all_below(const Lanes& a, double b) {
   return all;
 }
 
+// Whether a == b in every lane (false where a lane is NaN).
+MECH_INLINE bool all_equal(const Lanes& a, const Lanes& b) {
+  const auto m = a.v == b.v;
+  bool all = true;
+  for (int j = 0; j < kLanes; ++j) all &= m[j] != 0;
+  return all;
+}
+
 // The first m lanes of a into out[0..m) (all kLanes: one vector store).
 MECH_INLINE void store_lanes(double* out, const Lanes& a, int m) {
   if (m == kLanes) std::memcpy(out, &a.v, sizeof a.v);
@@ -400,6 +408,16 @@ LaneDual<N> sin_or_cos(const LaneDual<N>& a, bool odd) {
   const Lanes slope = odd ? c : -s;
   for (int i = 0; i < N; ++i) r.d[i] = slope * a.d[i];
   return r;
+}
+// sin and cos at once (one lane_sincos), with sin's and cos's bits.
+inline void sin_cos(const Lanes& x, Lanes& s, Lanes& c) { lane_sincos(x, s, c); }
+template <int N>
+void sin_cos(const LaneDual<N>& a, LaneDual<N>& s, LaneDual<N>& c) {
+  Lanes sv, cv;
+  lane_sincos(a.v, sv, cv);
+  s = LaneDual<N>(sv), c = LaneDual<N>(cv);
+  const Lanes minus_sin = -sv;
+  for (int i = 0; i < N; ++i) s.d[i] = cv * a.d[i], c.d[i] = minus_sin * a.d[i];
 }
 template <int N>
 LaneDual<N> sin(const LaneDual<N>& a) {

@@ -4,6 +4,7 @@
 // "Groups"); the groups are solved in the chain's order, each link's points
 // right after the link.
 #pragma once
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -34,12 +35,16 @@ struct State {
   // The crank's phase whose cosine and sine are kept (doubles: solve's
   // angle sum with a given cosine and sine of phi).
   double phase = HUGE_VAL, phase_cos = 1, phase_sin = 0;
+  // Per link, its line's and its slot's angle with their cosine and sine,
+  // kept while the angle is (fixed_cos_sin).
+  std::vector<std::array<std::conditional_t<is_lanes<S>, Lanes, double>, 3>> trig;
 
   void resize(const Chain& c) {
     point.resize(c.point_names().size());
     axis.resize(c.links().size());
     slide.assign(c.links().size(), constant(S(0.0)));
     margin.resize(c.groups().size());
+    trig.assign(2 * c.links().size(), {HUGE_VAL, 0.0, 0.0});
   }
   // A link's angle in (-pi, pi] with its transfer functions.
   Jet<S> angle(int link) const { return angle_of(axis[static_cast<size_t>(link)]); }
@@ -85,6 +90,31 @@ Vec<S> crank_axis(const S& ct, const S& sn, double sense) {
 
 template <class S, bool kChecked = !is_lanes<S>>
 bool solve_groups(const Chain& c, const S* v, State<S>& st);
+
+// cos and sin of a (a line's or a slot's angle: a design value), the
+// values kept in t = {a, cos a, sin a} while a is: a design's every solve
+// asks the same, and the lanes take the C library's per lane. Derivatives
+// (a LaneDual's) by the chain rule, as sin_or_cos gives them; a scalar
+// dual computes them afresh.
+template <class S, class P>
+MECH_INLINE void fixed_cos_sin(const S& a, std::array<P, 3>& t, S& c, S& s) {
+  using std::cos;
+  using std::sin;
+  if constexpr (std::is_same_v<S, double>) {
+    if (!(t[0] == a)) t = {a, cos(a), sin(a)};
+    c = t[1], s = t[2];
+  } else if constexpr (std::is_same_v<S, Lanes>) {
+    if (!all_equal(t[0], a)) t = {a, cos(a), sin(a)};
+    c = t[1], s = t[2];
+  } else if constexpr (is_lanes<S>) {
+    if (!all_equal(t[0], a.v)) t = {a.v, cos(a.v), sin(a.v)};
+    c = S(t[1]), s = S(t[2]);
+    const Lanes minus_sin = -t[2];
+    for (size_t i = 0; i < a.d.size(); ++i) c.d[i] = minus_sin * a.d[i], s.d[i] = t[1] * a.d[i];
+  } else {
+    c = cos(a), s = sin(a);
+  }
+}
 
 // A number's value (double), or its lanes' values (Lanes).
 inline double plain(double x) { return x; }
@@ -136,7 +166,7 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
     e = detail::crank_axis(ct, sn, sense);
   } else {
     const Jet<S> theta{S(v[k.phase] + sense * phi), S(sense), S(0.0)};
-    e = {cos(theta), sin(theta)};
+    e = unit(theta);
   }
   detail::place_crank(c, v, st, e);
   return detail::solve_groups<S>(c, v, st);
@@ -196,7 +226,7 @@ bool solve_lanes_at(const Chain& c, const L* v, const L& phi, State<L>& st) {
   const Crank& k = c.crank();
   const double sense = k.sense;
   const Jet<L> theta{L(v[k.phase] + sense * phi), L(sense), L(0.0)};
-  detail::place_crank(c, v, st, Vec<L>{cos(theta), sin(theta)});
+  detail::place_crank(c, v, st, unit(theta));
   return detail::solve_groups<L, kChecked>(c, v, st);
 }
 
@@ -261,12 +291,18 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
     const Group& gr = groups[g];
     const Link &first = links[static_cast<size_t>(gr.first)], &second = links[static_cast<size_t>(gr.second)];
     auto at = [&](int p) -> const Vec<S>& { return st.point[static_cast<size_t>(p)]; };
+    // cos and sin of link k's line angle (slot 0) or slot angle (1).
+    auto fixed = [&](int k, int slot, int value, S& ca, S& sa) {
+      fixed_cos_sin(v[value], st.trig[2 * static_cast<size_t>(k) + static_cast<size_t>(slot)], ca, sa);
+    };
     // A slider's line direction, fixed on the ground or on a solved link.
-    auto line_axis = [&](const Link& slider) -> Vec<S> {
-      const S angle = v[slider.line_angle];
-      if (slider.line_on == kNone) return detail::constant_point(S(cos(angle)), S(sin(angle)));
+    auto line_axis = [&](int k) -> Vec<S> {
+      const Link& slider = links[static_cast<size_t>(k)];
+      S ca, sa;
+      fixed(k, 0, slider.line_angle, ca, sa);
+      if (slider.line_on == kNone) return detail::constant_point(ca, sa);
       const Vec<S>& eo = st.axis[static_cast<size_t>(slider.line_on)];
-      return S(cos(angle)) * eo + S(sin(angle)) * rot90(eo);
+      return ca * eo + sa * rot90(eo);
     };
     // The line's point where the slider's coordinate is 0: its point T
     // shifted `offset` to its left (n = rot90(u)).
@@ -303,7 +339,7 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
       case GroupType::RRP: {
         // B = T + offset n + s u, |B - P| = a.
         const S& a = v[first.length];
-        const Vec<S> u = line_axis(second), n = rot90(u);
+        const Vec<S> u = line_axis(gr.second), n = rot90(u);
         const Vec<S>& P = at(gr.p);
         const Vec<S> T = line_origin(second, n);
         const Vec<S> w = P - T;
@@ -338,9 +374,10 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
       case GroupType::RPP: {
         // P - T = s u + t w: the slider's point on its line, T + s u, and
         // the pin P on its slot w through it.
-        const Vec<S> u = line_axis(second), n = rot90(u);
-        const S slot = v[second.slot];
-        const Vec<S> w = S(cos(slot)) * u + S(sin(slot)) * n;
+        const Vec<S> u = line_axis(gr.second), n = rot90(u);
+        S cs, ss;
+        fixed(gr.second, 1, second.slot, cs, ss);
+        const Vec<S> w = cs * u + ss * n;
         const Vec<S>& P = at(gr.p);
         const Vec<S> q = P - line_origin(second, n);
         const Jet<S> det = cross(u, w);
@@ -358,7 +395,7 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         // B = T1 + s1 u1 = T2 + s2 u2 (T1, T2 the lines' origins): s1 u1 -
         // s2 u2 = d = T2 - T1, so s1 = (d x u2) / (u1 x u2) and s2 = (d x
         // u1) / (u1 x u2) (Cramer; no root where the lines are parallel).
-        const Vec<S> u1 = line_axis(first), u2 = line_axis(second);
+        const Vec<S> u1 = line_axis(gr.first), u2 = line_axis(gr.second);
         const Vec<S> T1 = line_origin(first, rot90(u1));
         const Vec<S> d = line_origin(second, rot90(u2)) - T1;
         const Jet<S> det = cross(u1, u2);
