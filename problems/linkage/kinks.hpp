@@ -64,11 +64,143 @@ S kink_value(const mech::linkage::Chain& c, const KinkFn& f, const mech::linkage
 using GridStates = std::span<const mech::linkage::State<double>>;
 using GridBlocks = std::span<const mech::linkage::State<mech::Lanes>>;
 
+namespace detail {
+
+// Where point p lies on the crank: its radius from the pivot and its
+// angle in the crank's frame; false where p is not on the crank or is
+// its pivot.
+inline bool on_crank(const mech::linkage::Chain& c, const double* v, int p, double& rho, double& alpha) {
+  const mech::linkage::Crank& k = c.crank();
+  const mech::linkage::Link& l = c.links()[static_cast<size_t>(k.link)];
+  double u = v[l.length], w = 0;
+  if (p != k.joint) {
+    const auto at = std::find_if(l.points.begin(), l.points.end(), [p](const auto& lp) { return lp.point == p; });
+    if (at == l.points.end()) return false;
+    u = v[at->u], w = v[at->v];
+  }
+  rho = std::hypot(u, w), alpha = std::atan2(w, u);
+  return rho > 0;
+}
+// A ground point's place; false where p is not on the ground.
+inline bool on_ground(const mech::linkage::Chain& c, const double* v, int p, double& x, double& y) {
+  for (const auto& [q, xy] : c.ground_points())
+    if (q == p) return x = v[xy.first], y = v[xy.second], true;
+  return false;
+}
+
+}  // namespace detail
+
+// Load l's switches in closed form, where its rate is the output of a
+// group driven straight from the crank: a slider on a line fixed to the
+// ground (RRP) or a link pivoted on a ground point (RRR), the group's
+// other known point P on the crank, rho from its pivot O. That output
+// stands still where the crank and the link from P lie in line (O, P and
+// the joint B collinear: a slider's dead centres, a rocker's limits), so
+// B is on its line or its circle at |B - O| = a + rho (stretched) or
+// |a - rho| (folded), a the length P - B. At[0, m): the crank angles in [0,
+// 2 pi) of those on the group's branch; false where l is no such output.
+inline bool output_stops(const mech::linkage::Chain& c, const double* v, const mech::linkage::Load& l,
+                         double (&at)[4], int& m) {
+  using mech::linkage::GroupType;
+  using mech::linkage::kNone;
+  const bool force = l.kind == mech::linkage::Load::Kind::force;
+  if (l.other != kNone) return false;
+  const mech::linkage::Crank& k = c.crank();
+  const auto& links = c.links();
+  double ox = 0, oy = 0;
+  if (!detail::on_ground(c, v, k.pivot, ox, oy)) return false;
+  for (const mech::linkage::Group& gr : c.groups()) {
+    const bool slider = force && gr.type == GroupType::RRP && gr.second == l.link;
+    const bool rocker = !force && gr.type == GroupType::RRR && (gr.first == l.link || gr.second == l.link);
+    if (!slider && !rocker) continue;
+    const bool from_p = !rocker || gr.second == l.link;  // the input is the group's p (else its q)
+    const int input = from_p ? gr.p : gr.q;
+    double rho, alpha, qx = 0, qy = 0, ux = 0, uy = 0, tx = 0, ty = 0;
+    if (!detail::on_crank(c, v, input, rho, alpha)) return false;
+    const double a = v[links[static_cast<size_t>(from_p ? gr.first : gr.second)].length];
+    double b = 0;
+    if (rocker) {
+      if (!detail::on_ground(c, v, from_p ? gr.q : gr.p, qx, qy)) return false;
+      b = v[links[static_cast<size_t>(l.link)].length];
+    } else {
+      const mech::linkage::Link& s = links[static_cast<size_t>(gr.second)];
+      if (s.line_on != kNone || !detail::on_ground(c, v, s.line_through, tx, ty)) return false;
+      ux = std::cos(v[s.line_angle]), uy = std::sin(v[s.line_angle]);
+      const double offset = s.line_offset == kNone ? 0.0 : v[s.line_offset];
+      tx -= offset * uy, ty += offset * ux;  // the line's origin, offset to the left of u
+    }
+    if (!(a > 0) || a == rho) return false;
+    m = 0;
+    for (const double r : {a + rho, std::abs(a - rho)}) {
+      // P along B - O (stretched, or folded with rho > a), else against it.
+      const double toward = r == a + rho || rho > a ? 1.0 : -1.0;
+      for (const double side : {-1.0, 1.0}) {
+        double bx, by;
+        if (rocker) {  // the circles |B - O| = r and |B - Q| = b
+          const double dx = qx - ox, dy = qy - oy, d = std::hypot(dx, dy);
+          const double along = (r * r - b * b + d * d) / (2 * d), across2 = r * r - along * along;
+          if (!(across2 > 0)) continue;
+          const double across = side * std::sqrt(across2);
+          bx = ox + (along * dx - across * dy) / d, by = oy + (along * dy + across * dx) / d;
+        } else {  // the line T + s u at |B - O| = r
+          const double wx = tx - ox, wy = ty - oy, wn = uy * wx - ux * wy;  // (w . n, n = rot90(u), negated)
+          const double disc = r * r - wn * wn;
+          if (!(disc > 0)) continue;
+          const double s = -(wx * ux + wy * uy) + side * std::sqrt(disc);
+          bx = tx + s * ux, by = ty + s * uy;
+        }
+        const double len = std::hypot(bx - ox, by - oy), ex = toward * (bx - ox) / len, ey = toward * (by - oy) / len;
+        const double px = ox + rho * ex, py = oy + rho * ey;
+        // On the group's branch (kinematics.hpp's sign conventions)?
+        double sign;
+        if (rocker) {
+          const double gpx = from_p ? px : qx, gpy = from_p ? py : qy, gqx = from_p ? qx : px, gqy = from_p ? qy : py;
+          sign = (gqx - gpx) * (by - gpy) - (gqy - gpy) * (bx - gpx);
+        } else {
+          sign = (bx - px) * ux + (by - py) * uy;
+        }
+        if (!(sign * gr.branch > 0) || m == 4) continue;
+        at[m++] = mech::wrap_angle(k.sense * (std::atan2(ey, ex) - alpha - v[k.phase]));
+      }
+    }
+    return true;
+  }
+  return false;
+}
+
+// The zeros of switch f in closed form (output_stops), in the order of the
+// grid's cells g: where each cell whose sign changes holds one and no
+// other is left; else false, nothing appended.
+inline bool grid_stops(const mech::linkage::Chain& c, const double* v, const KinkFn& f, const double* g, int n,
+                       std::vector<double>& out) {
+  double at[4];
+  int m = 0;
+  if (f.load < 0 || f.row != -1 || !output_stops(c, v, c.loads()[static_cast<size_t>(f.load)], at, m)) return false;
+  const size_t first = out.size();
+  const double h = mech::kTwoPi / n;
+  for (int k = 0; k < n; ++k) {
+    const double ga = g[k], gb = g[k + 1 == n ? 0 : k + 1];
+    if (!(ga == 0.0 || ((ga < 0) != (gb < 0) && gb != 0.0))) continue;
+    int in = -1;
+    for (int i = 0; i < m; ++i) {
+      if (!(std::abs(std::remainder(at[i] - (k + 0.5) * h, mech::kTwoPi)) <= 0.5 * h * (1 + 1e-9))) continue;
+      if (in >= 0) return out.resize(first), false;
+      in = i;
+    }
+    if (in < 0) return out.resize(first), false;
+    out.push_back(at[in]);
+  }
+  if (out.size() - first == static_cast<size_t>(m)) return true;
+  out.resize(first);
+  return false;
+}
+
 // The angles in [0, 2 pi) where the functions fns cross zero (each
 // function's by grid cell), found on an n-point grid (kept in `grid`) and
-// refined; sd: a state to solve in; owner, where given: each zero's
-// function (its index in fns); lanes, where given: the chain's lanes at v
-// (kept by the caller: none made per call).
+// refined, or in closed form where a switch has one (grid_stops); sd: a
+// state to solve in; owner, where given: each zero's function (its index
+// in fns); lanes, where given: the chain's lanes at v (kept by the
+// caller: none made per call).
 inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double* v, int n,
                                     const std::vector<KinkFn>& fns, std::vector<double>& grid,
                                     mech::linkage::State<double>& sd, GridBlocks solved = {},
@@ -91,12 +223,22 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
         mech::store_lanes(grid.data() + f * un + k, kink_value(c, fns[f], solved[b], lanes->v.data()), m);
     }
   }
+  std::vector<double> stops;  // the closed forms' zeros, function by function
+  std::vector<size_t> stops_end(fns.size()), searched;
   std::vector<std::span<const double>> grids;
-  for (size_t f = 0; f < fns.size(); ++f) grids.emplace_back(grid.data() + f * un, un);
+  for (size_t f = 0; f < fns.size(); ++f) {
+    if (!grid_stops(c, v, fns[f], grid.data() + f * un, n, stops)) {
+      searched.push_back(f);
+      grids.emplace_back(grid.data() + f * un, un);
+    }
+    stops_end[f] = stops.size();
+  }
   // The searches' angles kLanes at a time on the chain's lanes (a lane
   // where the chain does not assemble, between grid points that do, takes
   // the scalar chain's stale state, as a lone query would).
-  return mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
+  std::vector<int> found_owner;
+  const std::vector<double> found =
+      grids.empty() ? std::vector<double>{} : mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
     for (size_t i = 0; i < qs.size(); i += mech::kLanes) {
       const int m = static_cast<int>(std::min<size_t>(mech::kLanes, qs.size() - i));
       mech::Lanes phi, cp, sp, out;
@@ -105,16 +247,28 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
       const auto& st = lanes->at(phi, cp, sp);
       for (int j = 0; j < m; ++j) {
         mech::AngleQuery& q = qs[i + static_cast<size_t>(j)];
-        if (j == 0 || q.fn != qs[i + static_cast<size_t>(j) - 1].fn)
-          out = kink_value(c, fns[static_cast<size_t>(q.fn)], st, lanes->v.data());
+        const KinkFn& fn = fns[searched[static_cast<size_t>(q.fn)]];
+        if (j == 0 || q.fn != qs[i + static_cast<size_t>(j) - 1].fn) out = kink_value(c, fn, st, lanes->v.data());
         q.out = out[j];
         if (!std::isfinite(q.out)) {
           mech::linkage::solve(c, v, q.phi, sd);
-          q.out = kink_value(c, fns[static_cast<size_t>(q.fn)], sd, v);
+          q.out = kink_value(c, fn, sd, v);
         }
       }
     }
-  }, owner);
+  }, &found_owner);
+  // Function by function: the closed forms', the searches'.
+  std::vector<double> zeros;
+  if (owner) owner->clear();
+  for (size_t f = 0, r = 0, s = 0, i = 0; f < fns.size(); ++f) {
+    const bool by_search = i < searched.size() && searched[i] == f;
+    for (; by_search ? r < found.size() && found_owner[r] == static_cast<int>(i) : s < stops_end[f]; ++(by_search ? r : s)) {
+      zeros.push_back(by_search ? found[r] : stops[s]);
+      if (owner) owner->push_back(static_cast<int>(f));
+    }
+    i += by_search;
+  }
+  return zeros;
 }
 
 // The angles where the driving torque is zero or bends (a load switches
