@@ -237,8 +237,7 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
   // where the chain does not assemble, between grid points that do, takes
   // the scalar chain's stale state, as a lone query would).
   std::vector<int> found_owner;
-  const std::vector<double> found =
-      grids.empty() ? std::vector<double>{} : mech::periodic_roots_together(std::span(grids), [&](std::span<mech::AngleQuery> qs) {
+  auto eval = [&](std::span<mech::AngleQuery> qs) {
     for (size_t i = 0; i < qs.size(); i += mech::kLanes) {
       const int m = static_cast<int>(std::min<size_t>(mech::kLanes, qs.size() - i));
       mech::Lanes phi, cp, sp, out;
@@ -256,17 +255,23 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
         }
       }
     }
-  }, &found_owner);
+  };
+  const std::vector<double> found =
+      grids.empty() ? std::vector<double>{} : mech::periodic_roots_together(std::span(grids), eval, &found_owner);
   // Function by function: the closed forms', the searches'.
   std::vector<double> zeros;
   if (owner) owner->clear();
+  auto take = [&](double zero, size_t f) {
+    zeros.push_back(zero);
+    if (owner) owner->push_back(static_cast<int>(f));
+  };
   for (size_t f = 0, r = 0, s = 0, i = 0; f < fns.size(); ++f) {
-    const bool by_search = i < searched.size() && searched[i] == f;
-    for (; by_search ? r < found.size() && found_owner[r] == static_cast<int>(i) : s < stops_end[f]; ++(by_search ? r : s)) {
-      zeros.push_back(by_search ? found[r] : stops[s]);
-      if (owner) owner->push_back(static_cast<int>(f));
+    if (i < searched.size() && searched[i] == f) {
+      for (; r < found.size() && found_owner[r] == static_cast<int>(i); ++r) take(found[r], f);
+      ++i;
+    } else {
+      for (; s < stops_end[f]; ++s) take(stops[s], f);
     }
-    i += by_search;
   }
   return zeros;
 }

@@ -31,7 +31,7 @@ namespace problems::linkage {
 template <class S>
 struct MeansScratch {
   std::optional<mech::linkage::LaneSolver<S>> lanes;
-  mech::linkage::State<S> a, b;
+  mech::linkage::State<S> a, b, first;
   mech::linkage::State<double> e;
 };
 using MeansScratches = std::tuple<MeansScratch<double>, MeansScratch<mech::Dual>, MeansScratch<mech::DualN<2>>,
@@ -52,7 +52,8 @@ inline bool grid_poles(std::span<const double> f, std::vector<mech::NearPole>& o
   const size_t first = out.size();
   for (int k = 0, before = n - 1; k < n; before = k++) {  // (no division per point)
     const int after = k + 1 == n ? 0 : k + 1;
-    const double a = -f[static_cast<size_t>(before)], b = -f[static_cast<size_t>(k)], c = -f[static_cast<size_t>(after)];
+    const double a = -f[static_cast<size_t>(before)], b = -f[static_cast<size_t>(k)],
+                 c = -f[static_cast<size_t>(after)];
     if (!(b <= a && b < c)) continue;  // (the first of two equal points)
     const double m2 = (a - 2 * b + c) / (h * h), m1 = (c - a) / (2 * h);
     const double m0 = b - 0.5 * m1 * m1 / m2, width = m2 > 0 && m0 > 0 ? std::sqrt(2 * m0 / m2) : 0.0;
@@ -213,7 +214,10 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   using L = mech::lanes_of<S>;
   const mech::linkage::Chain& c = d.chain;
   auto& kept = std::get<MeansScratch<S>>(ws.means);
-  if (kept.a.point.size() != c.point_names().size()) kept.a.resize(c), kept.b.resize(c), kept.e.resize(c);
+  if (kept.a.point.size() != c.point_names().size()) {
+    for (auto* st : {&kept.a, &kept.b, &kept.first}) st->resize(c);
+    kept.e.resize(c);
+  }
   if (kept.lanes) kept.lanes->reset(v.data());
   else kept.lanes.emplace(c, v.data());
   mech::linkage::LaneSolver<S>& lanes = *kept.lanes;
@@ -269,7 +273,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
   if (by_ends) {
     ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, n, ws.blocks, [&] { return ws.states(); },
-                               ws.sd, kept.e, kept.a, kept.b);
+                               ws.sd, kept.e, kept.first, kept.a, kept.b);
   } else if (work) {
     ml = mech::piecewise_means<S>(
         [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {

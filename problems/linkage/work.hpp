@@ -128,13 +128,13 @@ inline double turns_between(const mech::linkage::Load& l, double phi_a, double p
 // switches: (angle, load) where a switching load's coordinate turns
 // (zeros of its switch_rate, torque_kinks'); blocks: the chain at the n
 // grid angles, and states() the same as scalar states (GridStates: asked
-// only for a torque's turns); vd: v's values; sd, sa, sb: states to solve
-// in. Only where work_from_ends(c).
+// only for a torque's turns); vd: v's values; sd, se, s0, sa, sb: states
+// to solve in. Only where work_from_ends(c).
 template <class S, class States>
 S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
                    const std::vector<std::pair<double, int>>& switches, int n, GridBlocks blocks, States&& states,
                    mech::linkage::State<double>& sd, mech::linkage::State<double>& se,
-                   mech::linkage::State<S>& sa, mech::linkage::State<S>& sb) {
+                   mech::linkage::State<S>& s0, mech::linkage::State<S>& sa, mech::linkage::State<S>& sb) {
   using mech::linkage::Load;
   S work(0.0);
   std::vector<double> ends;
@@ -158,11 +158,15 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
       if (load == static_cast<int>(i)) ends.push_back(phi);
     std::sort(ends.begin(), ends.end());
     if (ends.empty()) ends.push_back(0.0);  // never turns: one arc, the whole cycle
-    // Each end solved once: arc j's end b is arc j + 1's a (sa, swapped).
-    mech::linkage::solve(c, v, S(ends[0]), sa);
+    // Each end solved once: arc j's end b is arc j + 1's a (sa, swapped),
+    // the last arc's the first's a turn on (s0).
+    mech::linkage::solve(c, v, S(ends[0]), s0);
+    sa = s0;
     for (size_t j = 0; j < ends.size(); ++j) {
-      const double a = ends[j], b = j + 1 < ends.size() ? ends[j + 1] : ends[0] + mech::kTwoPi;
-      mech::linkage::solve(c, v, S(b), sb);
+      const bool last = j + 1 == ends.size();
+      const double a = ends[j], b = last ? ends[0] + mech::kTwoPi : ends[j + 1];
+      if (last) sb = s0;
+      else mech::linkage::solve(c, v, S(b), sb);
       // The coordinate's direction on the arc: its rate's sign inside it
       // (it has no zero there), at the grid angle nearest the middle where
       // that lies a quarter of the arc from both ends, else at the middle.
