@@ -20,6 +20,7 @@
 
 #include "mech/cycle.hpp"
 #include "mech/linkage/dynamics.hpp"
+#include "mech/linkage/third.hpp"
 #include "problems/linkage/description.hpp"
 #include "problems/linkage/drawing.hpp"
 #include "problems/linkage/kinks.hpp"
@@ -108,6 +109,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
     std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi)
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
+    mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     MeansScratches means;
     std::vector<double> grid_cs;  // the crank's cos and sin at the grid's angles (crank_cos_sin)
     double grid_phase = 0;        // ... at this phase
@@ -135,6 +137,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (ws.sd.point.size() != c.point_names().size()) {
       ws.sd.resize(c);
       ws.sdual.resize(c);
+      ws.thirds.resize(c);
     }
     opt::Values<S> placed;  // with the contacts of the laws given by their depth
     const opt::Values<S>& v =
@@ -310,10 +313,12 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   }
 
  private:
-  // Runs searches [from, to) of ws (their quantities ws.asked[from, to)),
-  // slopes from the chain on a Dual in phi. Values and the jets' slopes go
-  // kLanes queries at a time through the grid's lanes (each lane solve's
-  // bits; a block with a lane that cannot assemble goes query by query).
+  // Runs searches [from, to) of ws (their quantities ws.asked[from, to)).
+  // Values, the jets' slopes and, on a chain of RRR and RRP groups, the
+  // torque's slope from the third derivatives (third.hpp) go kLanes queries
+  // at a time through the grid's lanes (each lane solve's bits; a block
+  // with a lane that cannot assemble goes query by query); other slopes
+  // on the chain on a LaneDual in phi.
   void run_searches(Workspace& ws, size_t from, size_t to) const {
     const Chain& c = d_.chain;
     auto& lanes = *ws.lanes;
@@ -363,12 +368,18 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           for (mech::AngleQuery* a : block) one(*a);
         } else {
           mech::Lanes out;  // a quantity (or slope) once for the lanes in a row that ask it
+          bool thirds = false;  // the third derivatives, once a block that asks for them
           for (int j = 0; j < m; ++j) {
             mech::AngleQuery& a = *block[static_cast<size_t>(j)];
             const mech::AngleQuery* before = j ? block[static_cast<size_t>(j - 1)] : nullptr;
             if (!before || a.fn != before->fn || a.slope != before->slope) {
               const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
-              out = a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
+              if (a.slope && q.kind == Kind::torque) {
+                if (!thirds) mech::linkage::third_order(c, lanes.v.data(), lanes.st, ws.thirds), thirds = true;
+                out = mech::linkage::torque_slope(c, lanes.v.data(), lanes.st, ws.thirds);
+              } else {
+                out = a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
+              }
             }
             a.out = out[j];
           }
@@ -379,7 +390,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         const Kind k = ws.asked[from + static_cast<size_t>(a.fn)].kind;
         if (!lane_kind(k)) {
           one(a);
-        } else if (a.slope && !has_jet_slope(k)) {
+        } else if (a.slope && !has_jet_slope(k) && !(k == Kind::torque && third_order_)) {
           ws.dual_queries.push_back(&a);
           if (ws.dual_queries.size() == mech::kLanes) run_dual_block();
         } else {
@@ -596,6 +607,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   std::vector<Metric> metrics_;
   std::vector<int> masses_;  // the outputs T_min counts (moving_masses)
   bool has_law_ = false;     // a pressure law: the torque jumps at its contacts
+  bool third_order_ = mech::linkage::has_third_order(d_.chain);  // the torque's slope from third.hpp
 };
 
 std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
