@@ -181,10 +181,12 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
 // assembly check or margin; checked, false where some lane cannot
 // assemble (st.failed names the group), st.margin each lane's. With pc =
 // 1, ps = 0 and cp, sense sp the cosine and sine of the crank's angle
-// itself, the same bits as solve's lane by lane.
+// itself, the same bits as solve's lane by lane. Flattened: GCC leaves
+// LaneDual<N > 1>'s sums and quotients out of line (simd.hpp), which cost
+// a linkage's gradient a fifth of its time here (bench_linkage row 10).
 template <class L, bool kChecked = false>
-bool solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, const Lanes& sp, const L& pc,
-                 const L& ps, State<L>& st) {
+[[gnu::flatten]] bool solve_lanes(const Chain& c, const L* v, const Lanes& phi, const Lanes& cp, const Lanes& sp,
+                                  const L& pc, const L& ps, State<L>& st) {
   static_assert(is_lanes<L>);
   st.failed = kNone;
   st.phi = L(phi);
