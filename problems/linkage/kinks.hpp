@@ -97,8 +97,9 @@ inline bool on_ground(const mech::linkage::Chain& c, const double* v, int p, dou
 // stands still where the crank and the link from P lie in line (O, P and
 // the joint B collinear: a slider's dead centres, a rocker's limits), so
 // B is on its line or its circle at |B - O| = a + rho (stretched) or
-// |a - rho| (folded), a the length P - B. At[0, m): the crank angles in [0,
-// 2 pi) of those on the group's branch; false where l is no such output.
+// |a - rho| (folded), a the length P - B. at[0, m): the crank angles in
+// [0, 2 pi) of those on the group's branch; false where l is no such
+// output.
 inline bool output_stops(const mech::linkage::Chain& c, const double* v, const mech::linkage::Load& l,
                          double (&at)[4], int& m) {
   using mech::linkage::GroupType;
@@ -168,9 +169,10 @@ inline bool output_stops(const mech::linkage::Chain& c, const double* v, const m
   return false;
 }
 
-// The zeros of switch f in closed form (output_stops), in the order of the
-// grid's cells g: where each cell whose sign changes holds one and no
-// other is left; else false, nothing appended.
+// The zeros of switch f in closed form (output_stops), appended in the
+// order of the grid's cells (g: the rate on the grid) where every cell
+// whose rate changes sign holds exactly one of them and none is left
+// over; else false, nothing appended (the root searches take f).
 inline bool grid_stops(const mech::linkage::Chain& c, const double* v, const KinkFn& f, const double* g, int n,
                        std::vector<double>& out) {
   double at[4];

@@ -9,8 +9,9 @@
 // is cannot_assemble, named); each group's distance from a singular
 // position refined to its cycle minimum (below 1e-6: singular_position);
 // then every wanted maximum by the hand-written problems' cycle machinery,
-// its slope from the jets (or the chain on a Dual in phi where it needs the
-// third order), its design gradient (Danskin) on the evaluation's scalar.
+// its slope from the jets (the torque's from the third derivatives,
+// third.hpp, or the chain on a Dual in phi where a group has none), its
+// design gradient (Danskin) on the evaluation's scalar.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -65,7 +66,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
             {"numerics",
              {{"cycle_points", d_.cycle_points ? nlohmann::json(d_.cycle_points) : nlohmann::json("auto")},
               {"kinematics", "closed form per class II group on second-order jets in the crank angle"},
-              {"maximum", "grid bracket + root of the angle derivative (the chain on a Dual in phi); Danskin gradients"},
+              {"maximum",
+               "grid bracket + root of the angle derivative (jets; the torque's from third derivatives or the "
+               "chain on a Dual in phi); Danskin gradients"},
               {"singular", "each group's sine measure refined to its cycle minimum; below 1e-6: singular_position"}}},
             {"units", "SI (m, rad, rad/s, kg, N, N m, J)"}};
   }
