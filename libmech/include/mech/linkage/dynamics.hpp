@@ -155,47 +155,86 @@ Tension<S> tension(const Spring& sp, const S* v, const State<S>& st) {
   return {S(v[sp.rate] * (length - v[sp.free_length])), ux, uy, S(ux * d.x.d + uy * d.y.d)};
 }
 
-// load_action's size times rate at kLanes crank angles phi (solve_lanes'
-// state; L: Lanes, or LaneDual with design derivatives), summed over the
-// loads: its arithmetic on every lane, its branches (a `when`'s stroke, a
+// Load l at kLanes crank angles phi as load_action takes it (solve_lanes'
+// state; L: Lanes, or LaneDual with design derivatives): where it acts
+// (on: 1 or 0), its size and rate, its branches (a `when`'s stroke, a
 // law's contact, a table's row, an opposing load's sign) taken lane by
-// lane from the values. No load is held (means take no one-sided limit).
+// lane from the values. With slope (size1, rate1 given) their slopes in
+// phi too (third.hpp's torque slope). No load is held (means take no
+// one-sided limit).
+template <class L>
+void lane_load(const Chain& c, const Load& l, const L* v, const State<L>& st, const Lanes& phi, Lanes& on, L& size,
+               L& rate, L* size1 = nullptr, L* rate1 = nullptr) {
+  using std::abs;
+  using std::exp;
+  const size_t k = static_cast<size_t>(l.link);
+  const bool force = l.kind == Load::Kind::force;
+  L coordinate(0.0), coordinate1(0.0);
+  load_rate(c, l, st, rate, coordinate);
+  if (rate1) {  // (u . B')' and (t' - t_o')', the coordinate's s' or t'
+    if (force) {
+      const Vec<L>& u = st.axis[k];
+      const Vec<L>& B = st.point[static_cast<size_t>(c.links()[k].origin)];
+      *rate1 = L(u.x.d * B.x.d + u.x.v * B.x.dd + u.y.d * B.y.d + u.y.v * B.y.dd);
+      coordinate1 = st.slide[k].d;
+    } else {
+      const Jet<L> r = st.rates(l.link);
+      *rate1 = l.other == kNone ? r.dd : L(r.dd - st.rates(l.other).dd);
+      coordinate1 = r.d;
+    }
+  }
+  const Lanes along = lane_values(force ? st.slide[k].d : rate), r = lane_values(rate);
+  Lanes sign;
+  on = Lanes(1.0);
+  for (int j = 0; j < kLanes; ++j) {
+    if ((l.when > 0 && !(along[j] > 0)) || (l.when < 0 && !(along[j] < 0))) on[j] = 0;
+    sign[j] = double((r[j] > 0) - (r[j] < 0));
+  }
+  L slope1(0.0);  // the size's slope
+  if (l.law_a != kNone) {
+    const L depth = L(coordinate - v[l.law_contact]);
+    for (int j = 0; j < kLanes; ++j)
+      if (!(lane_value(depth, j) >= 0)) on[j] = 0;
+    const L growth = exp(L(v[l.law_b] * depth));
+    size = L(-(v[l.law_area] * L(v[l.law_a] * growth)));
+    if (size1) slope1 = L(size * v[l.law_b] * coordinate1);
+  } else if (l.over == Load::Over::none) {
+    size = v[l.value];
+  } else {
+    // Each lane's row: y0 + slope (x - x0), constant outside the table.
+    const bool by_position = l.over == Load::Over::position;
+    Lanes x = lane_values(coordinate), y0, slope(0.0), x0(0.0);
+    for (int j = 0; j < kLanes; ++j) {
+      if (!by_position) x[j] = phi[j] + (wrap_angle(phi[j]) - phi[j]);  // phi in [0, 2 pi)
+      const TableRow row = table_row(l, x[j]);
+      y0[j] = row.y0, x0[j] = row.x0, slope[j] = row.slope;
+    }
+    size = L(L(y0) + L(slope) * L((by_position ? coordinate : L(x)) - L(x0)));
+    if (size1) slope1 = by_position ? L(L(slope) * coordinate1) : L(slope);
+  }
+  if (l.kind == Load::Kind::friction || l.opposing) {  // -|size| sign(rate)
+    if (size1) {
+      Lanes of_size;
+      for (int j = 0; j < kLanes; ++j) of_size[j] = double((lane_value(size, j) > 0) - (lane_value(size, j) < 0));
+      slope1 = L(-(L(of_size) * slope1 * L(sign)));
+    }
+    size = L(-(abs(size) * L(sign)));
+  }
+  if (l.efficiency != kNone) {
+    size = L(size / v[l.efficiency]);
+    if (size1) slope1 = L(slope1 / v[l.efficiency]);
+  }
+  if (size1) *size1 = slope1;
+}
+
+// load_action's size times rate at kLanes crank angles phi, summed over
+// the loads (lane_load).
 template <class L>
 L lane_loads(const Chain& c, const L* v, const State<L>& st, const Lanes& phi) {
-  L sum(0.0);
+  L sum(0.0), size, rate;
+  Lanes on;
   for (const Load& l : c.loads()) {
-    const size_t k = static_cast<size_t>(l.link);
-    const bool force = l.kind == Load::Kind::force;
-    L rate, coordinate(0.0);
-    load_rate(c, l, st, rate, coordinate);
-    const Lanes along = lane_values(force ? st.slide[k].d : rate), r = lane_values(rate);
-    Lanes on(1.0), sign;
-    for (int j = 0; j < kLanes; ++j) {
-      if ((l.when > 0 && !(along[j] > 0)) || (l.when < 0 && !(along[j] < 0))) on[j] = 0;
-      sign[j] = double((r[j] > 0) - (r[j] < 0));
-    }
-    L size;
-    if (l.law_a != kNone) {
-      const L depth = L(coordinate - v[l.law_contact]);
-      for (int j = 0; j < kLanes; ++j)
-        if (!(lane_value(depth, j) >= 0)) on[j] = 0;
-      const L growth = exp(L(v[l.law_b] * depth));
-      size = L(-(v[l.law_area] * L(v[l.law_a] * growth)));
-    } else if (l.over == Load::Over::none) {
-      size = v[l.value];
-    } else {
-      // Each lane's row: y0 + slope (x - x0), constant outside the table.
-      const bool by_position = l.over == Load::Over::position;
-      Lanes x = lane_values(coordinate), y0, slope(0.0), x0(0.0);
-      for (int j = 0; j < kLanes; ++j) {
-        if (!by_position) x[j] = phi[j] + (wrap_angle(phi[j]) - phi[j]);  // phi in [0, 2 pi)
-        const TableRow row = table_row(l, x[j]);
-        y0[j] = row.y0, x0[j] = row.x0, slope[j] = row.slope;
-      }
-      size = L(L(y0) + L(slope) * L((by_position ? coordinate : L(x)) - L(x0)));
-    }
-    if (l.kind == Load::Kind::friction || l.opposing) size = L(-(abs(size) * L(sign)));
-    if (l.efficiency != kNone) size = L(size / v[l.efficiency]);
+    lane_load(c, l, v, st, phi, on, size, rate);
     sum += where(on, L(size * rate));
   }
   return sum;

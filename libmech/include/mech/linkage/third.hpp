@@ -130,12 +130,10 @@ void third_order(const Chain& c, const S* v, const State<S>& st, Thirds<S>& t) {
 // The slope of |M| in the crank angle on lanes (M: drive_point's
 // torque), from st and its thirds t: M' = w^2 (sum m (G''' . G' + |G''|^2)
 // + J (t''' t' + t''^2)) + g sum m G''_y less the loads' and the springs'
-// generalised force's slope, a load's size' rate + size rate' with
-// lane_loads' branches lane by lane.
+// generalised force's slope, a load's size' rate + size rate'
+// (lane_load's).
 inline Lanes torque_slope(const Chain& c, const Lanes* v, const State<Lanes>& st, const Thirds<Lanes>& t) {
   using L = Lanes;
-  using std::abs;
-  using std::exp;
   using std::sqrt;
   const auto& links = c.links();
   L half(0.0), half1(0.0), weight(0.0), weight1(0.0);
@@ -162,54 +160,10 @@ inline Lanes torque_slope(const Chain& c, const Lanes* v, const State<Lanes>& st
     weight1 += b.m * y.dd;
   }
   // The loads' generalised force (load_power) and its slope.
-  L power(0.0), power1(0.0);
+  L power(0.0), power1(0.0), size, rate, size1, rate1;
+  Lanes on;
   for (const Load& l : c.loads()) {
-    const size_t k = static_cast<size_t>(l.link);
-    const bool force = l.kind == Load::Kind::force;
-    L rate, coordinate(0.0), rate1, coordinate1;
-    load_rate(c, l, st, rate, coordinate);
-    if (force) {
-      const Vec<L>& u = st.axis[k];
-      const Vec<L>& B = st.point[static_cast<size_t>(links[k].origin)];
-      rate1 = L(u.x.d * B.x.d + u.x.v * B.x.dd + u.y.d * B.y.d + u.y.v * B.y.dd);
-      coordinate1 = st.slide[k].d;
-    } else {
-      const Jet<L> r = st.rates(l.link);
-      rate1 = l.other == kNone ? r.dd : L(r.dd - st.rates(l.other).dd);
-      coordinate1 = r.d;
-    }
-    const L along = force ? st.slide[k].d : rate;
-    Lanes on(1.0), sign;
-    for (int j = 0; j < kLanes; ++j) {
-      if ((l.when > 0 && !(along[j] > 0)) || (l.when < 0 && !(along[j] < 0))) on[j] = 0;
-      sign[j] = double((rate[j] > 0) - (rate[j] < 0));
-    }
-    L size, size1(0.0);
-    if (l.law_a != kNone) {
-      const L depth = L(coordinate - v[l.law_contact]);
-      for (int j = 0; j < kLanes; ++j)
-        if (!(depth[j] >= 0)) on[j] = 0;
-      size = L(-(v[l.law_area] * L(v[l.law_a] * exp(L(v[l.law_b] * depth)))));
-      size1 = L(size * v[l.law_b] * coordinate1);
-    } else if (l.over == Load::Over::none) {
-      size = v[l.value];
-    } else {
-      const bool by_position = l.over == Load::Over::position;
-      Lanes x = coordinate, y0, slope(0.0), x0(0.0);
-      for (int j = 0; j < kLanes; ++j) {
-        if (!by_position) x[j] = st.phi[j] + (wrap_angle(st.phi[j]) - st.phi[j]);  // phi in [0, 2 pi)
-        const TableRow row = table_row(l, x[j]);
-        y0[j] = row.y0, x0[j] = row.x0, slope[j] = row.slope;
-      }
-      size = L(y0 + slope * (x - x0));
-      size1 = by_position ? L(slope * coordinate1) : L(slope);
-    }
-    if (l.kind == Load::Kind::friction || l.opposing) {  // -|size| sign(rate)
-      Lanes of_size;
-      for (int j = 0; j < kLanes; ++j) of_size[j] = double((size[j] > 0) - (size[j] < 0));
-      size = L(-(abs(size) * sign)), size1 = L(-(of_size * size1 * sign));
-    }
-    if (l.efficiency != kNone) size = L(size / v[l.efficiency]), size1 = L(size1 / v[l.efficiency]);
+    lane_load(c, l, v, st, st.phi, on, size, rate, &size1, &rate1);
     power += where(on, L(size * rate));
     power1 += where(on, L(size1 * rate + size * rate1));
   }
