@@ -125,9 +125,7 @@ T jet_slope(const Description& d, const Quantity& q, const T* v, const mech::lin
   const T& w = v[c.crank().speed];
   auto sign = [](const T& x) {  // (on lanes, each lane's)
     if constexpr (mech::is_lanes<T>) {
-      mech::Lanes s;
-      for (int j = 0; j < mech::kLanes; ++j) s[j] = double((x[j] > 0) - (x[j] < 0));
-      return s;
+      return mech::sign_of(x);
     } else {
       return double((mech::value(x) > 0) - (mech::value(x) < 0));
     }

@@ -324,6 +324,12 @@ MECH_INLINE Lanes load_lanes(const double* from) {
 // std::max lane by lane (b where a < b, else a).
 MECH_INLINE Lanes max(const Lanes& a, const Lanes& b) { return Lanes(a.v < b.v ? b.v : a.v); }
 
+// 1 in each lane where x > 0, else 0 (also for NaN); and each lane's sign
+// as double((x > 0) - (x < 0)): no lane written alone (a vector read back
+// from four scalar stores stalls).
+MECH_INLINE Lanes step(const Lanes& x) { return Lanes(x.v > 0 ? Lanes::Raw{} + 1.0 : Lanes::Raw{}); }
+MECH_INLINE Lanes sign_of(const Lanes& x) { return step(x) - step(-x); }
+
 // Whether a < b in every lane (false where a or b is NaN).
 MECH_INLINE bool all_below(const Lanes& a, double b) {
   const auto m = a.v < b;

@@ -183,18 +183,12 @@ void lane_load(const Chain& c, const Load& l, const L* v, const State<L>& st, co
       coordinate1 = r.d;
     }
   }
-  const Lanes along = lane_values(force ? st.slide[k].d : rate), r = lane_values(rate);
-  Lanes sign;
-  on = Lanes(1.0);
-  for (int j = 0; j < kLanes; ++j) {
-    if ((l.when > 0 && !(along[j] > 0)) || (l.when < 0 && !(along[j] < 0))) on[j] = 0;
-    sign[j] = double((r[j] > 0) - (r[j] < 0));
-  }
+  const Lanes along = lane_values(force ? st.slide[k].d : rate), sign = sign_of(lane_values(rate));
+  on = l.when > 0 ? step(along) : l.when < 0 ? step(-along) : Lanes(1.0);
   L slope1(0.0);  // the size's slope
   if (l.law_a != kNone) {
     const L depth = L(coordinate - v[l.law_contact]);
-    for (int j = 0; j < kLanes; ++j)
-      if (!(lane_value(depth, j) >= 0)) on[j] = 0;
+    on = Lanes(lane_values(depth).v >= 0 ? on.v : Lanes::Raw{});  // off where not in contact
     const L growth = exp(L(v[l.law_b] * depth));
     size = L(-(v[l.law_area] * L(v[l.law_a] * growth)));
     if (size1) slope1 = L(size * v[l.law_b] * coordinate1);
@@ -214,9 +208,7 @@ void lane_load(const Chain& c, const Load& l, const L* v, const State<L>& st, co
   }
   if (l.kind == Load::Kind::friction || l.opposing) {  // -|size| sign(rate)
     if (size1) {
-      Lanes of_size;
-      for (int j = 0; j < kLanes; ++j) of_size[j] = double((lane_value(size, j) > 0) - (lane_value(size, j) < 0));
-      slope1 = L(-(L(of_size) * slope1 * L(sign)));
+      slope1 = L(-(L(sign_of(lane_values(size))) * slope1 * L(sign)));
     }
     size = L(-(abs(size) * L(sign)));
   }

@@ -179,9 +179,7 @@ inline Lanes torque_slope(const Chain& c, const Lanes* v, const State<Lanes>& st
   }
   const L w2 = v[c.crank().speed] * v[c.crank().speed];
   const L torque = L(w2 * half + c.gravity() * weight - power), slope = L(w2 * half1 + c.gravity() * weight1 - power1);
-  Lanes of_torque;
-  for (int j = 0; j < kLanes; ++j) of_torque[j] = double((torque[j] > 0) - (torque[j] < 0));
-  return L(of_torque * slope);
+  return L(sign_of(torque) * slope);
 }
 
 }  // namespace mech::linkage
