@@ -113,12 +113,14 @@ TEST(LinkageDrive, MechanismStateEqualsTheHandWrittenDrives) {
 // 100 rtol (kPeriodicTol) and a start-up's peak is sampled every 1 ms, so
 // at rtol = 1e-8 (the configs') they agree to 1e-6 relative (measured: the
 // steady metrics to 3e-7 with BDF, 2e-9 with ERK; the start-up's peak to
-// 5e-7); at rtol = 1e-12 to 1e-9 (measured: 1e-10). The difference
-// shrinks with the tolerance: no difference of the models is left.
+// 5e-7); at rtol = 1e-12 to 3e-9 (measured: 2e-10, but ERK's least
+// coupling moment 1e-9: the extrema are found on the dense output, of
+// lower order than the steps). The difference shrinks with the tolerance:
+// no difference of the models is left.
 struct Tolerance {
   double rtol, same;
 };
-constexpr Tolerance kIntegrations[] = {{1e-8, 1e-6}, {1e-12, 1e-9}};
+constexpr Tolerance kIntegrations[] = {{1e-8, 1e-6}, {1e-12, 3e-9}};
 
 void expect_close(double got, double want, double tolerance, const char* what) {
   EXPECT_NEAR(got, want, tolerance * std::max(std::abs(want), 1.0)) << what;

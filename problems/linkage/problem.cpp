@@ -13,6 +13,7 @@
 // third.hpp, or the chain on a Dual in phi where a group has none), its
 // design gradient (Danskin) on the evaluation's scalar.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -114,9 +115,12 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     MeansScratches means;
-    std::vector<double> grid_cs;  // the crank's cos and sin at the grid's angles (crank_cos_sin)
-    double grid_phase = 0;        // ... at this phase
     std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
+    // The grid's angles, block by block, with the crank's cosines and sines
+    // there (crank_cos_sin), kept while the phase and the grid are.
+    std::vector<std::array<mech::Lanes, 3>> grid_cs;
+    double grid_phase = 0;
+    int grid_n = 0;
     std::vector<State<mech::Lanes>> blocks;  // the grid's chain, kLanes angles a block (solve_grid)
     std::vector<char> scattered;             // ... block b's states in `grid` already
     // The grid's states as scalars, each block's lanes scattered into
@@ -486,24 +490,22 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (ws.lanes) ws.lanes->reset(vd), ws.dual_lanes->reset(ws.vdual.data());
     else ws.lanes.emplace(c, vd), ws.dual_lanes.emplace(c, ws.vdual.data());
     auto& lanes = *ws.lanes;
-    // The crank's cosines and sines at the grid's angles, kept while the phase is.
-    if (const double phase = vd[c.crank().phase]; ws.grid_cs.size() != 2 * un || phase != ws.grid_phase) {
-      ws.grid_cs.resize(2 * un);
-      for (size_t i = 0; i < un; ++i)
-        mech::linkage::crank_cos_sin(c, phase, mech::kTwoPi * static_cast<double>(i) / n, ws.grid_cs[2 * i],
-                                     ws.grid_cs[2 * i + 1]);
-      ws.grid_phase = phase;
-    }
     const std::vector<size_t>& mirror = other_signs(ws.asked, ws.mirror);
+    if (const double phase = vd[c.crank().phase]; ws.grid_n != n || phase != ws.grid_phase) {
+      ws.grid_cs.resize(nb);
+      for (int k = 0; k < n; k += mech::kLanes) {
+        auto& [phi, cp, sp] = ws.grid_cs[static_cast<size_t>(k / mech::kLanes)];
+        mech::Lanes i = mech::iota(k);
+        for (int j = n - k; j < mech::kLanes; ++j) i[j] = n - 1;  // (a last block's spare lanes)
+        phi = mech::kTwoPi * i / n;  // (solve's angles, bit for bit)
+        mech::linkage::crank_cos_sin(c, phase, phi, cp, sp);
+      }
+      ws.grid_phase = phase, ws.grid_n = n;
+    }
     for (int k = 0; k < n; k += mech::kLanes) {
       const int m = std::min(mech::kLanes, n - k);
-      mech::Lanes phi, cp, sp;
-      for (int j = 0; j < mech::kLanes; ++j) {
-        const int i = k + std::min(j, m - 1);
-        phi[j] = mech::kTwoPi * i / n;
-        cp[j] = ws.grid_cs[2 * static_cast<size_t>(i)], sp[j] = ws.grid_cs[2 * static_cast<size_t>(i) + 1];
-      }
       const size_t b = static_cast<size_t>(k / mech::kLanes);
+      const auto& [phi, cp, sp] = ws.grid_cs[b];
       const State<mech::Lanes>& st = ws.blocks[b];
       const bool whole = mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, cp, sp, ws.blocks[b]);
       if (!whole) {

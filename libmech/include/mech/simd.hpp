@@ -72,9 +72,8 @@ inline double sum(const Lanes& a) {
 
 // Lanes k0, k0 + 1, ..., k0 + kLanes - 1.
 inline Lanes iota(double k0) {
-  Lanes r;
-  for (int i = 0; i < kLanes; ++i) r[i] = k0 + i;
-  return r;
+  static_assert(kLanes == 4);
+  return Lanes(Lanes::Raw{0.0, 1.0, 2.0, 3.0} + k0);
 }
 
 namespace detail {
@@ -414,16 +413,6 @@ LaneDual<N> sin_or_cos(const LaneDual<N>& a, bool odd) {
   const Lanes slope = odd ? c : -s;
   for (int i = 0; i < N; ++i) r.d[i] = slope * a.d[i];
   return r;
-}
-// sin and cos at once (one lane_sincos), with sin's and cos's bits.
-inline void sin_cos(const Lanes& x, Lanes& s, Lanes& c) { lane_sincos(x, s, c); }
-template <int N>
-void sin_cos(const LaneDual<N>& a, LaneDual<N>& s, LaneDual<N>& c) {
-  Lanes sv, cv;
-  lane_sincos(a.v, sv, cv);
-  s = LaneDual<N>(sv), c = LaneDual<N>(cv);
-  const Lanes minus_sin = -sv;
-  for (int i = 0; i < N; ++i) s.d[i] = cv * a.d[i], c.d[i] = minus_sin * a.d[i];
 }
 template <int N>
 LaneDual<N> sin(const LaneDual<N>& a) {

@@ -89,20 +89,6 @@ struct Vec {
   Jet<S> x, y;
 };
 
-// sin and cos of a number (mech::sin_cos takes both at once on lanes).
-template <class S>
-MECH_INLINE void sin_cos(const S& x, S& s, S& c) {
-  using std::cos;
-  using std::sin;
-  s = sin(x), c = cos(x);
-}
-// {cos a, sin a}: cos(a) and sin(a) from one sin and cos of a's value.
-template <class S>
-MECH_INLINE Vec<S> unit(const Jet<S>& a) {
-  S s, c;
-  sin_cos(a.v, s, c);
-  return {{c, S(-(s * a.d)), S(-(s * a.dd) - c * (a.d * a.d))}, {s, S(c * a.d), S(c * a.dd - s * (a.d * a.d))}};
-}
 template <class S>
 MECH_INLINE Vec<S> operator+(const Vec<S>& a, const Vec<S>& b) {
   return {a.x + b.x, a.y + b.y};

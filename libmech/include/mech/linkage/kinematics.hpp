@@ -88,6 +88,32 @@ Vec<S> crank_axis(const S& ct, const S& sn, double sense) {
   return {{ct, S(-sense * sn), S(-ct)}, {sn, S(sense * ct), S(-sn)}};
 }
 
+// sin and cos of the crank's angle x on any scalar: their values are
+// mech::sincos's (simd.hpp's kernels: a lane, a double and a dual's value
+// at the same angle agree bit for bit, and four lanes cost about what one
+// angle does), their derivatives by the chain rule.
+template <class S>
+MECH_INLINE void crank_sin_cos(const S& x, S& s, S& c) {
+  if constexpr (std::is_same_v<S, double> || std::is_same_v<S, Lanes>) {
+    mech::sincos(x, s, c);
+  } else if constexpr (is_lanes<S>) {  // LaneDual
+    Lanes sv, cv;
+    mech::sincos(x.v, sv, cv);
+    s = S(sv), c = S(cv);
+    const Lanes minus_sin = -sv;
+    for (size_t i = 0; i < x.d.size(); ++i) s.d[i] = cv * x.d[i], c.d[i] = minus_sin * x.d[i];
+  } else if constexpr (std::is_same_v<S, Dual>) {
+    double sv, cv;
+    mech::sincos(x.v, sv, cv);
+    s = {sv, cv * x.d}, c = {cv, -sv * x.d};
+  } else {  // Eigen's AutoDiffScalar
+    double sv, cv;
+    mech::sincos(x.value(), sv, cv);
+    s = x * cv, c = x * -sv;
+    s.value() = sv, c.value() = cv;
+  }
+}
+
 template <class S, bool kChecked = !is_lanes<S>>
 bool solve_groups(const Chain& c, const S* v, State<S>& st);
 
@@ -161,12 +187,13 @@ bool solve(const Chain& c, const S* v, const S& phi, State<S>& st, const double*
       ct = st.phase_cos * cs[0] - st.phase_sin * sense * cs[1];
       sn = st.phase_sin * cs[0] + st.phase_cos * sense * cs[1];
     } else {
-      ct = std::cos(v[k.phase] + sense * phi), sn = std::sin(v[k.phase] + sense * phi);
+      detail::crank_sin_cos(v[k.phase] + sense * phi, sn, ct);
     }
     e = detail::crank_axis(ct, sn, sense);
   } else {
-    const Jet<S> theta{S(v[k.phase] + sense * phi), S(sense), S(0.0)};
-    e = unit(theta);
+    S ct, sn;
+    detail::crank_sin_cos(S(v[k.phase] + sense * phi), sn, ct);
+    e = detail::crank_axis(ct, sn, sense);
   }
   detail::place_crank(c, v, st, e);
   return detail::solve_groups<S>(c, v, st);
@@ -197,10 +224,14 @@ template <class L, bool kChecked = false>
 }
 
 // The cosine of the crank's own angle phase + sense phi, and its sine
-// times sense: what solve_lanes_exact takes for each lane (solve's bits).
-inline void crank_cos_sin(const Chain& c, double phase, double phi, double& cp, double& sp) {
+// times sense: what solve_lanes_exact takes for each lane (solve's bits),
+// for one angle or for kLanes.
+template <class T>
+void crank_cos_sin(const Chain& c, double phase, const T& phi, T& cp, T& sp) {
   const double sense = c.crank().sense;
-  cp = std::cos(phase + sense * phi), sp = sense * std::sin(phase + sense * phi);
+  T sn;
+  detail::crank_sin_cos(T(phase + sense * phi), sn, cp);
+  sp = sense * sn;
 }
 
 // solve_lanes in the form of the grid and the searches: checked, the
@@ -213,7 +244,7 @@ inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, 
 }
 inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, State<Lanes>& st) {
   Lanes cp, sp;
-  for (int j = 0; j < kLanes; ++j) crank_cos_sin(c, v[c.crank().phase][0], phi[j], cp[j], sp[j]);
+  crank_cos_sin(c, v[c.crank().phase][0], phi, cp, sp);
   return solve_lanes_exact(c, v, phi, cp, sp, st);
 }
 
@@ -227,8 +258,9 @@ bool solve_lanes_at(const Chain& c, const L* v, const L& phi, State<L>& st) {
   st.phi = phi;
   const Crank& k = c.crank();
   const double sense = k.sense;
-  const Jet<L> theta{L(v[k.phase] + sense * phi), L(sense), L(0.0)};
-  detail::place_crank(c, v, st, unit(theta));
+  L ct, sn;
+  detail::crank_sin_cos(L(v[k.phase] + sense * phi), sn, ct);
+  detail::place_crank(c, v, st, detail::crank_axis(ct, sn, sense));
   return detail::solve_groups<L, kChecked>(c, v, st);
 }
 
