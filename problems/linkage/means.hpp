@@ -31,7 +31,8 @@ namespace problems::linkage {
 template <class S>
 struct MeansScratch {
   std::optional<mech::linkage::LaneSolver<S>> lanes;
-  mech::linkage::State<S> a, b, first;
+  mech::linkage::State<S> a, b;
+  std::vector<mech::linkage::State<S>> ends;  // mean_load_torque's
   mech::linkage::State<double> e;
 };
 using MeansScratches = std::tuple<MeansScratch<double>, MeansScratch<mech::Dual>, MeansScratch<mech::DualN<2>>,
@@ -215,7 +216,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   const mech::linkage::Chain& c = d.chain;
   auto& kept = std::get<MeansScratch<S>>(ws.means);
   if (kept.a.point.size() != c.point_names().size()) {
-    for (auto* st : {&kept.a, &kept.b, &kept.first}) st->resize(c);
+    for (auto* st : {&kept.a, &kept.b}) st->resize(c);
     kept.e.resize(c);
   }
   if (kept.lanes) kept.lanes->reset(v.data());
@@ -273,7 +274,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
   if (by_ends) {
     ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, n, ws.blocks, [&] { return ws.states(); },
-                               ws.sd, kept.e, kept.first, kept.a, kept.b);
+                               ws.sd, kept.e, kept.ends, lanes);
   } else if (work) {
     ml = mech::piecewise_means<S>(
         [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {

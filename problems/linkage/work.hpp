@@ -128,20 +128,50 @@ inline double turns_between(const mech::linkage::Load& l, double phi_a, double p
 // switches: (angle, load) where a switching load's coordinate turns
 // (zeros of its switch_rate, torque_kinks'); blocks: the chain at the n
 // grid angles, and states() the same as scalar states (GridStates: asked
-// only for a torque's turns); vd: v's values; sd, se, s0, sa, sb: states
-// to solve in. Only where work_from_ends(c).
+// only for a torque's turns); vd: v's values; sd, se: states to solve in;
+// at: the ends' states (sized here); lanes: the chain on lanes at v.
+// Only where work_from_ends(c).
 template <class S, class States>
 S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
                    const std::vector<std::pair<double, int>>& switches, int n, GridBlocks blocks, States&& states,
                    mech::linkage::State<double>& sd, mech::linkage::State<double>& se,
-                   mech::linkage::State<S>& s0, mech::linkage::State<S>& sa, mech::linkage::State<S>& sb) {
+                   std::vector<mech::linkage::State<S>>& at, mech::linkage::LaneSolver<S>& lanes) {
   using mech::linkage::Load;
   S work(0.0);
-  std::vector<double> ends;
   // A load's work on one arc, over its efficiency.
   auto add = [&](const Load& l, const S& done) {
     work += l.efficiency == mech::linkage::kNone ? done : S(done / v[l.efficiency]);
   };
+  // Every switching load's arcs' ends, load by load, each by angle (a
+  // load that never turns: one arc, the whole cycle, from 0), and the
+  // chain solved at each once: on doubles kLanes at a time, solve's bits.
+  std::vector<double> ends;
+  std::vector<size_t> first(c.loads().size() + 1, 0);
+  for (size_t i = 0; i < c.loads().size(); ++i) {
+    if (mech::linkage::switching(c.loads()[i])) {
+      for (const auto& [phi, load] : switches)
+        if (load == static_cast<int>(i)) ends.push_back(phi);
+      std::sort(ends.begin() + static_cast<std::ptrdiff_t>(first[i]), ends.end());
+      if (ends.size() == first[i]) ends.push_back(0.0);
+    }
+    first[i + 1] = ends.size();
+  }
+  if (at.size() < ends.size()) {
+    at.resize(ends.size());
+    for (auto& st : at) st.resize(c);
+  }
+  for (size_t e = 0; e < ends.size(); e += mech::kLanes) {
+    const int m = static_cast<int>(std::min<size_t>(mech::kLanes, ends.size() - e));
+    if constexpr (std::is_same_v<S, double>) {
+      mech::Lanes phi;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = ends[e + static_cast<size_t>(std::min(j, m - 1))];
+      if (mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st)) {
+        for (int j = 0; j < m; ++j) mech::linkage::lane_state(lanes.st, j, at[e + static_cast<size_t>(j)]);
+        continue;
+      }
+    }
+    for (int j = 0; j < m; ++j) mech::linkage::solve(c, v, S(ends[e + static_cast<size_t>(j)]), at[e + static_cast<size_t>(j)]);
+  }
   for (size_t i = 0; i < c.loads().size(); ++i) {
     const Load& l = c.loads()[i];
     const bool force = l.kind == Load::Kind::force;
@@ -153,20 +183,12 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
                                                                     states()[0]))));
       continue;
     }
-    ends.clear();
-    for (const auto& [phi, load] : switches)
-      if (load == static_cast<int>(i)) ends.push_back(phi);
-    std::sort(ends.begin(), ends.end());
-    if (ends.empty()) ends.push_back(0.0);  // never turns: one arc, the whole cycle
-    // Each end solved once: arc j's end b is arc j + 1's a (sa, swapped),
-    // the last arc's the first's a turn on (s0).
-    mech::linkage::solve(c, v, S(ends[0]), s0);
-    sa = s0;
-    for (size_t j = 0; j < ends.size(); ++j) {
-      const bool last = j + 1 == ends.size();
-      const double a = ends[j], b = last ? ends[0] + mech::kTwoPi : ends[j + 1];
-      if (last) sb = s0;
-      else mech::linkage::solve(c, v, S(b), sb);
+    const size_t count = first[i + 1] - first[i];
+    for (size_t j = 0; j < count; ++j) {
+      const bool last = j + 1 == count;
+      const size_t ia = first[i] + j, ib = last ? first[i] : ia + 1;  // (the last arc ends where the first starts)
+      const double a = ends[ia], b = last ? ends[ib] + mech::kTwoPi : ends[ib];
+      const mech::linkage::State<S>&sa = at[ia], &sb = at[ib];
       // The coordinate's direction on the arc: its rate's sign inside it
       // (it has no zero there), at the grid angle nearest the middle where
       // that lies a quarter of the arc from both ends, else at the middle.
@@ -203,7 +225,6 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
           add(l, l.opposing || l.kind == Load::Kind::friction ? S(-(abs(size) * change * sign)) : S(size * change));
         }
       }
-      std::swap(sa, sb);
     }
   }
   return S(-work / mech::kTwoPi);
