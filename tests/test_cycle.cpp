@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -151,6 +152,30 @@ TEST(Cycle, MaximaSearchedTogetherOrAloneAgree) {
     ASSERT_EQ(together[i].maxima.size(), 1u);
   }
   EXPECT_LT(batches, 12);  // the three root searches ran side by side
+}
+
+// Given the angles where f stands still (Bump: u = 0, its maximum, and u =
+// pi, its minimum), a search asks f at those whose grid cell reaches the
+// grid's top, and no slope: the maximum at a, the minimum's far below.
+TEST(Cycle, KnownStationaryAnglesNeedNoRootSearch) {
+  const Bump bumps[2] = {{1.234, 0.1}, {6.2, -0.2}};
+  for (const Bump& b : bumps) {
+    const std::vector<double> grid = b.grid(24);
+    const double known[2] = {mech::wrap_angle(b.a), mech::wrap_angle(b.a + std::numbers::pi)};
+    mech::CycleMaxSearch s{.v = grid, .known = known, .maxima = {}};
+    int slopes = 0, values = 0;
+    mech::find_cycle_maxima(std::span(&s, 1), [&](std::span<mech::AngleQuery> qs) {
+      for (auto& q : qs) {
+        ++(q.slope ? slopes : values);
+        q.out = q.slope ? b.df(q.phi) : b.f(q.phi);
+      }
+    });
+    EXPECT_EQ(slopes, 0);
+    EXPECT_EQ(values, 1);
+    EXPECT_EQ(s.phi, known[0]);
+    EXPECT_EQ(s.value, b.f(known[0]));
+    ASSERT_EQ(s.maxima.size(), 1u);
+  }
 }
 
 TEST(Cycle, TwinDrivePeaksInLanesEqualTheScalarSearch) {

@@ -9,6 +9,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <utility>
@@ -90,31 +91,29 @@ inline bool on_ground(const mech::linkage::Chain& c, const double* v, int p, dou
 
 }  // namespace detail
 
-// Load l's switches in closed form, where its rate is the output of a
-// group driven straight from the crank: a slider on a line fixed to the
-// ground (RRP) or a link pivoted on a ground point (RRR), the group's
-// other known point P on the crank, rho from its pivot O. That output
-// stands still where the crank and the link from P lie in line (O, P and
-// the joint B collinear: a slider's dead centres, a rocker's limits), so
-// B is on its line or its circle at |B - O| = a + rho (stretched) or
-// |a - rho| (folded), a the length P - B. at[0, m): the crank angles in
-// [0, 2 pi) of those on the group's branch; false where l is no such
-// output.
-inline bool output_stops(const mech::linkage::Chain& c, const double* v, const mech::linkage::Load& l,
-                         double (&at)[4], int& m) {
+// Where a link's coordinate stands still, in closed form, where it is the
+// output of a group driven straight from the crank: a slider (`slides`:
+// its s) on a line fixed to the ground (RRP) or a link pivoted on a ground
+// point (RRR: its angle), the group's other known point P on the crank,
+// rho from its pivot O. That output stands still where the crank and the
+// link from P lie in line (O, P and the joint B collinear: a slider's
+// dead centres, a rocker's limits), so B is on its line or its circle at
+// |B - O| = a + rho (stretched) or |a - rho| (folded), a the length P -
+// B. at[0, m): the crank angles in [0, 2 pi) of those on the group's
+// branch; false where the link is no such output.
+inline bool output_stops(const mech::linkage::Chain& c, const double* v, int link, bool slides, double (&at)[4],
+                         int& m) {
   using mech::linkage::GroupType;
   using mech::linkage::kNone;
-  const bool force = l.kind == mech::linkage::Load::Kind::force;
-  if (l.other != kNone) return false;
   const mech::linkage::Crank& k = c.crank();
   const auto& links = c.links();
   double ox = 0, oy = 0;
   if (!detail::on_ground(c, v, k.pivot, ox, oy)) return false;
   for (const mech::linkage::Group& gr : c.groups()) {
-    const bool slider = force && gr.type == GroupType::RRP && gr.second == l.link;
-    const bool rocker = !force && gr.type == GroupType::RRR && (gr.first == l.link || gr.second == l.link);
+    const bool slider = slides && gr.type == GroupType::RRP && gr.second == link;
+    const bool rocker = !slides && gr.type == GroupType::RRR && (gr.first == link || gr.second == link);
     if (!slider && !rocker) continue;
-    const bool from_p = !rocker || gr.second == l.link;  // the input is the group's p (else its q)
+    const bool from_p = !rocker || gr.second == link;  // the input is the group's p (else its q)
     const int input = from_p ? gr.p : gr.q;
     double rho, alpha, qx = 0, qy = 0, ux = 0, uy = 0, tx = 0, ty = 0;
     if (!detail::on_crank(c, v, input, rho, alpha)) return false;
@@ -122,7 +121,7 @@ inline bool output_stops(const mech::linkage::Chain& c, const double* v, const m
     double b = 0;
     if (rocker) {
       if (!detail::on_ground(c, v, from_p ? gr.q : gr.p, qx, qy)) return false;
-      b = v[links[static_cast<size_t>(l.link)].length];
+      b = v[links[static_cast<size_t>(link)].length];
     } else {
       const mech::linkage::Link& s = links[static_cast<size_t>(gr.second)];
       if (s.line_on != kNone || !detail::on_ground(c, v, s.line_through, tx, ty)) return false;
@@ -169,15 +168,19 @@ inline bool output_stops(const mech::linkage::Chain& c, const double* v, const m
   return false;
 }
 
-// The zeros of switch f in closed form (output_stops), appended in the
-// order of the grid's cells (g: the rate on the grid) where every cell
-// whose rate changes sign holds exactly one of them and none is left
-// over; else false, nothing appended (the root searches take f).
-inline bool grid_stops(const mech::linkage::Chain& c, const double* v, const KinkFn& f, const double* g, int n,
-                       std::vector<double>& out) {
-  double at[4];
-  int m = 0;
-  if (f.load < 0 || f.row != -1 || !output_stops(c, v, c.loads()[static_cast<size_t>(f.load)], at, m)) return false;
+// Load l's switches in closed form: its link's stops, where it acts on
+// that link alone (a force on a slider, a torque on a rocker).
+inline bool output_stops(const mech::linkage::Chain& c, const double* v, const mech::linkage::Load& l,
+                         double (&at)[4], int& m) {
+  return l.other == mech::linkage::kNone &&
+         output_stops(c, v, l.link, l.kind == mech::linkage::Load::Kind::force, at, m);
+}
+
+// The stops at[0, m) appended in the order of the grid's cells (g: the
+// rate on the n-point grid) where every cell whose rate changes sign
+// holds exactly one of them and none is left over; else false, nothing
+// appended (the root searches find the zeros).
+inline bool stops_in_cells(const double (&at)[4], int m, const double* g, int n, std::vector<double>& out) {
   const size_t first = out.size();
   const double h = mech::kTwoPi / n;
   for (int k = 0; k < n; ++k) {
@@ -185,7 +188,9 @@ inline bool grid_stops(const mech::linkage::Chain& c, const double* v, const Kin
     if (!(ga == 0.0 || ((ga < 0) != (gb < 0) && gb != 0.0))) continue;
     int in = -1;
     for (int i = 0; i < m; ++i) {
-      if (!(std::abs(std::remainder(at[i] - (k + 0.5) * h, mech::kTwoPi)) <= 0.5 * h * (1 + 1e-9))) continue;
+      double off = at[i] - (k + 0.5) * h;  // from the cell's middle, in (-2 pi, 2 pi): the nearest copy
+      off = off > std::numbers::pi ? off - mech::kTwoPi : off < -std::numbers::pi ? off + mech::kTwoPi : off;
+      if (!(std::abs(off) <= 0.5 * h * (1 + 1e-9))) continue;
       if (in >= 0) return out.resize(first), false;
       in = i;
     }
@@ -195,6 +200,15 @@ inline bool grid_stops(const mech::linkage::Chain& c, const double* v, const Kin
   if (out.size() - first == static_cast<size_t>(m)) return true;
   out.resize(first);
   return false;
+}
+
+// The zeros of switch f in closed form (output_stops) by stops_in_cells.
+inline bool grid_stops(const mech::linkage::Chain& c, const double* v, const KinkFn& f, const double* g, int n,
+                       std::vector<double>& out) {
+  double at[4];
+  int m = 0;
+  return f.load >= 0 && f.row == -1 && output_stops(c, v, c.loads()[static_cast<size_t>(f.load)], at, m) &&
+         stops_in_cells(at, m, g, n, out);
 }
 
 // The angles in [0, 2 pi) where the functions fns cross zero (each

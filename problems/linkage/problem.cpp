@@ -116,6 +116,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     MeansScratches means;
     std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
+    std::vector<double> known;    // the outputs' stops (known_extremes)
     // The grid's angles, block by block, with the crank's cosines and sines
     // there (crank_cos_sin), kept while the phase and the grid are.
     std::vector<std::array<mech::Lanes, 3>> grid_cs;
@@ -190,6 +191,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       ws.searches[q].reset(std::span<const double>(ws.grids.data() + q * un, un), {},
                            grid_slopes(ws.asked[q].kind) ? std::span<const double>(ws.slopes.data() + q * un, un)
                                                          : std::span<const double>{});
+    known_extremes(vd, n, ws);
     find_kinks(ws, n_margins);
     auto search = [&](size_t from, size_t to) { run_searches(ws, from, to); };
     // A group whose grid keeps it clear of a singular position by more than
@@ -376,6 +378,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         } else {
           mech::Lanes out;  // a quantity (or slope) once for the lanes in a row that ask it
           bool thirds = false;  // the third derivatives, once a block that asks for them
+          std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;  // the torque's and the energy's, once
           for (int j = 0; j < m; ++j) {
             mech::AngleQuery& a = *block[static_cast<size_t>(j)];
             const mech::AngleQuery* before = j ? block[static_cast<size_t>(j - 1)] : nullptr;
@@ -384,6 +387,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
               if (a.slope && q.kind == Kind::torque) {
                 if (!thirds) mech::linkage::third_order(c, lanes.v.data(), lanes.st, ws.thirds), thirds = true;
                 out = mech::linkage::torque_slope(c, lanes.v.data(), lanes.st, ws.thirds);
+              } else if (q.kind == Kind::torque || q.kind == Kind::energy) {  // (quantity's and jet_slope's)
+                if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
+                const mech::Lanes& w = lanes.v[static_cast<size_t>(c.crank().speed)];
+                out = a.slope ? energy_slope(*dp, w) : drive_quantity(q.kind, *dp, w);
               } else {
                 out = a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
               }
@@ -541,6 +548,30 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       }
     }
     return true;
+  }
+
+  // An output driven straight from the crank stands still where
+  // kinks.hpp's output_stops says: its coordinate's searches (both signs)
+  // take its extremes there (CycleMaxSearch::known) where the grid's rates
+  // change sign once in each of their cells and nowhere else.
+  void known_extremes(const double* vd, int n, Workspace& ws) const {
+    ws.known.clear();
+    ws.known.reserve(4 * ws.asked.size());  // (the spans stay put)
+    for (size_t q = 0; q < ws.asked.size(); ++q) {
+      const Quantity& a = ws.asked[q];
+      if (a.kind != Kind::coordinate && a.kind != Kind::neg_coordinate) continue;
+      if (ws.mirror[q] < q) {  // the other sign's
+        ws.searches[q].known = ws.searches[ws.mirror[q]].known;
+        continue;
+      }
+      const Output& o = d_.outputs[static_cast<size_t>(a.index)];
+      double at[4];
+      int m = 0;
+      const size_t first = ws.known.size();
+      if (output_stops(d_.chain, vd, o.link, o.slides, at, m) &&
+          stops_in_cells(at, m, ws.slopes.data() + q * static_cast<size_t>(n), n, ws.known))
+        ws.searches[q].known = std::span<const double>(ws.known.data() + first, ws.known.size() - first);
+    }
   }
 
   // A load that switches makes the forces it enters jump where its rate

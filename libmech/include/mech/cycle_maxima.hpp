@@ -91,7 +91,9 @@ MECH_INLINE std::pair<double, double> max_and_curvature(std::span<const double> 
 // maxima, or be one), each refined by a LaneRootSearch (from a third point
 // on the same piece where there is one). Where nothing shows (two maxima
 // closer than a step), each piece is searched again in 4 parts; none found:
-// the grid point.
+// the grid point. A search given `known` angles (a global one: every
+// local maximum lies at one of them) takes those whose grid cell reaches
+// max(v) - margin as found, with no root search.
 //
 // Global maximum: two nearly equal peaks can swap order between the grid
 // and the truth, so every grid local maximum that could be the highest is
@@ -155,6 +157,15 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
     const double h = kTwoPi / n, eps = 1e-9 * h;  // eps: either side of a kink, its one-sided slopes
     const auto [vmax, curvature] = max_and_curvature(v);
     const double margin = s.global ? 0.25 * curvature : s.margin, low = vmax - margin;
+    auto at = [&](int i) { return v[static_cast<std::size_t>(i < 0 ? i + n : i >= n ? i - n : i)]; };  // -n <= i < 2n
+    if (!s.known.empty()) {  // found already, where their cells reach low
+      for (double phi : s.known) {
+        const int j = static_cast<int>(std::floor(wrap_angle(phi) / h));
+        if (std::max(at(j), at(j + 1)) >= low) roots.push_back({f, phi});
+      }
+      tops.push_back(-1);
+      continue;
+    }
     int top = -1;  // the first grid point at vmax (none where v holds a NaN)
     for (int k = 0; k < n; ++k) {
       // Most points lie below low: kLanes of them skipped at a time.
@@ -188,7 +199,6 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
     }
     tops.push_back(top);
     if (!s.global) continue;
-    auto at = [&](int i) { return v[static_cast<std::size_t>(i < 0 ? i + n : i >= n ? i - n : i)]; };  // -n <= i < 2n
     for (double kink : s.kinks) {
       kink_queries.push_back(ask(kink, f, false));
       if (!std::isfinite(kink)) continue;  // its value asked above: NaN, never the peak

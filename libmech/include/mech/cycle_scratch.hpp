@@ -30,6 +30,9 @@ struct AngleQuery {
 // grid, where the caller has it (its evaluations saved).
 struct CycleMaxSearch {
   std::span<const double> v, kinks = {}, slopes = {};
+  // A global search's: angles that hold every local maximum of f (a
+  // closed form's: where f stands still), or empty (find_cycle_maxima).
+  std::span<const double> known = {};
   bool global = true;        // the global maximum; else every local one within `margin`
   double margin = HUGE_VAL;  // local ones: no lower than max(v) - margin
   std::vector<double> maxima;  // out: the refined local maxima, sorted by angle
@@ -40,7 +43,7 @@ struct CycleMaxSearch {
   // that searches every design keeps its searches in a CycleScratch.
   void reset(std::span<const double> values, std::span<const double> kinks_of_f = {},
              std::span<const double> slopes_of_f = {}) {
-    v = values, kinks = kinks_of_f, slopes = slopes_of_f;
+    v = values, kinks = kinks_of_f, slopes = slopes_of_f, known = {};
     global = true, margin = HUGE_VAL;
     maxima.clear();
     phi = value = 0;
