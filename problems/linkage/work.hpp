@@ -170,7 +170,7 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
         continue;
       }
     }
-    for (int j = 0; j < m; ++j) mech::linkage::solve(c, v, S(ends[e + static_cast<size_t>(j)]), at[e + static_cast<size_t>(j)]);
+    for (size_t j = e; j < e + static_cast<size_t>(m); ++j) mech::linkage::solve(c, v, S(ends[j]), at[j]);
   }
   for (size_t i = 0; i < c.loads().size(); ++i) {
     const Load& l = c.loads()[i];
@@ -188,7 +188,7 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
       const bool last = j + 1 == count;
       const size_t ia = first[i] + j, ib = last ? first[i] : ia + 1;  // (the last arc ends where the first starts)
       const double a = ends[ia], b = last ? ends[ib] + mech::kTwoPi : ends[ib];
-      const mech::linkage::State<S>&sa = at[ia], &sb = at[ib];
+      const auto &sa = at[ia], &sb = at[ib];
       // The coordinate's direction on the arc: its rate's sign inside it
       // (it has no zero there), at the grid angle nearest the middle where
       // that lies a quarter of the arc from both ends, else at the middle.
