@@ -25,18 +25,23 @@
 
 namespace problems::linkage {
 
-// What the means keep from one evaluation to the next on scalar S (the
-// workspace's `means` holds one per scalar, MeansScratches: no allocation
-// once warm): the chain's lanes at the design, and states to solve in.
+// What an evaluation on scalar S keeps from one design to the next (the
+// workspace's `scalar` holds one per scalar, ScalarScratches: no
+// allocation once warm): the chain's lanes at the design, states to solve
+// in (the means'), and the chain at each search's maximum with the
+// metric's value there (problem.cpp's, on a dual S: Danskin).
 template <class S>
-struct MeansScratch {
+struct ScalarScratch {
   std::optional<mech::linkage::LaneSolver<S>> lanes;
   mech::linkage::State<S> a, b;
   std::vector<mech::linkage::State<S>> ends;  // mean_load_torque's
   mech::linkage::State<double> e;
+  std::vector<mech::linkage::State<S>> maxima;  // per search, where `solved` says
+  std::vector<char> solved;
+  std::vector<std::optional<S>> tops;  // per search, its maximum on S once taken
 };
-using MeansScratches = std::tuple<MeansScratch<double>, MeansScratch<mech::Dual>, MeansScratch<mech::DualN<2>>,
-                                  MeansScratch<mech::DualN<3>>, MeansScratch<mech::DualN<4>>>;
+using ScalarScratches = std::tuple<ScalarScratch<double>, ScalarScratch<mech::Dual>, ScalarScratch<mech::DualN<2>>,
+                                   ScalarScratch<mech::DualN<3>>, ScalarScratch<mech::DualN<4>>>;
 
 // The poles of a group's margin^2 from its grid f = -margin^2 (periodic,
 // n points, step h): each local minimum's parabola through its three grid
@@ -214,7 +219,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   using mech::Lanes;
   using L = mech::lanes_of<S>;
   const mech::linkage::Chain& c = d.chain;
-  auto& kept = std::get<MeansScratch<S>>(ws.means);
+  auto& kept = std::get<ScalarScratch<S>>(ws.scalar);
   if (kept.a.point.size() != c.point_names().size()) {
     for (auto* st : {&kept.a, &kept.b}) st->resize(c);
     kept.e.resize(c);

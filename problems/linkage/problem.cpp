@@ -114,7 +114,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi)
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
-    MeansScratches means;
+    ScalarScratches scalar;
     std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
     std::vector<double> known;    // the outputs' stops (known_extremes)
     // The grid's angles, block by block, with the crank's cosines and sines
@@ -218,9 +218,18 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     search(n_margins, nq);
     hold_switches(ws, n_margins);
     // The metrics: each maximum as the search found it (double), or the
-    // quantity at the maximising angle on S (Danskin).
+    // quantity at the maximising angle on S (Danskin), the chain there on
+    // lanes where S has them (solve_maxima).
+    auto& kept = std::get<ScalarScratch<S>>(ws.scalar);
+    if constexpr (mech::is_dual<S>) {
+      kept.tops.assign(nq, std::nullopt);
+      kept.solved.assign(nq, 0);
+      if constexpr (mech::has_lanes<S>) solve_maxima(v, n_margins, ws, kept);
+    }
     State<S> ss;
     auto solved_at = [&](size_t q) -> const State<S>& {  // the chain on S at search q's angle
+      if constexpr (mech::is_dual<S>)
+        if (kept.solved[q]) return kept.maxima[q];
       if (ss.point.size() != c.point_names().size()) ss.resize(c);
       mech::linkage::solve(c, v.data(), S(ws.searches[q].phi), ss);
       return ss;
@@ -229,27 +238,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if constexpr (!mech::is_dual<S>) {
         return ws.searches[q].value;
       } else {
-        const auto [load, side] = ws.held[q];
-        const double at_phi = ws.searches[q].phi;
-        const auto kink = std::find_if(ws.moving.begin(), ws.moving.end(), [&](const MovingKink& k) {
-          return std::abs(std::remainder(k.phi - at_phi, mech::kTwoPi)) < 1e-9;
-        });
-        // At a contact or a table's row, which moves with the design: at_phi and its shift on S (kink_shift).
-        if (load == kNone && bears_loads(ws.asked[q].kind) && kink != ws.moving.end()) {
-          if (ss.point.size() != c.point_names().size()) ss.resize(c);
-          mech::linkage::solve(c, v.data(), S(at_phi + kink_shift(c, v.data(), kink->fn, at_phi, ss)), ss);
-          return quantity(ws.asked[q], v.data(), ss, ws);
-        }
-        if (load == kNone) return quantity(ws.asked[q], v.data(), solved_at(q), ws);
-        // At a switch, which moves with the design: phi - r / r' on S
-        // (r the load's switching rate, zero there), the load held.
-        const Jet<S> r = mech::linkage::switch_rate(c.loads()[static_cast<size_t>(load)], solved_at(q));
-        const S phi = S(ws.searches[q].phi - r.v / mech::value(r.d));
-        mech::linkage::solve(c, v.data(), phi, ss);
-        ss.held_load = load, ss.held_side = side;
-        const S f = quantity(ws.asked[q], v.data(), ss, ws);
-        ss.held_load = kNone;
-        return f;
+        if (!kept.tops[q]) kept.tops[q] = dual_max(q, v, ws, solved_at, ss);
+        return *kept.tops[q];
       }
     };
     // The angle of search q's maximum; on S, moved with the design: phi -
@@ -263,14 +253,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         return S(ws.searches[q].phi - (f.d - mech::value(f.d)) / mech::value(f.dd));
       }
     };
-    auto find = [&](Quantity q) {  // the search of q; over all groups of its kind where q names none
-      size_t best = nq;
-      for (size_t i = n_margins; i < nq; ++i)
-        if (ws.asked[i].kind == q.kind && (q.index == kNone || ws.asked[i].index == q.index) &&
-            (best == nq || ws.searches[i].value > ws.searches[best].value))
-          best = i;
-      return best;
-    };
+    auto find = [&](Quantity q) { return search_of(ws, n_margins, q); };
     bool means = false;
     for (size_t m = 0; m < metrics_.size(); ++m) {
       if (!out.want(static_cast<int>(m))) continue;
@@ -322,6 +305,93 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   }
 
  private:
+  // The search of q among ws's [from, end): over all groups of its kind
+  // where q names none, the largest.
+  static size_t search_of(const Workspace& ws, size_t from, Quantity q) {
+    const size_t nq = ws.asked.size();
+    size_t best = nq;
+    for (size_t i = from; i < nq; ++i)
+      if (ws.asked[i].kind == q.kind && (q.index == kNone || ws.asked[i].index == q.index) &&
+          (best == nq || ws.searches[i].value > ws.searches[best].value))
+        best = i;
+    return best;
+  }
+  // The contact or table row (which move with the design) at search q's
+  // maximum, if a load-bearing quantity's maximum is at one.
+  static const MovingKink* moving_kink(const Workspace& ws, size_t q) {
+    if (!bears_loads(ws.asked[q].kind)) return nullptr;
+    const double at_phi = ws.searches[q].phi;
+    for (const MovingKink& k : ws.moving)
+      if (std::abs(std::remainder(k.phi - at_phi, mech::kTwoPi)) < 1e-9) return &k;
+    return nullptr;
+  }
+
+  // Search q's maximum on a dual S (Danskin): the quantity at its angle
+  // (solved_at(q): the chain there), or where that angle moves with the
+  // design, at it on S.
+  template <class S, class At>
+  S dual_max(size_t q, const opt::Values<S>& v, const Workspace& ws, At&& solved_at, State<S>& ss) const {
+    const Chain& c = d_.chain;
+    const auto [load, side] = ws.held[q];
+    const double at_phi = ws.searches[q].phi;
+    if (ss.point.size() != c.point_names().size()) ss.resize(c);
+    // At a contact or a table's row: at_phi and its shift on S (kink_shift).
+    if (const MovingKink* kink = load == kNone ? moving_kink(ws, q) : nullptr) {
+      mech::linkage::solve(c, v.data(), S(at_phi + kink_shift(c, v.data(), kink->fn, at_phi, ss)), ss);
+      return quantity(ws.asked[q], v.data(), ss, ws);
+    }
+    if (load == kNone) return quantity(ws.asked[q], v.data(), solved_at(q), ws);
+    // At a switch: phi - r / r' on S (r the load's switching rate, zero
+    // there), the load held.
+    const Jet<S> r = mech::linkage::switch_rate(c.loads()[static_cast<size_t>(load)], solved_at(q));
+    const S phi = S(at_phi - r.v / mech::value(r.d));
+    mech::linkage::solve(c, v.data(), phi, ss);
+    ss.held_load = load, ss.held_side = side;
+    const S f = quantity(ws.asked[q], v.data(), ss, ws);
+    ss.held_load = kNone;
+    return f;
+  }
+
+  // The chain on a dual S at the maxima of searches [from, end) that the
+  // metrics take at their angle, on lanes kLanes maxima a call, each into
+  // kept.maxima[q] (kept.solved[q]): lane by lane solve's values. Not
+  // those at a moving kink (at_max solves where it moves) nor a group
+  // kind's other than its largest (no metric takes them).
+  template <class S>
+  void solve_maxima(const opt::Values<S>& v, size_t from, Workspace& ws, ScalarScratch<S>& kept) const {
+    using L = mech::lanes_of<S>;
+    const Chain& c = d_.chain;
+    const size_t nq = ws.asked.size();
+    if (kept.maxima.size() < nq) {
+      kept.maxima.resize(nq);
+      for (auto& st : kept.maxima) st.resize(c);
+    }
+    if (kept.lanes) kept.lanes->reset(v.data());
+    else kept.lanes.emplace(c, v.data());
+    auto& lanes = *kept.lanes;
+    std::array<size_t, mech::kLanes> block;
+    int m = 0;
+    auto run = [&] {
+      mech::Lanes phi;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = ws.searches[block[static_cast<size_t>(std::min(j, m - 1))]].phi;
+      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
+      for (int j = 0; j < m; ++j) {
+        mech::linkage::lane_state(lanes.st, j, kept.maxima[block[static_cast<size_t>(j)]]);
+        kept.solved[block[static_cast<size_t>(j)]] = 1;
+      }
+      m = 0;
+    };
+    for (size_t q = from; q < nq; ++q) {
+      const Kind k = ws.asked[q].kind;
+      const bool grouped = k == Kind::pressure || k == Kind::transmission;
+      if ((ws.held[q].first == kNone && moving_kink(ws, q)) || (grouped && search_of(ws, from, {k, kNone}) != q))
+        continue;
+      block[static_cast<size_t>(m++)] = q;
+      if (m == mech::kLanes) run();
+    }
+    if (m) run();
+  }
+
   // Runs searches [from, to) of ws (their quantities ws.asked[from, to)).
   // Values, the jets' slopes and, on a chain of RRR and RRP groups, the
   // torque's slope from the third derivatives (third.hpp) go kLanes queries

@@ -243,7 +243,8 @@ struct LaneDual {
 };
 
 // The lane form of a scalar type (double: Lanes; Dual, DualN<N>: LaneDual);
-// void where there is none (DualX: the scalar loops serve it).
+// void where there is none (DualX: the scalar loops serve it). broadcast:
+// one scalar in every lane; sum: the lanes' sum; lane: lane j as a scalar.
 template <class S>
 struct LaneForm {
   using type = void;
@@ -253,6 +254,7 @@ struct LaneForm<double> {
   using type = Lanes;
   static Lanes broadcast(double x) { return Lanes(x); }
   static double sum(const Lanes& a) { return mech::sum(a); }
+  static double lane(const Lanes& a, int j) { return a[j]; }
 };
 template <>
 struct LaneForm<Dual> {
@@ -263,6 +265,7 @@ struct LaneForm<Dual> {
     return r;
   }
   static Dual sum(const type& a) { return {mech::sum(a.v), mech::sum(a.d[0])}; }
+  static Dual lane(const type& a, int j) { return {a.v[j], a.d[0][j]}; }
 };
 template <int N>
   requires(N > 0)  // not DualX
@@ -278,13 +281,17 @@ struct LaneForm<DualN<N>> {
     for (int i = 0; i < N; ++i) g[i] = mech::sum(a.d[i]);
     return DualN<N>(mech::sum(a.v), g);
   }
+  static DualN<N> lane(const type& a, int j) {
+    Eigen::Matrix<double, N, 1> g;
+    for (int i = 0; i < N; ++i) g[i] = a.d[i][j];
+    return DualN<N>(a.v[j], g);
+  }
 };
 template <class S>
 using lanes_of = typename LaneForm<S>::type;
 template <class S>
 inline constexpr bool has_lanes = !std::is_void_v<lanes_of<S>>;
 
-// Lane j's value.
 // Whether x > 0 in every lane (a scalar: whether it is), and whether some
 // lane of x is 0: the checks a model makes where a point may not exist.
 template <class S>

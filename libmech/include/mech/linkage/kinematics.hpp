@@ -295,9 +295,13 @@ struct LaneSolver {
   }
 };
 
-// Lane j of a state on lanes, as a scalar state (sized for the chain).
-inline void lane_state(const State<Lanes>& from, int j, State<double>& to) {
-  auto jet = [j](const Jet<Lanes>& a) { return Jet<double>{a.v[j], a.d[j], a.dd[j]}; };
+// Lane j of a state on lanes, as a state on its scalar S (sized for the
+// chain).
+template <class S>
+void lane_state(const State<lanes_of<S>>& from, int j, State<S>& to) {
+  auto jet = [j](const Jet<lanes_of<S>>& a) {
+    return Jet<S>{LaneForm<S>::lane(a.v, j), LaneForm<S>::lane(a.d, j), LaneForm<S>::lane(a.dd, j)};
+  };
   for (size_t p = 0; p < from.point.size(); ++p) to.point[p] = {jet(from.point[p].x), jet(from.point[p].y)};
   for (size_t k = 0; k < from.axis.size(); ++k) {
     to.axis[k] = {jet(from.axis[k].x), jet(from.axis[k].y)};
@@ -305,7 +309,7 @@ inline void lane_state(const State<Lanes>& from, int j, State<double>& to) {
   }
   for (size_t g = 0; g < from.margin.size(); ++g) to.margin[g] = from.margin[g][j];
   to.failed = kNone;
-  to.phi = from.phi[j];
+  to.phi = LaneForm<S>::lane(from.phi, j);
 }
 
 namespace detail {
