@@ -94,7 +94,7 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
     const L ww = mech::LaneForm<S>::broadcast(S(w * w / 2.0));
     return mech::piecewise_means<S>(
                [&](const mech::Lanes& phi, const mech::Lanes& cp, const mech::Lanes& sp) {
-                 return L(mech::linkage::body_sums(c, lanes.v.data(), lanes.at(phi, cp, sp)).inertia * ww);
+                 return L(mech::linkage::body_sums<L, true>(c, lanes.v.data(), lanes.at(phi, cp, sp)).inertia * ww);
                },
                {}, 2 * d.mean_points(), ws.cycle, near)
         .mean;
@@ -116,7 +116,8 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
     mech::Lanes e(0.0);
     for (int j = 0; j < std::min(mech::kLanes, points - k); ++j) {
       const size_t i = static_cast<size_t>((k + j) * s);
-      e[j] = energies ? energies[i] : mech::linkage::body_sums(c, ws.plain.data(), states[i]).inertia / 2.0 * wd * wd;
+      e[j] = energies ? energies[i]
+                      : mech::linkage::body_sums<double, true>(c, ws.plain.data(), states[i]).inertia / 2.0 * wd * wd;
     }
     sums += e;
   }
@@ -136,7 +137,7 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
       mech::Lanes phi;
       for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, lanes_used - 1)) / m;
       mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
-      grads += mech::first_lanes(L(L(mech::linkage::body_sums(c, lanes.v.data(), lanes.st).inertia / 2.0) * ww * ww),
+      grads += mech::first_lanes(L(L(mech::linkage::body_sums<L, true>(c, lanes.v.data(), lanes.st).inertia / 2.0) * ww * ww),
                                  lanes_used);
     }
     S r = S(mech::LaneForm<S>::sum(grads) / static_cast<double>(m));

@@ -144,7 +144,8 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
   };
   // Every switching load's arcs' ends, load by load, each by angle (a
   // load that never turns: one arc, the whole cycle, from 0), and the
-  // chain solved at each once: on doubles kLanes at a time, solve's bits.
+  // chain solved at each once, kLanes at a time: lane by lane solve's
+  // values.
   std::vector<double> ends;
   std::vector<size_t> first(c.loads().size() + 1, 0);
   for (size_t i = 0; i < c.loads().size(); ++i) {
@@ -162,13 +163,16 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
   }
   for (size_t e = 0; e < ends.size(); e += mech::kLanes) {
     const int m = static_cast<int>(std::min<size_t>(mech::kLanes, ends.size() - e));
-    if constexpr (std::is_same_v<S, double>) {
-      mech::Lanes phi;
-      for (int j = 0; j < mech::kLanes; ++j) phi[j] = ends[e + static_cast<size_t>(std::min(j, m - 1))];
-      if (mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st)) {
-        for (int j = 0; j < m; ++j) mech::linkage::lane_state(lanes.st, j, at[e + static_cast<size_t>(j)]);
-        continue;
-      }
+    mech::Lanes phi;
+    for (int j = 0; j < mech::kLanes; ++j) phi[j] = ends[e + static_cast<size_t>(std::min(j, m - 1))];
+    bool solved = true;
+    if constexpr (std::is_same_v<S, double>) solved = mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st);
+    else if constexpr (mech::has_lanes<S>)  // (the ends are on the searched cycle: no check)
+      mech::linkage::solve_lanes_at<mech::lanes_of<S>, false>(c, lanes.v.data(), mech::lanes_of<S>(phi), lanes.st);
+    else solved = false;
+    if (solved) {
+      for (int j = 0; j < m; ++j) mech::linkage::lane_state(lanes.st, j, at[e + static_cast<size_t>(j)]);
+      continue;
     }
     for (size_t j = e; j < e + static_cast<size_t>(m); ++j) mech::linkage::solve(c, v, S(ends[j]), at[j]);
   }

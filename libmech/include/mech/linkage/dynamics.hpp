@@ -261,13 +261,14 @@ struct DrivePoint {
 
 // The bodies' sums at unit crank speed: 2 T / w^2 = sum m |G'|^2 + J t'^2
 // (the reduced moment of inertia), its half slope sum m G'' . G' + J t''
-// t', and sum m G'_y (gravity's torque over g).
+// t', and sum m G'_y (gravity's torque over g); kInertiaOnly: the first
+// alone (the others left 0).
 template <class S>
 struct BodySums {
   S inertia, half_slope, weight;
 };
 
-template <class S>
+template <class S, bool kInertiaOnly = false>
 BodySums<S> body_sums(const Chain& c, const S* v, const State<S>& st) {
   BodySums<S> out{S(0.0), S(0.0), S(0.0)};
   Inertial<S> b;
@@ -277,6 +278,7 @@ BodySums<S> body_sums(const Chain& c, const S* v, const State<S>& st) {
     const Jet<S> t = st.rates(static_cast<int>(k));
     const Jet<S> &x = b.G.x, &y = b.G.y;
     out.inertia += b.m * (x.d * x.d + y.d * y.d) + b.J * t.d * t.d;
+    if constexpr (kInertiaOnly) continue;
     out.half_slope += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
     out.weight += b.m * y.d;
   }

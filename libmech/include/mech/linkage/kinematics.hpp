@@ -343,10 +343,13 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
       return ca * eo + sa * rot90(eo);
     };
     // The line's point where the slider's coordinate is 0: its point T
-    // shifted `offset` to its left (n = rot90(u)).
+    // shifted `offset` to its left (n = rot90(u)); on a ground line a
+    // constant, its values alone computed (the same bits).
     auto line_origin = [&](const Link& slider, const Vec<S>& n) -> Vec<S> {
       const S offset = slider.line_offset == kNone ? S(0.0) : v[slider.line_offset];
-      return at(slider.line_through) + offset * n;
+      const Vec<S>& t = at(slider.line_through);
+      if (slider.line_on == kNone) return constant_point(S(t.x.v + n.x.v * offset), S(t.y.v + n.y.v * offset));
+      return t + offset * n;
     };
     // The group's two links solved: their axes, then their points.
     auto place = [&](const Vec<S>& e1, const Vec<S>& e2) {
@@ -379,14 +382,20 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const S& a = v[first.length];
         const Vec<S> u = line_axis(gr.second), n = rot90(u);
         const Vec<S>& P = at(gr.p);
+        // On a ground line u, n and T are constant in phi: the jets'
+        // products with them are scalar products (the same bits: the
+        // derivatives' terms they drop are zeros).
+        const bool fixed_line = second.line_on == kNone;
+        const S ux = u.x.v, uy = u.y.v, nx = n.x.v, ny = n.y.v;
         const Vec<S> T = line_origin(second, n);
-        const Vec<S> w = P - T;
-        const Jet<S> wn = dot(w, n);
+        const Vec<S> w = fixed_line ? Vec<S>{{S(P.x.v - T.x.v), P.x.d, P.x.dd}, {S(P.y.v - T.y.v), P.y.d, P.y.dd}}
+                                    : P - T;
+        const Jet<S> wn = fixed_line ? w.x * nx + w.y * ny : dot(w, n);
         const Jet<S> disc = constant(S(a * a)) - wn * wn;
         if constexpr (kChecked)
           if (!positive_everywhere(disc.v)) return st.failed = static_cast<int>(g), false;
-        const Jet<S> s = dot(w, u) + sqrt(disc) * double(gr.branch);
-        const Vec<S> B = T + s * u;
+        const Jet<S> s = (fixed_line ? w.x * ux + w.y * uy : dot(w, u)) + sqrt(disc) * double(gr.branch);
+        const Vec<S> B = fixed_line ? Vec<S>{T.x + s * ux, T.y + s * uy} : T + s * u;
         st.point[static_cast<size_t>(gr.joint)] = B;
         st.slide[static_cast<size_t>(gr.second)] = s;
         if constexpr (kChecked) st.margin[g] = sqrt(plain(disc.v)) / abs(plain(a));
