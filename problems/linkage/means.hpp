@@ -38,7 +38,8 @@ struct ScalarScratch {
   mech::linkage::State<double> e;
   std::vector<mech::linkage::State<S>> maxima;  // per search, where `solved` says
   std::vector<char> solved;
-  std::vector<std::optional<S>> tops;  // per search, its maximum on S once taken
+  std::vector<std::optional<S>> tops;    // per search, its maximum on S once taken
+  std::vector<std::optional<S>> angles;  // ... a coordinate's, the angle of it
 };
 using ScalarScratches = std::tuple<ScalarScratch<double>, ScalarScratch<mech::Dual>, ScalarScratch<mech::DualN<2>>,
                                    ScalarScratch<mech::DualN<3>>, ScalarScratch<mech::DualN<4>>>;

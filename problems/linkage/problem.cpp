@@ -223,6 +223,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     auto& kept = std::get<ScalarScratch<S>>(ws.scalar);
     if constexpr (mech::is_dual<S>) {
       kept.tops.assign(nq, std::nullopt);
+      kept.angles.assign(nq, std::nullopt);
       kept.solved.assign(nq, 0);
       if constexpr (mech::has_lanes<S>) solve_maxima(v, n_margins, ws, kept);
     }
@@ -249,6 +250,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if constexpr (!mech::is_dual<S>) {
         return ws.searches[q].phi;
       } else {
+        if (kept.angles[q]) return *kept.angles[q];
         const Jet<S> f = coordinate_jet(ws.asked[q], solved_at(q), ws);
         return S(ws.searches[q].phi - (f.d - mech::value(f.d)) / mech::value(f.dd));
       }
@@ -352,11 +354,13 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     return f;
   }
 
-  // The chain on a dual S at the maxima of searches [from, end) that the
-  // metrics take at their angle, on lanes kLanes maxima a call, each into
-  // kept.maxima[q] (kept.solved[q]): lane by lane solve's values. Not
-  // those at a moving kink (at_max solves where it moves) nor a group
-  // kind's other than its largest (no metric takes them).
+  // On a dual S, the maxima of searches [from, end) that the metrics take
+  // at their angle, the chain there on lanes kLanes maxima a call (lane by
+  // lane solve's values): a lane quantity's value into kept.tops[q] (a
+  // coordinate's angle, at_angle's, into kept.angles[q]), else the chain
+  // on S into kept.maxima[q] (kept.solved[q]) for dual_max. Not those at
+  // a moving kink (at_max solves where it moves) nor a group kind's other
+  // than its largest (no metric takes them).
   template <class S>
   void solve_maxima(const opt::Values<S>& v, size_t from, Workspace& ws, ScalarScratch<S>& kept) const {
     using L = mech::lanes_of<S>;
@@ -374,10 +378,29 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     auto run = [&] {
       mech::Lanes phi;
       for (int j = 0; j < mech::kLanes; ++j) phi[j] = ws.searches[block[static_cast<size_t>(std::min(j, m - 1))]].phi;
+      const auto& st = lanes.st;
       mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
+      std::optional<mech::linkage::DrivePoint<L>> dp;  // the torque's and the energy's, once
       for (int j = 0; j < m; ++j) {
-        mech::linkage::lane_state(lanes.st, j, kept.maxima[block[static_cast<size_t>(j)]]);
-        kept.solved[block[static_cast<size_t>(j)]] = 1;
+        const size_t q = block[static_cast<size_t>(j)];
+        const Quantity& a = ws.asked[q];
+        if (ws.held[q].first != kNone || !lane_kind(a.kind)) {
+          mech::linkage::lane_state(st, j, kept.maxima[q]);
+          kept.solved[q] = 1;
+          continue;
+        }
+        L f;
+        if (a.kind == Kind::torque || a.kind == Kind::energy) {
+          if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), st);
+          f = drive_quantity(a.kind, *dp, lanes.v[static_cast<size_t>(c.crank().speed)]);
+        } else if (a.kind == Kind::coordinate || a.kind == Kind::neg_coordinate) {
+          const Jet<L> x = coordinate_jet(a, st, ws);
+          f = x.v;
+          kept.angles[q] = S(phi[j] - (mech::LaneForm<S>::lane(x.d, j) - x.d.v[j]) / x.dd.v[j]);
+        } else {
+          f = quantity(a, lanes.v.data(), st, ws);
+        }
+        kept.tops[q] = mech::LaneForm<S>::lane(f, j);
       }
       m = 0;
     };

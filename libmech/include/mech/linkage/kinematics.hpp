@@ -249,10 +249,11 @@ inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, 
 }
 
 // The same at kLanes crank angles phi given on L itself (a LaneDual in
-// phi: the slopes a third order needs), the crank's axis from cos and sin
-// of its angle as solve's on a Dual in phi: lane by lane solve's bits.
+// phi: the slopes a third order needs; with design derivatives: a
+// gradient's), the crank's axis from cos and sin of its angle as solve's
+// on a Dual in phi: lane by lane solve's bits. Flattened as solve_lanes.
 template <class L, bool kChecked = true>
-bool solve_lanes_at(const Chain& c, const L* v, const L& phi, State<L>& st) {
+[[gnu::flatten]] bool solve_lanes_at(const Chain& c, const L* v, const L& phi, State<L>& st) {
   static_assert(is_lanes<L>);
   st.failed = kNone;
   st.phi = phi;
