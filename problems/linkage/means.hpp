@@ -38,6 +38,9 @@ struct ScalarScratch {
   mech::linkage::State<double> e;
   std::vector<mech::linkage::State<S>> maxima;  // per search, where `solved` says
   std::vector<char> solved;
+  // The chain on velocity lanes (energy_mean's gradient).
+  std::vector<mech::linkage::velocity_lanes<mech::lanes_of<S>>> velocity_values;
+  mech::linkage::State<mech::linkage::velocity_lanes<mech::lanes_of<S>>> at_velocity;
   std::vector<std::optional<S>> tops;    // per search, its maximum on S once taken
   std::vector<std::optional<S>> angles;  // ... a coordinate's, the angle of it
 };
@@ -84,8 +87,9 @@ inline bool grid_poles(std::span<const double> f, std::vector<mech::NearPole>& o
 // points as the rule asks; nearer a pole, Gauss panels graded toward it.
 template <class S, class W>
 S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<mech::NearPole>& near,
-              mech::linkage::LaneSolver<S>& lanes, const double* energies, W& ws) {
+              ScalarScratch<S>& kept, const double* energies, W& ws) {
   using L = mech::lanes_of<S>;
+  mech::linkage::LaneSolver<S>& lanes = *kept.lanes;
   const mech::linkage::Chain& c = d.chain;
   const int n = static_cast<int>(ws.grid.size());
   const S& w = v[static_cast<size_t>(c.crank().speed)];
@@ -128,17 +132,23 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
   } else {
     // Its gradient: the trapezoid on the fewest points that give it the
     // same m asinh(w) >= 2 kPoleDigits (a multiple of kLanes, 16 at
-    // least, the value's at most), the chain on S kLanes angles a call.
+    // least, the value's at most), the chain on S kLanes angles a call,
+    // its jets velocities alone (LaneVelocity).
+    using V = mech::linkage::velocity_lanes<L>;
     const double all = points, fewest = mech::kLanes * std::ceil(2 * mech::kPoleDigits / a / mech::kLanes);
     const int m = a < HUGE_VAL ? static_cast<int>(std::clamp(fewest, std::min(16.0, all), all)) : points;
     const L ww = mech::LaneForm<S>::broadcast(w);
+    std::vector<V>& vv = kept.velocity_values;
+    vv.assign(lanes.v.begin(), lanes.v.end());
+    mech::linkage::State<V>& st = kept.at_velocity;
+    if (st.point.size() != c.point_names().size()) st.resize(c);
     L grads(0.0);
     for (int k = 0; k < m; k += mech::kLanes) {
       const int lanes_used = std::min(mech::kLanes, m - k);
       mech::Lanes phi;
       for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, lanes_used - 1)) / m;
-      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
-      grads += mech::first_lanes(L(L(mech::linkage::body_sums<L, true>(c, lanes.v.data(), lanes.st).inertia / 2.0) * ww * ww),
+      mech::linkage::solve_lanes_at<V, false>(c, vv.data(), V(L(phi)), st);
+      grads += mech::first_lanes(L(L(mech::linkage::body_sums<V, true>(c, vv.data(), st).inertia / 2.0) * ww * ww),
                                  lanes_used);
     }
     S r = S(mech::LaneForm<S>::sum(grads) / static_cast<double>(m));
@@ -289,7 +299,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
         },
         kinks, nodes, ws.cycle, near);
   }
-  if (energy) me.mean = energy_mean(d, v, near, lanes, energy_grid(ws), ws);
+  if (energy) me.mean = energy_mean(d, v, near, kept, energy_grid(ws), ws);
   S swing(0.0);
   add_jumps(js, mt, by_ends ? unused : ml);
   if (flywheel) swing = work_swing(d, v, ml.mean, kinks, js, near, kept.a, ws);

@@ -17,6 +17,12 @@ struct Jet {
   S v, d, dd;  // f, df/dphi, d2f/dphi2
 };
 
+// Whether jets on S carry the first derivative alone (dd left 0): a
+// scalar type that says so (kinematics.hpp's LaneVelocity) asks for
+// velocities only, at about half the products.
+template <class S>
+inline constexpr bool kFirstOrder = false;
+
 template <class S>
 MECH_INLINE Jet<S> constant(const S& x) {
   return {x, S(0.0), S(0.0)};
@@ -24,10 +30,12 @@ MECH_INLINE Jet<S> constant(const S& x) {
 
 template <class S>
 MECH_INLINE Jet<S> operator+(const Jet<S>& a, const Jet<S>& b) {
+  if constexpr (kFirstOrder<S>) return {S(a.v + b.v), S(a.d + b.d), S(0.0)};
   return {S(a.v + b.v), S(a.d + b.d), S(a.dd + b.dd)};
 }
 template <class S>
 MECH_INLINE Jet<S> operator-(const Jet<S>& a, const Jet<S>& b) {
+  if constexpr (kFirstOrder<S>) return {S(a.v - b.v), S(a.d - b.d), S(0.0)};
   return {S(a.v - b.v), S(a.d - b.d), S(a.dd - b.dd)};
 }
 template <class S>
@@ -37,11 +45,13 @@ MECH_INLINE Jet<S> operator-(const Jet<S>& a) {
 // (f g)'' = f'' g + 2 f' g' + f g''
 template <class S>
 MECH_INLINE Jet<S> operator*(const Jet<S>& a, const Jet<S>& b) {
+  if constexpr (kFirstOrder<S>) return {S(a.v * b.v), S(a.d * b.v + a.v * b.d), S(0.0)};
   return {S(a.v * b.v), S(a.d * b.v + a.v * b.d), S(a.dd * b.v + 2.0 * (a.d * b.d) + a.v * b.dd)};
 }
 // A jet times a constant (a number converts to S: S is not deduced from it).
 template <class S>
 MECH_INLINE Jet<S> operator*(const Jet<S>& a, const std::type_identity_t<S>& k) {
+  if constexpr (kFirstOrder<S>) return {S(a.v * k), S(a.d * k), S(0.0)};
   return {S(a.v * k), S(a.d * k), S(a.dd * k)};
 }
 template <class S>
@@ -53,10 +63,12 @@ template <class S>
 MECH_INLINE Jet<S> operator/(const Jet<S>& a, const Jet<S>& b) {
   const S q = a.v / b.v;
   const S dq = (a.d - q * b.d) / b.v;
+  if constexpr (kFirstOrder<S>) return {q, dq, S(0.0)};
   return {q, dq, S((a.dd - 2.0 * (dq * b.d) - q * b.dd) / b.v)};
 }
 template <class S>
 MECH_INLINE Jet<S> operator/(const Jet<S>& a, const std::type_identity_t<S>& k) {
+  if constexpr (kFirstOrder<S>) return {S(a.v / k), S(a.d / k), S(0.0)};
   return {S(a.v / k), S(a.d / k), S(a.dd / k)};
 }
 // r = sqrt(a): 2 r r' = a', 2 (r r'' + r'^2) = a''
@@ -65,6 +77,7 @@ MECH_INLINE Jet<S> sqrt(const Jet<S>& a) {
   using std::sqrt;
   const S r = sqrt(a.v);
   const S dr = a.d / (2.0 * r);
+  if constexpr (kFirstOrder<S>) return {r, dr, S(0.0)};
   return {r, dr, S((a.dd - 2.0 * (dr * dr)) / (2.0 * r))};
 }
 template <class S>

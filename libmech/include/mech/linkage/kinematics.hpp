@@ -15,6 +15,38 @@
 
 namespace mech::linkage {
 
+// A LaneDual whose jets carry velocities alone (jet.hpp's kFirstOrder:
+// their second derivatives left 0): what a kinetic energy's design
+// gradient needs, at about half a jet's products. Its arithmetic is
+// LaneDual's.
+template <int N>
+struct LaneVelocity : LaneDual<N> {
+  using LaneDual<N>::LaneDual;
+  LaneVelocity(const LaneDual<N>& x) : LaneDual<N>(x) {}  // NOLINT
+};
+template <int N>
+inline constexpr bool kFirstOrder<LaneVelocity<N>> = true;
+// A lane form's velocity form (Lanes: itself).
+template <class L>
+struct VelocityForm {
+  using type = L;
+};
+template <int N>
+struct VelocityForm<LaneDual<N>> {
+  using type = LaneVelocity<N>;
+};
+template <class L>
+using velocity_lanes = typename VelocityForm<L>::type;
+
+}  // namespace mech::linkage
+
+namespace mech {
+template <int N>
+inline constexpr bool is_lanes<linkage::LaneVelocity<N>> = true;
+}  // namespace mech
+
+namespace mech::linkage {
+
 // The linkage at one crank angle. Sized once for a chain (resize), then
 // overwritten by every solve: no allocation per angle.
 template <class S>
