@@ -11,7 +11,8 @@
 // then every wanted maximum by the hand-written problems' cycle machinery,
 // its slope from the jets (the torque's from the third derivatives,
 // third.hpp, or the chain on a Dual in phi where a group has none), its
-// design gradient (Danskin) on the evaluation's scalar.
+// design gradient (Danskin) from the chain at its angle on the lane form
+// of the evaluation's scalar (solve_maxima).
 #include <algorithm>
 #include <array>
 #include <cmath>
