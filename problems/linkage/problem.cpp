@@ -112,7 +112,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<Quantity> asked;
     mech::CycleScratch cycle;
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
-    std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi)
+    std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi), once asked
+    bool dual_set = false;                                       // ... at this evaluation's values
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     ScalarScratches scalar;
@@ -158,12 +159,16 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     ws.vdual.resize(v.size());
     for (size_t i = 0; i < v.size(); ++i) ws.vdual[i] = Dual(ws.plain[i] = mech::value(v[i]));
     const double* vd = ws.plain.data();
-    // The outputs' reference directions, at phi = 0.
-    if (!solve_at(vd, 0.0, ws.sd, out)) return;
-    ws.ref.resize(3 * d_.outputs.size());
-    for (size_t o = 0; o < d_.outputs.size(); ++o) {
-      const auto& e = ws.sd.axis[static_cast<size_t>(d_.outputs[o].link)];
-      ws.ref[3 * o] = e.x.v, ws.ref[3 * o + 1] = e.y.v, ws.ref[3 * o + 2] = std::atan2(e.y.v, e.x.v);
+    // The rockers' reference directions, at phi = 0 (a slider needs none;
+    // where the chain cannot assemble there, the grid's first angle says
+    // so as this would).
+    ws.ref.assign(3 * d_.outputs.size(), 0.0);
+    if (has_rocker_) {
+      if (!solve_at(vd, 0.0, ws.sd, out)) return;
+      for (size_t o = 0; o < d_.outputs.size(); ++o) {
+        const auto& e = ws.sd.axis[static_cast<size_t>(d_.outputs[o].link)];
+        ws.ref[3 * o] = e.x.v, ws.ref[3 * o + 1] = e.y.v, ws.ref[3 * o + 2] = std::atan2(e.y.v, e.x.v);
+      }
     }
     // Every asked quantity on the grid: the groups' margins, then what the
     // wanted metrics need.
@@ -449,6 +454,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         L phi;
         for (int j = 0; j < mech::kLanes; ++j) phi.v[j] = duals[static_cast<size_t>(std::min(j, m - 1))]->phi;
         phi.d[0] = mech::Lanes(1.0);
+        if (!ws.dual_set) {
+          if (ws.dual_lanes) ws.dual_lanes->reset(ws.vdual.data());
+          else ws.dual_lanes.emplace(c, ws.vdual.data());
+          ws.dual_set = true;
+        }
         auto& dl = *ws.dual_lanes;
         if (!mech::linkage::solve_lanes_at(c, dl.v.data(), phi, dl.st)) {
           for (mech::AngleQuery* a : duals) one(*a);
@@ -588,8 +598,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       for (auto& st : ws.blocks) st.resize(c);
     }
     ws.scattered.assign(nb, 0);
-    if (ws.lanes) ws.lanes->reset(vd), ws.dual_lanes->reset(ws.vdual.data());
-    else ws.lanes.emplace(c, vd), ws.dual_lanes.emplace(c, ws.vdual.data());
+    if (ws.lanes) ws.lanes->reset(vd);
+    else ws.lanes.emplace(c, vd);
+    ws.dual_set = false;
     auto& lanes = *ws.lanes;
     const std::vector<size_t>& mirror = other_signs(ws.asked, ws.mirror);
     if (const double phase = vd[c.crank().phase]; ws.grid_n != n || phase != ws.grid_phase) {
@@ -738,6 +749,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   std::vector<int> masses_;  // the outputs T_min counts (moving_masses)
   bool has_law_ = false;     // a pressure law: the torque jumps at its contacts
   bool third_order_ = mech::linkage::has_third_order(d_.chain);  // the torque's slope from third.hpp
+  bool has_rocker_ = std::any_of(d_.outputs.begin(), d_.outputs.end(), [](const Output& o) { return !o.slides; });
 };
 
 std::unique_ptr<opt::Problem> make_linkage(const opt::ConfigNode& root) {
