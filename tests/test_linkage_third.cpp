@@ -59,7 +59,8 @@ void expect_thirds(const Chain& c, const std::string& what) {
 }
 
 // |M|'s slope on lanes against the dual's, to 1e-12 of the largest |M'|
-// (returned: 0 for a chain without masses or loads).
+// (returned: 0 for a chain without masses or loads), its drive point
+// against drive_point's bits.
 double expect_torque_slopes(const Chain& c, const std::string& what) {
   const std::vector<double>& v = c.defaults();
   const std::vector<Dual> vd(v.begin(), v.end());
@@ -75,7 +76,15 @@ double expect_torque_slopes(const Chain& c, const std::string& what) {
     mech::sincos(phi, sp, cp);
     const State<Lanes>& st = lanes.at(phi, cp, sp);
     mech::linkage::third_order(c, lanes.v.data(), st, t);
-    const Lanes slope = mech::linkage::torque_slope(c, lanes.v.data(), st, t);
+    const mech::linkage::DriveSlope ds = mech::linkage::drive_slope(c, lanes.v.data(), st, t);
+    const Lanes& slope = ds.slope;
+    // Its drive point is drive_point's, bit for bit.
+    const mech::linkage::DrivePoint<Lanes> p = mech::linkage::drive_point(c, lanes.v.data(), st);
+    for (int j = 0; j < mech::kLanes; ++j) {
+      EXPECT_EQ(ds.point.energy[j], p.energy[j]) << what;
+      EXPECT_EQ(ds.point.torque[j], p.torque[j]) << what;
+      EXPECT_EQ(ds.point.energy_slope[j], p.energy_slope[j]) << what;
+    }
     for (int j = 0; j < mech::kLanes; ++j) {
       EXPECT_TRUE(mech::linkage::solve(c, vd.data(), mech::seed(phi[j]), sd)) << what;
       const Dual m = mech::linkage::drive_point(c, vd.data(), sd).torque;

@@ -115,6 +115,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi), once asked
     bool dual_set = false;                                       // ... at this evaluation's values
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
+    std::vector<double> lane_angles;  // ... the lane queries' angles, each once
+    std::vector<size_t> lane_of;      // ... each lane query's in lane_angles
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     ScalarScratches scalar;
     std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
@@ -473,37 +475,54 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         }
         duals.clear();
       };
-      auto run_block = [&] {
-        const int m = static_cast<int>(block.size());
+      // The lane queries at angles [first, first + kLanes) of
+      // ws.lane_angles: the chain once at those angles, each query's
+      // answer from its angle's lane.
+      const auto& angles = ws.lane_angles;
+      auto run_block = [&](size_t first) {
+        const size_t m = std::min<size_t>(mech::kLanes, angles.size() - first);
         mech::Lanes phi;
-        for (int j = 0; j < mech::kLanes; ++j) phi[j] = block[static_cast<size_t>(std::min(j, m - 1))]->phi;
+        for (size_t j = 0; j < mech::kLanes; ++j) phi[static_cast<int>(j)] = angles[first + std::min(j, m - 1)];
+        auto in_block = [&](size_t i) { return ws.lane_of[i] >= first && ws.lane_of[i] < first + m; };
         if (!mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st)) {
-          for (mech::AngleQuery* a : block) one(*a);
-        } else {
-          mech::Lanes out;  // a quantity (or slope) once for the lanes in a row that ask it
-          bool thirds = false;  // the third derivatives, once a block that asks for them
-          std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;  // the torque's and the energy's, once
-          for (int j = 0; j < m; ++j) {
-            mech::AngleQuery& a = *block[static_cast<size_t>(j)];
-            const mech::AngleQuery* before = j ? block[static_cast<size_t>(j - 1)] : nullptr;
-            if (!before || a.fn != before->fn || a.slope != before->slope) {
-              const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
-              if (a.slope && q.kind == Kind::torque) {
-                if (!thirds) mech::linkage::third_order(c, lanes.v.data(), lanes.st, ws.thirds), thirds = true;
-                out = mech::linkage::torque_slope(c, lanes.v.data(), lanes.st, ws.thirds);
-              } else if (q.kind == Kind::torque || q.kind == Kind::energy) {  // (quantity's and jet_slope's)
-                if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
-                const mech::Lanes& w = lanes.v[static_cast<size_t>(c.crank().speed)];
-                out = a.slope ? energy_slope(*dp, w) : drive_quantity(q.kind, *dp, w);
-              } else {
-                out = a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
-              }
-            }
-            a.out = out[j];
-          }
+          for (size_t i = 0; i < block.size(); ++i)
+            if (in_block(i)) one(*block[i]);
+          return;
         }
-        block.clear();
+        // The torque's and the energy's drive point, once: with the
+        // torque's slope (the third derivatives) where the block asks it.
+        std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;
+        mech::Lanes torque_slope;
+        for (size_t i = 0; i < block.size(); ++i) {
+          if (!in_block(i) || !block[i]->slope || ws.asked[from + static_cast<size_t>(block[i]->fn)].kind != Kind::torque)
+            continue;
+          mech::linkage::third_order(c, lanes.v.data(), lanes.st, ws.thirds);
+          const mech::linkage::DriveSlope ds = mech::linkage::drive_slope(c, lanes.v.data(), lanes.st, ws.thirds);
+          dp = ds.point, torque_slope = ds.slope;
+          break;
+        }
+        mech::Lanes out;  // a quantity (or slope) once for the block's queries in a row that ask it
+        const mech::AngleQuery* before = nullptr;
+        for (size_t i = 0; i < block.size(); ++i) {
+          if (!in_block(i)) continue;
+          mech::AngleQuery& a = *block[i];
+          if (!before || a.fn != before->fn || a.slope != before->slope) {
+            const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
+            if (a.slope && q.kind == Kind::torque) {
+              out = torque_slope;
+            } else if (q.kind == Kind::torque || q.kind == Kind::energy) {  // (quantity's and jet_slope's)
+              if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
+              const mech::Lanes& w = lanes.v[static_cast<size_t>(c.crank().speed)];
+              out = a.slope ? energy_slope(*dp, w) : drive_quantity(q.kind, *dp, w);
+            } else {
+              out = a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
+            }
+          }
+          a.out = out[static_cast<int>(ws.lane_of[i] - first)];
+          before = &a;
+        }
       };
+      block.clear();
       for (mech::AngleQuery& a : qs) {
         const Kind k = ws.asked[from + static_cast<size_t>(a.fn)].kind;
         if (!lane_kind(k)) {
@@ -513,10 +532,18 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           if (ws.dual_queries.size() == mech::kLanes) run_dual_block();
         } else {
           block.push_back(&a);
-          if (block.size() == mech::kLanes) run_block();
         }
       }
-      if (!block.empty()) run_block();
+      // The lane queries' angles, each once (a kink's f and an output's
+      // stop are often one angle).
+      ws.lane_angles.clear(), ws.lane_of.clear();
+      for (const mech::AngleQuery* a : block) {
+        size_t i = 0;
+        while (i < angles.size() && !(angles[i] == a->phi)) ++i;
+        if (i == angles.size()) ws.lane_angles.push_back(a->phi);
+        ws.lane_of.push_back(i);
+      }
+      for (size_t first = 0; first < angles.size(); first += mech::kLanes) run_block(first);
       if (!ws.dual_queries.empty()) run_dual_block();
     }, ws.cycle);
   }

@@ -93,7 +93,9 @@ MECH_INLINE std::pair<double, double> max_and_curvature(std::span<const double> 
 // closer than a step), each piece is searched again in 4 parts; none found:
 // the grid point. A search given `known` angles (a global one: every
 // local maximum lies at one of them) takes those whose grid cell reaches
-// max(v) - margin as found, with no root search.
+// max(v) - margin as found, with no root search, and asks f there in the
+// first batch (with the kinks': a model that answers queries at one
+// angle together solves those angles once).
 //
 // Global maximum: two nearly equal peaks can swap order between the grid
 // and the truth, so every grid local maximum that could be the highest is
@@ -120,10 +122,11 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
   auto& cands = scratch.cands;
   auto &roots = scratch.roots, &beside_roots = scratch.beside_roots;
   auto& beside = scratch.beside;
+  auto& known = scratch.known;
   auto &kink_queries = scratch.kink_queries, &root_fn = scratch.root_fn, &tops = scratch.tops;
   auto& kink_f = scratch.kink_f;
   auto& roots_searched = scratch.roots_searched;
-  points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear();
+  points.clear(), cands.clear(), roots.clear(), beside_roots.clear(), beside.clear(), known.clear();
   kink_queries.clear(), kink_f.clear(), roots_searched.clear(), root_fn.clear(), tops.clear();
   auto ask = [&](double phi, int fn, bool slope) {
     batch.push_back({phi, fn, slope});
@@ -146,6 +149,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
   auto fill = [&](Point& p) {
     if (p.query >= 0) p.g = batch[p.query].out;
   };
+  auto wrapped = [](double phi) { return phi < 0 ? phi + kTwoPi : phi >= kTwoPi ? phi - kTwoPi : phi; };
 
   // 1. Candidates; df where not known (and, for the global maximum, f at the
   // kinks and df at the ends of the cells beside them).
@@ -158,10 +162,12 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
     const auto [vmax, curvature] = max_and_curvature(v);
     const double margin = s.global ? 0.25 * curvature : s.margin, low = vmax - margin;
     auto at = [&](int i) { return v[static_cast<std::size_t>(i < 0 ? i + n : i >= n ? i - n : i)]; };  // -n <= i < 2n
-    if (!s.known.empty()) {  // found already, where their cells reach low
+    if (!s.known.empty()) {  // found already, where their cells reach low; f there in this batch
       for (double phi : s.known) {
         const int j = static_cast<int>(std::floor(wrap_angle(phi) / h));
-        if (std::max(at(j), at(j + 1)) >= low) roots.push_back({f, phi});
+        if (std::max(at(j), at(j + 1)) < low) continue;
+        roots.push_back({f, phi});
+        if (s.global) known.push_back({f, wrapped(phi), ask(wrapped(phi), f, false)});
       }
       tops.push_back(-1);
       continue;
@@ -213,6 +219,7 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
   }
   run();
   for (int q : kink_queries) kink_f.push_back(batch[q].out);
+  for (CycleScratch::Known& k : known) k.f = batch[k.query].out;
   for (Point& p : points) fill(p);
   for (Bracket& b : beside) {
     fill(b.a), fill(b.b);
@@ -264,13 +271,13 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
   batch.clear();
   for (std::size_t fn = 0; fn < searches.size(); ++fn) {
     auto& m = searches[fn].maxima;
-    for (double& phi : m) phi = phi < 0 ? phi + kTwoPi : phi >= kTwoPi ? phi - kTwoPi : phi;
+    for (double& phi : m) phi = wrapped(phi);
     if (m.size() == 2) {  // the usual count: no call
       if (m[1] < m[0]) std::swap(m[0], m[1]);
     } else {
       std::sort(m.begin(), m.end());
     }
-    if (searches[fn].global)
+    if (searches[fn].global && searches[fn].known.empty())
       for (double phi : m) ask(phi, static_cast<int>(fn), false);
   }
   const std::size_t beside_first = batch.size();
@@ -287,7 +294,16 @@ void find_cycle_maxima(std::span<CycleMaxSearch> searches, Eval&& eval, CycleScr
     auto consider = [&](double phi, double fv) {
       if (fv > s.value) s.value = fv, s.phi = phi;
     };
-    for (std::size_t i = 0; i < s.maxima.size(); ++i, ++q) consider(batch[q].phi, batch[q].out);
+    if (s.known.empty()) {
+      for (std::size_t i = 0; i < s.maxima.size(); ++i, ++q) consider(batch[q].phi, batch[q].out);
+    } else {  // (by angle, as the others)
+      for (double phi : s.maxima)
+        for (const CycleScratch::Known& k : known)
+          if (k.fn == static_cast<int>(fn) && k.phi == phi) {
+            consider(phi, k.f);
+            break;
+          }
+    }
     for (double k : s.kinks) consider(k, kink_f[kink++]);
     for (std::size_t i = 0; i < beside_roots.size(); ++i)
       if (beside_roots[i].fn == static_cast<int>(fn)) consider(batch[beside_first + i].phi, batch[beside_first + i].out);

@@ -74,11 +74,18 @@ struct CycleScratch {
     int fn;
     Point a, b;
   };
+  struct Known {  // a global search's known maximum, its value asked with the first batch
+    int fn;
+    double phi;
+    int query;
+    double f = 0;
+  };
   Grow<AngleQuery> batch;
   Grow<Point> points;
   Grow<Candidate> cands;
   Grow<Root> roots, beside_roots;
   Grow<Bracket> beside;
+  Grow<Known> known;
   Grow<int> kink_queries, root_fn, tops;
   Grow<double> kink_f;
   Grow<LaneRootSearch> roots_searched;

@@ -1,7 +1,7 @@
 // The third derivatives in the crank angle of a solved chain (kinematics.hpp
 // gives positions to the second), group by group, and from them the
 // driving torque's slope: what a search for the torque's peak asks at
-// every step. The chain on a Dual in phi gives the same (solve_lanes_at)
+// every step (drive_slope, with the drive point itself). The chain on a Dual in phi gives the same (solve_lanes_at)
 // at about twice the cost of the second-order chain; this pass adds one
 // linear solve per group. RRR and RRP groups (docs/design/linkage.md,
 // section 7); a chain with others takes the Dual.
@@ -127,16 +127,21 @@ void third_order(const Chain& c, const S* v, const State<S>& st, Thirds<S>& t) {
   }
 }
 
-// The slope of |M| in the crank angle on lanes (M: drive_point's
-// torque), from st and its thirds t: M' = w^2 (sum m (G''' . G' + |G''|^2)
-// + J (t''' t' + t''^2)) + g sum m G''_y less the loads' and the springs'
-// generalised force's slope, a load's size' rate + size rate'
-// (lane_load's).
-inline Lanes torque_slope(const Chain& c, const Lanes* v, const State<Lanes>& st, const Thirds<Lanes>& t) {
+// A drive point on lanes with the slope of |M| in the crank angle.
+struct DriveSlope {
+  DrivePoint<Lanes> point;  // drive_point's, bit for bit (the same sums in the same order)
+  Lanes slope;              // d|M|/dphi
+};
+
+// drive_point on lanes with the slope of |M| (M: its torque), from st and
+// its thirds t: M' = w^2 (sum m (G''' . G' + |G''|^2) + J (t''' t' +
+// t''^2)) + g sum m G''_y less the loads' and the springs' generalised
+// force's slope, a load's size' rate + size rate' (lane_load's).
+inline DriveSlope drive_slope(const Chain& c, const Lanes* v, const State<Lanes>& st, const Thirds<Lanes>& t) {
   using L = Lanes;
   using std::sqrt;
   const auto& links = c.links();
-  L half(0.0), half1(0.0), weight(0.0), weight1(0.0);
+  L inertia(0.0), half(0.0), half1(0.0), weight(0.0), weight1(0.0);
   Inertial<L> b;
   for (size_t k = 0; k < links.size(); ++k) {
     const Link& l = links[k];
@@ -154,6 +159,7 @@ inline Lanes torque_slope(const Chain& c, const Lanes* v, const State<Lanes>& st
     const Jet<L> r = st.rates(static_cast<int>(k));
     const L t3 = L(e.x.d * e.y.dd - e.y.d * e.x.dd + e.x.v * e3.y - e.y.v * e3.x);
     const Jet<L> &x = b.G.x, &y = b.G.y;
+    inertia += b.m * (x.d * x.d + y.d * y.d) + b.J * r.d * r.d;  // (body_sums' terms)
     half += b.m * (x.dd * x.d + y.dd * y.d) + b.J * r.dd * r.d;
     half1 += b.m * (G3.x * x.d + G3.y * y.d + x.dd * x.dd + y.dd * y.dd) + b.J * (t3 * r.d + r.dd * r.dd);
     weight += b.m * y.d;
@@ -179,7 +185,7 @@ inline Lanes torque_slope(const Chain& c, const Lanes* v, const State<Lanes>& st
   }
   const L w2 = v[c.crank().speed] * v[c.crank().speed];
   const L torque = L(w2 * half + c.gravity() * weight - power), slope = L(w2 * half1 + c.gravity() * weight1 - power1);
-  return L(sign_of(torque) * slope);
+  return {{L(inertia / 2.0), torque, half}, L(sign_of(torque) * slope)};
 }
 
 }  // namespace mech::linkage
