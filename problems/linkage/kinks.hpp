@@ -202,27 +202,63 @@ inline bool stops_in_cells(const double (&at)[4], int m, const double* g, int n,
   return false;
 }
 
+// What zeros_of reuses from one call to the next (no allocation per
+// design once warm): the functions' grids and its lists, and output_stops'
+// answers for the design under evaluation (`stops`: clear them for
+// another design).
+struct ZeroScratch {
+  std::vector<double> grid, closed, zeros;
+  std::vector<size_t> closed_end, searched;
+  std::vector<std::span<const double>> grids;
+  std::vector<int> found_owner, owner;
+  std::vector<KinkFn> fns;
+  struct Stops {
+    int link;
+    bool slides, found;
+    double at[4];
+    int m;
+  };
+  std::vector<Stops> stops;
+  // output_stops, once a design for each link.
+  bool output_stops(const mech::linkage::Chain& c, const double* v, int link, bool slides, double (&at)[4], int& m) {
+    auto known = std::find_if(stops.begin(), stops.end(),
+                              [&](const Stops& s) { return s.link == link && s.slides == slides; });
+    if (known == stops.end()) {
+      Stops s{link, slides, false, {}, 0};
+      s.found = problems::linkage::output_stops(c, v, link, slides, s.at, s.m);
+      known = stops.insert(stops.end(), s);
+    }
+    std::copy(known->at, known->at + 4, at);
+    m = known->m;
+    return known->found;
+  }
+};
+
 // The zeros of switch f in closed form (output_stops) by stops_in_cells.
 inline bool grid_stops(const mech::linkage::Chain& c, const double* v, const KinkFn& f, const double* g, int n,
-                       std::vector<double>& out) {
+                       ZeroScratch& z) {
   double at[4];
   int m = 0;
-  return f.load >= 0 && f.row == -1 && output_stops(c, v, c.loads()[static_cast<size_t>(f.load)], at, m) &&
-         stops_in_cells(at, m, g, n, out);
+  if (f.load < 0 || f.row != -1) return false;
+  const mech::linkage::Load& l = c.loads()[static_cast<size_t>(f.load)];
+  return l.other == mech::linkage::kNone &&
+         z.output_stops(c, v, l.link, l.kind == mech::linkage::Load::Kind::force, at, m) &&
+         stops_in_cells(at, m, g, n, z.closed);
 }
 
 // The angles in [0, 2 pi) where the functions fns cross zero (each
-// function's by grid cell), found on an n-point grid (kept in `grid`) and
-// refined, or in closed form where a switch has one (grid_stops); sd: a
-// state to solve in; owner, where given: each zero's function (its index
-// in fns); lanes, where given: the chain's lanes at v (kept by the
+// function's by grid cell), found on an n-point grid (kept in z.grid) and
+// refined, or in closed form where a switch has one (grid_stops): z.zeros;
+// sd: a state to solve in; owner, where given: each zero's function (its
+// index in fns); lanes, where given: the chain's lanes at v (kept by the
 // caller: none made per call).
-inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double* v, int n,
-                                    const std::vector<KinkFn>& fns, std::vector<double>& grid,
-                                    mech::linkage::State<double>& sd, GridBlocks solved = {},
-                                    std::vector<int>* owner = nullptr,
-                                    mech::linkage::LaneSolver<double>* lanes = nullptr) {
+inline const std::vector<double>& zeros_of(const mech::linkage::Chain& c, const double* v, int n,
+                                           const std::vector<KinkFn>& fns, ZeroScratch& z,
+                                           mech::linkage::State<double>& sd, GridBlocks solved = {},
+                                           std::vector<int>* owner = nullptr,
+                                           mech::linkage::LaneSolver<double>* lanes = nullptr) {
   const size_t un = static_cast<size_t>(n);
+  std::vector<double>& grid = z.grid;
   grid.resize(fns.size() * un);
   std::optional<mech::linkage::LaneSolver<double>> own;
   if (!lanes) lanes = &own.emplace(c, v);
@@ -239,11 +275,13 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
         mech::store_lanes(grid.data() + f * un + k, kink_value(c, fns[f], solved[b], lanes->v.data()), m);
     }
   }
-  std::vector<double> stops;  // the closed forms' zeros, function by function
-  std::vector<size_t> stops_end(fns.size()), searched;
-  std::vector<std::span<const double>> grids;
+  std::vector<double>& stops = z.closed;  // the closed forms' zeros, function by function
+  std::vector<size_t>& stops_end = z.closed_end;
+  std::vector<size_t>& searched = z.searched;
+  std::vector<std::span<const double>>& grids = z.grids;
+  stops.clear(), stops_end.assign(fns.size(), 0), searched.clear(), grids.clear();
   for (size_t f = 0; f < fns.size(); ++f) {
-    if (!grid_stops(c, v, fns[f], grid.data() + f * un, n, stops)) {
+    if (!grid_stops(c, v, fns[f], grid.data() + f * un, n, z)) {
       searched.push_back(f);
       grids.emplace_back(grid.data() + f * un, un);
     }
@@ -252,7 +290,7 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
   // The searches' angles kLanes at a time on the chain's lanes (a lane
   // where the chain does not assemble, between grid points that do, takes
   // the scalar chain's stale state, as a lone query would).
-  std::vector<int> found_owner;
+  std::vector<int>& found_owner = z.found_owner;
   auto eval = [&](std::span<mech::AngleQuery> qs) {
     for (size_t i = 0; i < qs.size(); i += mech::kLanes) {
       const int m = static_cast<int>(std::min<size_t>(mech::kLanes, qs.size() - i));
@@ -275,7 +313,8 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
   const std::vector<double> found =
       grids.empty() ? std::vector<double>{} : mech::periodic_roots_together(std::span(grids), eval, &found_owner);
   // Function by function: the closed forms', the searches'.
-  std::vector<double> zeros;
+  std::vector<double>& zeros = z.zeros;
+  zeros.clear();
   if (owner) owner->clear();
   auto take = [&](double zero, size_t f) {
     zeros.push_back(zero);
@@ -294,15 +333,18 @@ inline std::vector<double> zeros_of(const mech::linkage::Chain& c, const double*
 
 // The angles where the driving torque is zero or bends (a load switches
 // on or off, turns against a motion that reverses, or crosses a table's
-// row or a law's contact): the arcs of its means. With `torque` false,
-// the switches alone. switches, where given: each switching load's zeros
-// of its switch_rate, with the load. lanes: as zeros_of's.
-inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const double* v, int n,
-                                        std::vector<double>& grid, mech::linkage::State<double>& sd,
-                                        GridBlocks solved = {}, std::vector<std::pair<double, int>>* switches = nullptr,
-                                        bool torque = true, mech::linkage::LaneSolver<double>* lanes = nullptr) {
+// row or a law's contact): the arcs of its means (in z.zeros). With
+// `torque` false, the switches alone. switches, where given: each
+// switching load's zeros of its switch_rate, with the load. lanes: as
+// zeros_of's.
+inline const std::vector<double>& torque_kinks(const mech::linkage::Chain& c, const double* v, int n, ZeroScratch& z,
+                                               mech::linkage::State<double>& sd, GridBlocks solved = {},
+                                               std::vector<std::pair<double, int>>* switches = nullptr,
+                                               bool torque = true,
+                                               mech::linkage::LaneSolver<double>* lanes = nullptr) {
   using mech::linkage::Load;
-  std::vector<KinkFn> fns;
+  std::vector<KinkFn>& fns = z.fns;
+  fns.clear();
   if (torque) fns.push_back({-1, -1});
   for (size_t i = 0; i < c.loads().size(); ++i) {
     const auto& l = c.loads()[i];
@@ -313,8 +355,9 @@ inline std::vector<double> torque_kinks(const mech::linkage::Chain& c, const dou
       for (size_t r = 0; r < l.xs.size(); ++r) fns.push_back({li, static_cast<int>(r)});
     if (l.law_a != mech::linkage::kNone) fns.push_back({li, kDepth});
   }
-  std::vector<int> owner;
-  std::vector<double> kinks = zeros_of(c, v, n, fns, grid, sd, solved, &owner, lanes);
+  std::vector<int>& owner = z.owner;
+  std::vector<double>& kinks = z.zeros;
+  zeros_of(c, v, n, fns, z, sd, solved, &owner, lanes);
   if (switches) {
     switches->clear();
     for (size_t z = 0; z < kinks.size(); ++z)
@@ -336,7 +379,7 @@ struct Contact {
   int load;
 };
 inline void contacts(const mech::linkage::Chain& c, const double* v, int n, std::vector<Contact>& out,
-                     std::vector<double>& grid, mech::linkage::State<double>& sd, GridBlocks solved = {}) {
+                     ZeroScratch& grid, mech::linkage::State<double>& sd, GridBlocks solved = {}) {
   out.clear();
   for (size_t i = 0; i < c.loads().size(); ++i) {
     const auto& l = c.loads()[i];
@@ -380,7 +423,7 @@ struct MovingKink {
 // (appended to `moving`), and the angles of the rows of each table over
 // the crank angle (fixed: appended to `fixed`).
 inline void table_rows(const mech::linkage::Chain& c, const double* v, int n, std::vector<MovingKink>& moving,
-                       std::vector<double>& fixed, std::vector<double>& grid, mech::linkage::State<double>& sd,
+                       std::vector<double>& fixed, ZeroScratch& grid, mech::linkage::State<double>& sd,
                        GridBlocks solved = {}) {
   using mech::linkage::Load;
   std::vector<KinkFn> fns;

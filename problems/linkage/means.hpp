@@ -263,13 +263,13 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   // The switches alone: the peaks' searches' where they found them (the same bits).
   const bool found = !arcs && by_ends && ws.switches_found;
   std::vector<std::pair<double, int>> own;
-  const std::vector<double> kinks = arcs || (by_ends && !found) ? torque_kinks(c, ws.plain.data(), n, ws.zero_grids,
+  const std::vector<double> kinks = arcs || (by_ends && !found) ? torque_kinks(c, ws.plain.data(), n, ws.zeros,
                                                                                ws.sd, ws.blocks, &own, arcs, &*ws.lanes)
                                                                 : std::vector<double>{};
   const std::vector<std::pair<double, int>>& switches = found ? ws.switches : own;
   std::vector<Jump<S>> js;
   if (has_law && arcs) {
-    contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.blocks);
+    contacts(c, ws.plain.data(), n, ws.contacts, ws.zeros, ws.sd, ws.blocks);
     js = jumps(c, v.data(), ws.plain.data(), std::span<const Contact>(ws.contacts), ws.sd);
   }
   // Both on the same arcs: the torque's pass keeps the loads' power at

@@ -97,7 +97,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<Dual> vdual;    // ... as Duals (their slope: the crank angle's)
     std::vector<double> grids;
     std::vector<double> slopes;  // their slopes, where solve_grid gives them (grid_slopes)
-    std::vector<double> zero_grids;  // the grids the kinks' roots search (kinks.hpp)
+    ZeroScratch zeros;  // the kinks' roots' (kinks.hpp), output_stops' for this design
     std::vector<std::pair<int, int>> held;  // per search: the load and side of a maximum at a switch (hold_switches)
     std::vector<std::pair<double, int>> switches;  // the loads' switches: angle, load (find_kinks)
     bool switches_found = false;                   // ... found in this evaluation
@@ -159,6 +159,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(c, metrics_[m].q.index, v.data()));
     ws.plain.resize(v.size());
     ws.vdual.resize(v.size());
+    ws.zeros.stops.clear();  // (another design's)
     for (size_t i = 0; i < v.size(); ++i) ws.vdual[i] = Dual(ws.plain[i] = mech::value(v[i]));
     const double* vd = ws.plain.data();
     // The rockers' reference directions, at phi = 0 (a slider needs none;
@@ -700,7 +701,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       double at[4];
       int m = 0;
       const size_t first = ws.known.size();
-      if (output_stops(d_.chain, vd, o.link, o.slides, at, m) &&
+      if (ws.zeros.output_stops(d_.chain, vd, o.link, o.slides, at, m) &&
           stops_in_cells(at, m, ws.slopes.data() + q * static_cast<size_t>(n), n, ws.known))
         ws.searches[q].known = std::span<const double>(ws.known.data() + first, ws.known.size() - first);
     }
@@ -749,11 +750,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     bool loaded = false;
     for (size_t q = from; q < ws.asked.size(); ++q) loaded = loaded || bears_loads(ws.asked[q].kind);
     if (!loaded) return;
-    if (has_law_) contacts(c, ws.plain.data(), n, ws.contacts, ws.contact_grid, ws.sd, ws.blocks);
+    if (has_law_) contacts(c, ws.plain.data(), n, ws.contacts, ws.zeros, ws.sd, ws.blocks);
     for (const Contact& k : ws.contacts) ws.moving.push_back({k.phi, {k.load, kDepth}});  // (none without a law)
-    table_rows(c, ws.plain.data(), n, ws.moving, ws.kinks, ws.zero_grids, ws.sd, ws.blocks);
+    table_rows(c, ws.plain.data(), n, ws.moving, ws.kinks, ws.zeros, ws.sd, ws.blocks);
     for (const MovingKink& k : ws.moving) ws.kinks.push_back(k.phi);
-    torque_kinks(c, ws.plain.data(), n, ws.zero_grids, ws.sd, ws.blocks, &ws.switches, false, &*ws.lanes);
+    torque_kinks(c, ws.plain.data(), n, ws.zeros, ws.sd, ws.blocks, &ws.switches, false, &*ws.lanes);
     ws.switches_found = true;  // (put_means takes them)
     for (const auto& sw : ws.switches) ws.kinks.push_back(sw.first);
     for (size_t q = from; q < ws.asked.size(); ++q)
