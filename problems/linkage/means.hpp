@@ -38,6 +38,22 @@ struct ScalarScratch {
   mech::linkage::State<double> e;
   std::vector<mech::linkage::State<S>> maxima;  // per search, where `solved` says
   std::vector<char> solved;
+  // The chain on lanes at the maxima's angles (solve_maxima's blocks),
+  // and each angle's block and lane: mean_load_torque takes the arcs'
+  // ends from them where they are the same angles (an output's stops).
+  std::vector<mech::linkage::State<mech::lanes_of<S>>> max_blocks;
+  struct Solved {
+    double phi;
+    size_t block;
+    int lane;
+  };
+  std::vector<Solved> max_angles;
+  // The chain at angle phi, lane_state's copy from a maxima's block, if one holds it.
+  bool solved_at(double phi, mech::linkage::State<S>& to) const {
+    for (const Solved& a : max_angles)
+      if (a.phi == phi) return mech::linkage::lane_state(max_blocks[a.block], a.lane, to), true;
+    return false;
+  }
   // The chain on velocity lanes (energy_mean's gradient).
   std::vector<mech::linkage::velocity_lanes<mech::lanes_of<S>>> velocity_values;
   mech::linkage::State<mech::linkage::velocity_lanes<mech::lanes_of<S>>> at_velocity;
@@ -291,7 +307,8 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   mech::ArcMeans<S> unused = none;  // (the work from the ends takes no jump's term)
   if (by_ends) {
     ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, n, ws.blocks, [&] { return ws.states(); },
-                               ws.sd, kept.e, kept.ends, lanes);
+                               ws.sd, kept.e, kept.ends, lanes,
+                               [&](double phi, mech::linkage::State<S>& to) { return kept.solved_at(phi, to); });
   } else if (work) {
     ml = mech::piecewise_means<S>(
         [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {

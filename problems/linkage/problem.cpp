@@ -382,13 +382,18 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (kept.lanes) kept.lanes->reset(v.data());
     else kept.lanes.emplace(c, v.data());
     auto& lanes = *kept.lanes;
+    kept.max_angles.clear();
     std::array<size_t, mech::kLanes> block;
     int m = 0;
+    size_t b = 0;  // the block in kept.max_blocks
     auto run = [&] {
       mech::Lanes phi;
       for (int j = 0; j < mech::kLanes; ++j) phi[j] = ws.searches[block[static_cast<size_t>(std::min(j, m - 1))]].phi;
-      const auto& st = lanes.st;
-      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), lanes.st);
+      if (kept.max_blocks.size() <= b) kept.max_blocks.emplace_back().resize(c);
+      const auto& st = kept.max_blocks[b];
+      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), kept.max_blocks[b]);
+      for (int j = 0; j < m; ++j) kept.max_angles.push_back({phi[j], b, j});
+      ++b;
       std::optional<mech::linkage::DrivePoint<L>> dp;  // the torque's and the energy's, once
       for (int j = 0; j < m; ++j) {
         const size_t q = block[static_cast<size_t>(j)];

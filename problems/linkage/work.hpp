@@ -129,13 +129,14 @@ inline double turns_between(const mech::linkage::Load& l, double phi_a, double p
 // (zeros of its switch_rate, torque_kinks'); blocks: the chain at the n
 // grid angles, and states() the same as scalar states (GridStates: asked
 // only for a torque's turns); vd: v's values; sd, se: states to solve in;
-// at: the ends' states (sized here); lanes: the chain on lanes at v.
-// Only where work_from_ends(c).
-template <class S, class States>
+// at: the ends' states (sized here); lanes: the chain on lanes at v;
+// known(phi, st): the chain at phi into st where the caller has it (the
+// same bits as lanes'), else false. Only where work_from_ends(c).
+template <class S, class States, class Known>
 S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
                    const std::vector<std::pair<double, int>>& switches, int n, GridBlocks blocks, States&& states,
                    mech::linkage::State<double>& sd, mech::linkage::State<double>& se,
-                   std::vector<mech::linkage::State<S>>& at, mech::linkage::LaneSolver<S>& lanes) {
+                   std::vector<mech::linkage::State<S>>& at, mech::linkage::LaneSolver<S>& lanes, Known&& known) {
   using mech::linkage::Load;
   S work(0.0);
   // A load's work on one arc, over its efficiency.
@@ -163,6 +164,9 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
   }
   for (size_t e = 0; e < ends.size(); e += mech::kLanes) {
     const int m = static_cast<int>(std::min<size_t>(mech::kLanes, ends.size() - e));
+    int held = 0;  // the caller's
+    while (held < m && known(ends[e + static_cast<size_t>(held)], at[e + static_cast<size_t>(held)])) ++held;
+    if (held == m) continue;
     mech::Lanes phi;
     for (int j = 0; j < mech::kLanes; ++j) phi[j] = ends[e + static_cast<size_t>(std::min(j, m - 1))];
     bool solved = true;
