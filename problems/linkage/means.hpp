@@ -48,10 +48,11 @@ struct ScalarScratch {
     int lane;
   };
   std::vector<Solved> max_angles;
-  // The chain at angle phi, lane_state's copy from a maxima's block, if one holds it.
-  bool solved_at(double phi, mech::linkage::State<S>& to) const {
+  // The links of the chain at angle phi (lane_state's axes and slides)
+  // from a maxima's block, if one holds it.
+  bool links_at(double phi, mech::linkage::State<S>& to) const {
     for (const Solved& a : max_angles)
-      if (a.phi == phi) return mech::linkage::lane_state(max_blocks[a.block], a.lane, to), true;
+      if (a.phi == phi) return mech::linkage::lane_state<S, true>(max_blocks[a.block], a.lane, to), true;
     return false;
   }
   // The chain on velocity lanes (energy_mean's gradient).
@@ -308,7 +309,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   if (by_ends) {
     ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, n, ws.blocks, [&] { return ws.states(); },
                                ws.sd, kept.e, kept.ends, lanes,
-                               [&](double phi, mech::linkage::State<S>& to) { return kept.solved_at(phi, to); });
+                               [&](double phi, mech::linkage::State<S>& to) { return kept.links_at(phi, to); });
   } else if (work) {
     ml = mech::piecewise_means<S>(
         [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {

@@ -129,9 +129,10 @@ inline double turns_between(const mech::linkage::Load& l, double phi_a, double p
 // (zeros of its switch_rate, torque_kinks'); blocks: the chain at the n
 // grid angles, and states() the same as scalar states (GridStates: asked
 // only for a torque's turns); vd: v's values; sd, se: states to solve in;
-// at: the ends' states (sized here); lanes: the chain on lanes at v;
-// known(phi, st): the chain at phi into st where the caller has it (the
-// same bits as lanes'), else false. Only where work_from_ends(c).
+// at: the ends' states (sized here; their links alone are read); lanes:
+// the chain on lanes at v; known(phi, st): the chain's links at phi into
+// st where the caller has them (the same bits as lanes'), else false.
+// Only where work_from_ends(c).
 template <class S, class States, class Known>
 S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
                    const std::vector<std::pair<double, int>>& switches, int n, GridBlocks blocks, States&& states,
@@ -175,7 +176,7 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
       mech::linkage::solve_lanes_at<mech::lanes_of<S>, false>(c, lanes.v.data(), mech::lanes_of<S>(phi), lanes.st);
     else solved = false;
     if (solved) {
-      for (int j = 0; j < m; ++j) mech::linkage::lane_state(lanes.st, j, at[e + static_cast<size_t>(j)]);
+      for (int j = 0; j < m; ++j) mech::linkage::lane_state<S, true>(lanes.st, j, at[e + static_cast<size_t>(j)]);
       continue;
     }
     for (size_t j = e; j < e + static_cast<size_t>(m); ++j) mech::linkage::solve(c, v, S(ends[j]), at[j]);

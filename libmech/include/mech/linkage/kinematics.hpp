@@ -329,17 +329,19 @@ struct LaneSolver {
 };
 
 // Lane j of a state on lanes, as a state on its scalar S (sized for the
-// chain).
-template <class S>
+// chain); kLinksOnly: its links' axes and slides alone (what a load's
+// coordinate reads), the rest left as it was.
+template <class S, bool kLinksOnly = false>
 void lane_state(const State<lanes_of<S>>& from, int j, State<S>& to) {
   auto jet = [j](const Jet<lanes_of<S>>& a) {
     return Jet<S>{LaneForm<S>::lane(a.v, j), LaneForm<S>::lane(a.d, j), LaneForm<S>::lane(a.dd, j)};
   };
-  for (size_t p = 0; p < from.point.size(); ++p) to.point[p] = {jet(from.point[p].x), jet(from.point[p].y)};
   for (size_t k = 0; k < from.axis.size(); ++k) {
     to.axis[k] = {jet(from.axis[k].x), jet(from.axis[k].y)};
     to.slide[k] = jet(from.slide[k]);
   }
+  if constexpr (kLinksOnly) return;
+  for (size_t p = 0; p < from.point.size(); ++p) to.point[p] = {jet(from.point[p].x), jet(from.point[p].y)};
   for (size_t g = 0; g < from.margin.size(); ++g) to.margin[g] = from.margin[g][j];
   to.failed = kNone;
   to.phi = LaneForm<S>::lane(from.phi, j);
