@@ -33,6 +33,16 @@ namespace problems::linkage {
 template <class S>
 struct ScalarScratch {
   std::optional<mech::linkage::LaneSolver<S>> lanes;
+  bool lanes_set = false;  // ... at this evaluation's values (cleared as one starts)
+  // The chain's lanes at v, set once an evaluation.
+  mech::linkage::LaneSolver<S>& lanes_at(const mech::linkage::Chain& c, const S* v) {
+    if (!lanes_set) {
+      if (lanes) lanes->reset(v);
+      else lanes.emplace(c, v);
+      lanes_set = true;
+    }
+    return *lanes;
+  }
   mech::linkage::State<S> a, b;
   std::vector<mech::linkage::State<S>> ends;  // mean_load_torque's
   mech::linkage::State<double> e;
@@ -253,9 +263,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
     for (auto* st : {&kept.a, &kept.b}) st->resize(c);
     kept.e.resize(c);
   }
-  if (kept.lanes) kept.lanes->reset(v.data());
-  else kept.lanes.emplace(c, v.data());
-  mech::linkage::LaneSolver<S>& lanes = *kept.lanes;
+  mech::linkage::LaneSolver<S>& lanes = kept.lanes_at(c, v.data());
   const int n = static_cast<int>(ws.grid.size());
   const int nodes = 2 * d.mean_points();
   const S& w = v[static_cast<size_t>(c.crank().speed)];

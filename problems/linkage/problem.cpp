@@ -160,6 +160,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     ws.plain.resize(v.size());
     ws.vdual.resize(v.size());
     ws.zeros.stops.clear();  // (another design's)
+    std::get<ScalarScratch<S>>(ws.scalar).lanes_set = false;
     for (size_t i = 0; i < v.size(); ++i) ws.vdual[i] = Dual(ws.plain[i] = mech::value(v[i]));
     const double* vd = ws.plain.data();
     // The rockers' reference directions, at phi = 0 (a slider needs none;
@@ -379,9 +380,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       kept.maxima.resize(nq);
       for (auto& st : kept.maxima) st.resize(c);
     }
-    if (kept.lanes) kept.lanes->reset(v.data());
-    else kept.lanes.emplace(c, v.data());
-    auto& lanes = *kept.lanes;
+    auto& lanes = kept.lanes_at(c, v.data());
     kept.max_angles.clear();
     std::array<size_t, mech::kLanes> block;
     int m = 0;
