@@ -317,7 +317,10 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   if (by_ends) {
     ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, n, ws.blocks, [&] { return ws.states(); },
                                ws.sd, kept.e, kept.ends, lanes,
-                               [&](double phi, mech::linkage::State<S>& to) { return kept.links_at(phi, to); });
+                               [&](double phi, mech::linkage::State<S>& to) {
+                                 if constexpr (std::is_same_v<S, double>) return ws.links_at(phi, to);  // the searches'
+                                 else return kept.links_at(phi, to);  // the maxima's
+                               });
   } else if (work) {
     ml = mech::piecewise_means<S>(
         [&](const Lanes& phi, const Lanes& cp, const Lanes& sp) {

@@ -117,6 +117,18 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
     std::vector<double> lane_angles;  // ... the lane queries' angles, each once
     std::vector<size_t> lane_of;      // ... each lane query's in lane_angles
+    // Their blocks of this evaluation, each angle's block and lane: the
+    // loads' arc ends take the chain from them at the same angles.
+    std::vector<State<mech::Lanes>> searched;
+    size_t searched_used = 0;
+    bool keep_searched = false;  // (on a value, where loads switch: work.hpp's ends)
+    std::vector<std::tuple<double, size_t, int>> searched_at;
+    // The links of the chain at angle phi from a search's block, if one holds it.
+    bool links_at(double phi, State<double>& to) const {
+      for (const auto& [at, b, j] : searched_at)
+        if (at == phi) return mech::linkage::lane_state<double, true>(searched[b], j, to), true;
+      return false;
+    }
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     ScalarScratches scalar;
     std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
@@ -160,6 +172,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     ws.plain.resize(v.size());
     ws.vdual.resize(v.size());
     ws.zeros.stops.clear();  // (another design's)
+    ws.keep_searched = std::is_same_v<S, double> && switches_;
     std::get<ScalarScratch<S>>(ws.scalar).lanes_set = false;
     for (size_t i = 0; i < v.size(); ++i) ws.vdual[i] = Dual(ws.plain[i] = mech::value(v[i]));
     const double* vd = ws.plain.data();
@@ -489,10 +502,17 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         mech::Lanes phi;
         for (size_t j = 0; j < mech::kLanes; ++j) phi[static_cast<int>(j)] = angles[first + std::min(j, m - 1)];
         auto in_block = [&](size_t i) { return ws.lane_of[i] >= first && ws.lane_of[i] < first + m; };
-        if (!mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, lanes.st)) {
+        if (ws.keep_searched && ws.searched.size() <= ws.searched_used) ws.searched.emplace_back().resize(c);
+        State<mech::Lanes>& st = ws.keep_searched ? ws.searched[ws.searched_used] : lanes.st;
+        if (!mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, st)) {
           for (size_t i = 0; i < block.size(); ++i)
             if (in_block(i)) one(*block[i]);
           return;
+        }
+        if (ws.keep_searched) {
+          for (size_t j = 0; j < m; ++j)
+            ws.searched_at.emplace_back(angles[first + j], ws.searched_used, static_cast<int>(j));
+          ++ws.searched_used;
         }
         // The torque's and the energy's drive point, once: with the
         // torque's slope (the third derivatives) where the block asks it.
@@ -501,8 +521,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         for (size_t i = 0; i < block.size(); ++i) {
           if (!in_block(i) || !block[i]->slope || ws.asked[from + static_cast<size_t>(block[i]->fn)].kind != Kind::torque)
             continue;
-          mech::linkage::third_order(c, lanes.v.data(), lanes.st, ws.thirds);
-          const mech::linkage::DriveSlope ds = mech::linkage::drive_slope(c, lanes.v.data(), lanes.st, ws.thirds);
+          mech::linkage::third_order(c, lanes.v.data(), st, ws.thirds);
+          const mech::linkage::DriveSlope ds = mech::linkage::drive_slope(c, lanes.v.data(), st, ws.thirds);
           dp = ds.point, torque_slope = ds.slope;
           break;
         }
@@ -516,11 +536,11 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
             if (a.slope && q.kind == Kind::torque) {
               out = torque_slope;
             } else if (q.kind == Kind::torque || q.kind == Kind::energy) {  // (quantity's and jet_slope's)
-              if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), lanes.st);
+              if (!dp) dp = mech::linkage::drive_point(c, lanes.v.data(), st);
               const mech::Lanes& w = lanes.v[static_cast<size_t>(c.crank().speed)];
               out = a.slope ? energy_slope(*dp, w) : drive_quantity(q.kind, *dp, w);
             } else {
-              out = a.slope ? jet_slope(d_, q, lanes.v.data(), lanes.st) : quantity(q, lanes.v.data(), lanes.st, ws);
+              out = a.slope ? jet_slope(d_, q, lanes.v.data(), st) : quantity(q, lanes.v.data(), st, ws);
             }
           }
           a.out = out[static_cast<int>(ws.lane_of[i] - first)];
@@ -633,6 +653,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (ws.lanes) ws.lanes->reset(vd);
     else ws.lanes.emplace(c, vd);
     ws.dual_set = false;
+    ws.searched_used = 0, ws.searched_at.clear();
     auto& lanes = *ws.lanes;
     const std::vector<size_t>& mirror = other_signs(ws.asked, ws.mirror);
     if (const double phase = vd[c.crank().phase]; ws.grid_n != n || phase != ws.grid_phase) {
@@ -781,6 +802,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   std::vector<int> masses_;  // the outputs T_min counts (moving_masses)
   bool has_law_ = false;     // a pressure law: the torque jumps at its contacts
   bool third_order_ = mech::linkage::has_third_order(d_.chain);  // the torque's slope from third.hpp
+  bool switches_ = std::any_of(d_.chain.loads().begin(), d_.chain.loads().end(),
+                               [](const mech::linkage::Load& l) { return mech::linkage::switching(l); });
   bool has_rocker_ = std::any_of(d_.outputs.begin(), d_.outputs.end(), [](const Output& o) { return !o.slides; });
 };
 
