@@ -360,9 +360,9 @@ inline const std::vector<double>& torque_kinks(const mech::linkage::Chain& c, co
   zeros_of(c, v, n, fns, z, sd, solved, &owner, lanes);
   if (switches) {
     switches->clear();
-    for (size_t z = 0; z < kinks.size(); ++z)
-      if (const KinkFn& f = fns[static_cast<size_t>(owner[z])]; f.load >= 0 && f.row == -1)
-        switches->emplace_back(kinks[z], f.load);
+    for (size_t i = 0; i < kinks.size(); ++i)
+      if (const KinkFn& f = fns[static_cast<size_t>(owner[i])]; f.load >= 0 && f.row == -1)
+        switches->emplace_back(kinks[i], f.load);
   }
   if (!torque) return kinks;
   for (const auto& l : c.loads())

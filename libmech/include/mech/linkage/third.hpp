@@ -1,9 +1,9 @@
 // The third derivatives in the crank angle of a solved chain (kinematics.hpp
 // gives positions to the second), group by group, and from them the
 // driving torque's slope: what a search for the torque's peak asks at
-// every step (drive_slope, with the drive point itself). The chain on a Dual in phi gives the same (solve_lanes_at)
-// at about twice the cost of the second-order chain; this pass adds one
-// linear solve per group. RRR and RRP groups (docs/design/linkage.md,
+// every step (drive_slope, with the drive point itself). The chain on a
+// Dual in phi gives the same (solve_lanes_at) at about twice the cost of
+// the second-order chain; this pass adds one linear solve per group. RRR and RRP groups (docs/design/linkage.md,
 // section 7); a chain with others takes the Dual.
 //
 // Each group's constraint differentiated three times: |B - P|^2 = a^2
