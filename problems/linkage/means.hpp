@@ -25,6 +25,41 @@
 
 namespace problems::linkage {
 
+// Lane blocks of the chain an evaluation has solved and keeps, with each
+// kept lane's angle: a later pass at one of those angles (the loads' arc
+// ends) takes the lane instead of solving again (the same call on the
+// same lanes: the same bits). clear() as an evaluation starts.
+template <class L>
+struct SolvedBlocks {
+  std::vector<mech::linkage::State<L>> blocks;
+  size_t used = 0;
+  struct At {
+    double phi;
+    size_t block;
+    int lane;
+  };
+  std::vector<At> at;
+  void clear() { used = 0, at.clear(); }
+  // The block to solve in next (sized for the chain).
+  mech::linkage::State<L>& next(const mech::linkage::Chain& c) {
+    if (blocks.size() <= used) blocks.emplace_back().resize(c);
+    return blocks[used];
+  }
+  // Keeps next()'s block, solved at phi's first m lanes.
+  void keep(const mech::Lanes& phi, int m) {
+    for (int j = 0; j < m; ++j) at.push_back({phi[j], used, j});
+    ++used;
+  }
+  // The links (lane_state's axes and slides) of the chain at angle phi,
+  // if a kept block holds it.
+  template <class S>
+  bool links_at(double phi, mech::linkage::State<S>& to) const {
+    for (const At& a : at)
+      if (a.phi == phi) return mech::linkage::lane_state<S, true>(blocks[a.block], a.lane, to), true;
+    return false;
+  }
+};
+
 // What an evaluation on scalar S keeps from one design to the next (the
 // workspace's `scalar` holds one per scalar, ScalarScratches: no
 // allocation once warm): the chain's lanes at the design, states to solve
@@ -48,23 +83,10 @@ struct ScalarScratch {
   mech::linkage::State<double> e;
   std::vector<mech::linkage::State<S>> maxima;  // per search, where `solved` says
   std::vector<char> solved;
-  // The chain on lanes at the maxima's angles (solve_maxima's blocks),
-  // and each angle's block and lane: mean_load_torque takes the arcs'
-  // ends from them where they are the same angles (an output's stops).
-  std::vector<mech::linkage::State<mech::lanes_of<S>>> max_blocks;
-  struct Solved {
-    double phi;
-    size_t block;
-    int lane;
-  };
-  std::vector<Solved> max_angles;
-  // The links of the chain at angle phi (lane_state's axes and slides)
-  // from a maxima's block, if one holds it.
-  bool links_at(double phi, mech::linkage::State<S>& to) const {
-    for (const Solved& a : max_angles)
-      if (a.phi == phi) return mech::linkage::lane_state<S, true>(max_blocks[a.block], a.lane, to), true;
-    return false;
-  }
+  // The chain on lanes at the maxima's angles (solve_maxima's blocks):
+  // mean_load_torque takes the arcs' ends from them where they are the
+  // same angles (an output's stops).
+  SolvedBlocks<mech::lanes_of<S>> at_maxima;
   // The chain on velocity lanes (energy_mean's gradient).
   std::vector<mech::linkage::velocity_lanes<mech::lanes_of<S>>> velocity_values;
   mech::linkage::State<mech::linkage::velocity_lanes<mech::lanes_of<S>>> at_velocity;
@@ -318,8 +340,8 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
     ml.mean = mean_load_torque(c, v.data(), ws.plain.data(), switches, n, ws.blocks, [&] { return ws.states(); },
                                ws.sd, kept.e, kept.ends, lanes,
                                [&](double phi, mech::linkage::State<S>& to) {
-                                 if constexpr (std::is_same_v<S, double>) return ws.links_at(phi, to);  // the searches'
-                                 else return kept.links_at(phi, to);  // the maxima's
+                                 if constexpr (std::is_same_v<S, double>) return ws.searched.links_at(phi, to);
+                                 else return kept.at_maxima.links_at(phi, to);
                                });
   } else if (work) {
     ml = mech::piecewise_means<S>(

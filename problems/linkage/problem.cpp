@@ -117,18 +117,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
     std::vector<double> lane_angles;  // ... the lane queries' angles, each once
     std::vector<size_t> lane_of;      // ... each lane query's in lane_angles
-    // Their blocks of this evaluation, each angle's block and lane: the
-    // loads' arc ends take the chain from them at the same angles.
-    std::vector<State<mech::Lanes>> searched;
-    size_t searched_used = 0;
-    bool keep_searched = false;  // (on a value, where loads switch: work.hpp's ends)
-    std::vector<std::tuple<double, size_t, int>> searched_at;
-    // The links of the chain at angle phi from a search's block, if one holds it.
-    bool links_at(double phi, State<double>& to) const {
-      for (const auto& [at, b, j] : searched_at)
-        if (at == phi) return mech::linkage::lane_state<double, true>(searched[b], j, to), true;
-      return false;
-    }
+    // ... their blocks of this evaluation, kept on a value where loads
+    // switch: the loads' arc ends take the chain from them (work.hpp).
+    SolvedBlocks<mech::Lanes> searched;
+    bool keep_searched = false;
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     ScalarScratches scalar;
     std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
@@ -394,18 +386,15 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       for (auto& st : kept.maxima) st.resize(c);
     }
     auto& lanes = kept.lanes_at(c, v.data());
-    kept.max_angles.clear();
+    kept.at_maxima.clear();
     std::array<size_t, mech::kLanes> block;
     int m = 0;
-    size_t b = 0;  // the block in kept.max_blocks
     auto run = [&] {
       mech::Lanes phi;
       for (int j = 0; j < mech::kLanes; ++j) phi[j] = ws.searches[block[static_cast<size_t>(std::min(j, m - 1))]].phi;
-      if (kept.max_blocks.size() <= b) kept.max_blocks.emplace_back().resize(c);
-      const auto& st = kept.max_blocks[b];
-      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), kept.max_blocks[b]);
-      for (int j = 0; j < m; ++j) kept.max_angles.push_back({phi[j], b, j});
-      ++b;
+      auto& st = kept.at_maxima.next(c);
+      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), st);
+      kept.at_maxima.keep(phi, m);
       std::optional<mech::linkage::DrivePoint<L>> dp;  // the torque's and the energy's, once
       for (int j = 0; j < m; ++j) {
         const size_t q = block[static_cast<size_t>(j)];
@@ -502,18 +491,13 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         mech::Lanes phi;
         for (size_t j = 0; j < mech::kLanes; ++j) phi[static_cast<int>(j)] = angles[first + std::min(j, m - 1)];
         auto in_block = [&](size_t i) { return ws.lane_of[i] >= first && ws.lane_of[i] < first + m; };
-        if (ws.keep_searched && ws.searched.size() <= ws.searched_used) ws.searched.emplace_back().resize(c);
-        State<mech::Lanes>& st = ws.keep_searched ? ws.searched[ws.searched_used] : lanes.st;
+        State<mech::Lanes>& st = ws.keep_searched ? ws.searched.next(c) : lanes.st;
         if (!mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, st)) {
           for (size_t i = 0; i < block.size(); ++i)
             if (in_block(i)) one(*block[i]);
           return;
         }
-        if (ws.keep_searched) {
-          for (size_t j = 0; j < m; ++j)
-            ws.searched_at.emplace_back(angles[first + j], ws.searched_used, static_cast<int>(j));
-          ++ws.searched_used;
-        }
+        if (ws.keep_searched) ws.searched.keep(phi, static_cast<int>(m));
         // The torque's and the energy's drive point, once: with the
         // torque's slope (the third derivatives) where the block asks it.
         std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;
@@ -653,7 +637,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     if (ws.lanes) ws.lanes->reset(vd);
     else ws.lanes.emplace(c, vd);
     ws.dual_set = false;
-    ws.searched_used = 0, ws.searched_at.clear();
+    ws.searched.clear();
     auto& lanes = *ws.lanes;
     const std::vector<size_t>& mirror = other_signs(ws.asked, ws.mirror);
     if (const double phase = vd[c.crank().phase]; ws.grid_n != n || phase != ws.grid_phase) {
