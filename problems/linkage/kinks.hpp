@@ -184,6 +184,12 @@ inline bool stops_in_cells(const double (&at)[4], int m, const double* g, int n,
   const size_t first = out.size();
   const double h = mech::kTwoPi / n;
   for (int k = 0; k < n; ++k) {
+    // Most cells keep one nonzero sign (ga gb > 0): kLanes of them skipped at a time.
+    if (k % mech::kLanes == 0 && k + mech::kLanes < n &&
+        mech::positive_everywhere(mech::load_lanes(g + k) * mech::load_lanes(g + k + 1))) {
+      k += mech::kLanes - 1;
+      continue;
+    }
     const double ga = g[k], gb = g[k + 1 == n ? 0 : k + 1];
     if (!(ga == 0.0 || ((ga < 0) != (gb < 0) && gb != 0.0))) continue;
     int in = -1;

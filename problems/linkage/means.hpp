@@ -79,7 +79,7 @@ struct ScalarScratch {
     return *lanes;
   }
   mech::linkage::State<S> a, b;
-  std::vector<mech::linkage::State<S>> ends;  // mean_load_torque's
+  ArcEnds<S> ends;  // mean_load_torque's
   mech::linkage::State<double> e;
   std::vector<mech::linkage::State<S>> maxima;  // per search, where `solved` says
   std::vector<char> solved;

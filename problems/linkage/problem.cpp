@@ -16,8 +16,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -109,7 +111,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<mech::CycleMaxSearch> searches;
     std::vector<mech::NearPole> near;  // the poles (poles(); grid_points' where it keeps its grid)
     bool near_known = false;           // ... found for this evaluation's grid
-    std::vector<Quantity> asked;
+    std::vector<size_t> wanted;  // the metrics wanted, by index (evaluate_model's plan)
+    uint64_t wanted_bits = 0;    // ... as bits
+    bool planned = false;
+    std::vector<Quantity> asked;  // ... the quantities they ask
     mech::CycleScratch cycle;
     std::optional<mech::linkage::LaneSolver<double>> lanes;  // the grid's chain, kLanes angles at a time
     std::optional<mech::linkage::LaneSolver<Dual>> dual_lanes;  // ... on Duals (in phi), once asked
@@ -117,13 +122,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     std::vector<mech::AngleQuery*> lane_queries, dual_queries;  // run_searches' blocks
     std::vector<double> lane_angles;  // ... the lane queries' angles, each once
     std::vector<size_t> lane_of;      // ... each lane query's in lane_angles
+    std::vector<size_t> by_block, block_end;  // ... the queries block by block (run_searches)
     // ... their blocks of this evaluation, kept on a value where loads
     // switch: the loads' arc ends take the chain from them (work.hpp).
     SolvedBlocks<mech::Lanes> searched;
     bool keep_searched = false;
     mech::linkage::Thirds<mech::Lanes> thirds;                  // ... the third derivatives
     ScalarScratches scalar;
-    std::vector<size_t> mirror;   // solve_grid's: the row of each coordinate's other sign
+    std::vector<size_t> mirror;   // the row of each asked coordinate's other sign (other_signs)
     std::vector<double> known;    // the outputs' stops (known_extremes)
     // The grid's angles, block by block, with the crank's cosines and sines
     // there (crank_cos_sin), kept while the phase and the grid are.
@@ -155,11 +161,29 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       ws.sdual.resize(c);
       ws.thirds.resize(c);
     }
+    // The wanted metrics (ws.wanted), every quantity they ask on the grid
+    // (ws.asked: the groups' margins, then the metrics') and each asked
+    // coordinate's other sign (ws.mirror), kept while the same are wanted.
+    const size_t n_margins = c.groups().size();
+    uint64_t wanted = 0;  // bit m: metric m (at most opt::MetricSet::kMax of them)
+    for (size_t m = 0; m < metrics_.size(); ++m) wanted |= uint64_t{out.want(static_cast<int>(m))} << m;
+    if (!ws.planned || wanted != ws.wanted_bits) {
+      ws.wanted.clear(), ws.asked.clear();
+      for (size_t g = 0; g < n_margins; ++g) ws.asked.push_back({Kind::margin, static_cast<int>(g)});
+      for (size_t m = 0; m < metrics_.size(); ++m) {
+        if (!out.want(static_cast<int>(m))) continue;
+        ws.wanted.push_back(m);
+        ask(d_, masses_, metrics_[m], ws.asked);
+      }
+      other_signs(ws.asked, ws.mirror);
+      ws.wanted_bits = wanted, ws.planned = true;
+    }
+    const size_t nq = ws.asked.size();
     opt::Values<S> placed;  // with the contacts of the laws given by their depth
     const opt::Values<S>& v =
         d_.derived.empty() ? given
                            : linkage::placed(c, d_.mean_points(), placed = given, ws.plain, ws.contact_grid, ws.sd);
-    for (size_t m = 0; m < metrics_.size(); ++m)  // defined for every design: a driver's constraint
+    for (size_t m : ws.wanted)  // defined for every design: a driver's constraint
       if (metrics_[m].form == Form::grashof) out.put(static_cast<int>(m), grashof_margin(c, metrics_[m].q.index, v.data()));
     ws.plain.resize(v.size());
     ws.vdual.resize(v.size());
@@ -179,14 +203,6 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         ws.ref[3 * o] = e.x.v, ws.ref[3 * o + 1] = e.y.v, ws.ref[3 * o + 2] = std::atan2(e.y.v, e.x.v);
       }
     }
-    // Every asked quantity on the grid: the groups' margins, then what the
-    // wanted metrics need.
-    ws.asked.clear();
-    for (size_t g = 0; g < c.groups().size(); ++g) ws.asked.push_back({Kind::margin, static_cast<int>(g)});
-    const size_t n_margins = ws.asked.size();
-    for (size_t m = 0; m < metrics_.size(); ++m)
-      if (out.want(static_cast<int>(m))) ask(d_, masses_, metrics_[m], ws.asked);
-    const size_t nq = ws.asked.size();
     size_t un;
     ws.near_known = false;
     while (true) {  // under auto, a second grid where the first's poles ask for more points
@@ -272,8 +288,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     };
     auto find = [&](Quantity q) { return search_of(ws, n_margins, q); };
     bool means = false;
-    for (size_t m = 0; m < metrics_.size(); ++m) {
-      if (!out.want(static_cast<int>(m))) continue;
+    for (size_t m : ws.wanted) {
       const Metric& mt = metrics_[m];
       switch (mt.form) {
         case Form::peak: {
@@ -305,14 +320,13 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     // The energy's ratios, seed 000 eq. (15), over T_min from the outputs' strokes.
     const S mean_energy = means ? put_means(d_, metrics_, has_law_, poles(ws), v, out, ws) : S(0.0);
     bool least_wanted = false;
-    for (size_t m = 0; m < metrics_.size(); ++m)
-      least_wanted = least_wanted || (metrics_[m].form >= Form::k2 && out.want(static_cast<int>(m)));
+    for (size_t m : ws.wanted) least_wanted = least_wanted || metrics_[m].form >= Form::k2;
     const S least = !least_wanted ? S(0.0) : least_mean_energy(d_, v.data(), masses_, [&](int o) {
       return S(at_max(find({Kind::coordinate, o})) + at_max(find({Kind::neg_coordinate, o})));
     });
-    for (size_t m = 0; m < metrics_.size(); ++m) {
+    for (size_t m : ws.wanted) {
       const Form f = metrics_[m].form;
-      if (f < Form::k1 || !out.want(static_cast<int>(m))) continue;
+      if (f < Form::k1) continue;
       const S top = f == Form::k2 || f == Form::least ? S(0.0) : at_max(find({Kind::energy, kNone}));
       out.put(static_cast<int>(m), f == Form::k1   ? S(top / mean_energy)
                                    : f == Form::k2 ? S(mean_energy / least)
@@ -482,19 +496,20 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         }
         duals.clear();
       };
-      // The lane queries at angles [first, first + kLanes) of
-      // ws.lane_angles: the chain once at those angles, each query's
-      // answer from its angle's lane.
+      // Block b of lane queries, at angles [first, first + kLanes) of
+      // ws.lane_angles (first = b kLanes): the chain once at those angles,
+      // each query's answer from its angle's lane. Its queries: block[i]
+      // for i in ws.by_block[from b's, ws.block_end[b]).
       const auto& angles = ws.lane_angles;
-      auto run_block = [&](size_t first) {
-        const size_t m = std::min<size_t>(mech::kLanes, angles.size() - first);
+      auto run_block = [&](size_t b) {
+        const size_t first = b * mech::kLanes, m = std::min<size_t>(mech::kLanes, angles.size() - first);
+        const std::span<const size_t> mine(ws.by_block.data() + (b == 0 ? 0 : ws.block_end[b - 1]),
+                                           ws.by_block.data() + ws.block_end[b]);
         mech::Lanes phi;
         for (size_t j = 0; j < mech::kLanes; ++j) phi[static_cast<int>(j)] = angles[first + std::min(j, m - 1)];
-        auto in_block = [&](size_t i) { return ws.lane_of[i] >= first && ws.lane_of[i] < first + m; };
         State<mech::Lanes>& st = ws.keep_searched ? ws.searched.next(c) : lanes.st;
         if (!mech::linkage::solve_lanes_exact(c, lanes.v.data(), phi, st)) {
-          for (size_t i = 0; i < block.size(); ++i)
-            if (in_block(i)) one(*block[i]);
+          for (size_t i : mine) one(*block[i]);
           return;
         }
         if (ws.keep_searched) ws.searched.keep(phi, static_cast<int>(m));
@@ -502,9 +517,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         // torque's slope (the third derivatives) where the block asks it.
         std::optional<mech::linkage::DrivePoint<mech::Lanes>> dp;
         mech::Lanes torque_slope;
-        for (size_t i = 0; i < block.size(); ++i) {
-          if (!in_block(i) || !block[i]->slope || ws.asked[from + static_cast<size_t>(block[i]->fn)].kind != Kind::torque)
-            continue;
+        for (size_t i : mine) {
+          if (!block[i]->slope || ws.asked[from + static_cast<size_t>(block[i]->fn)].kind != Kind::torque) continue;
           mech::linkage::third_order(c, lanes.v.data(), st, ws.thirds);
           const mech::linkage::DriveSlope ds = mech::linkage::drive_slope(c, lanes.v.data(), st, ws.thirds);
           dp = ds.point, torque_slope = ds.slope;
@@ -512,8 +526,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         }
         mech::Lanes out;  // a quantity (or slope) once for the block's queries in a row that ask it
         const mech::AngleQuery* before = nullptr;
-        for (size_t i = 0; i < block.size(); ++i) {
-          if (!in_block(i)) continue;
+        for (size_t i : mine) {
           mech::AngleQuery& a = *block[i];
           if (!before || a.fn != before->fn || a.slope != before->slope) {
             const Quantity& q = ws.asked[from + static_cast<size_t>(a.fn)];
@@ -552,7 +565,17 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
         if (i == angles.size()) ws.lane_angles.push_back(a->phi);
         ws.lane_of.push_back(i);
       }
-      for (size_t first = 0; first < angles.size(); first += mech::kLanes) run_block(first);
+      // ... and the queries by block, in their order within each (a
+      // counting sort: block_end holds the counts, then the starts, then
+      // after the fill each block's end).
+      const size_t nb = (angles.size() + mech::kLanes - 1) / mech::kLanes;
+      std::vector<size_t>& block_end = ws.block_end;
+      block_end.assign(nb + 1, 0);
+      for (size_t i : ws.lane_of) ++block_end[i / mech::kLanes + 1];
+      for (size_t b = 0; b < nb; ++b) block_end[b + 1] += block_end[b];
+      ws.by_block.resize(block.size());
+      for (size_t i = 0; i < block.size(); ++i) ws.by_block[block_end[ws.lane_of[i] / mech::kLanes]++] = i;
+      for (size_t b = 0; b < nb; ++b) run_block(b);
       if (!ws.dual_queries.empty()) run_dual_block();
     }, ws.cycle);
   }
@@ -639,7 +662,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     ws.dual_set = false;
     ws.searched.clear();
     auto& lanes = *ws.lanes;
-    const std::vector<size_t>& mirror = other_signs(ws.asked, ws.mirror);
+    const std::vector<size_t>& mirror = ws.mirror;
     if (const double phase = vd[c.crank().phase]; ws.grid_n != n || phase != ws.grid_phase) {
       ws.grid_cs.resize(nb);
       for (int k = 0; k < n; k += mech::kLanes) {

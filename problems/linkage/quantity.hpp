@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "mech/inline.hpp"
 #include "mech/linkage/reactions.hpp"
 #include "problems/linkage/description.hpp"
 #include "problems/linkage/metrics.hpp"
@@ -14,8 +15,10 @@ namespace problems::linkage {
 
 // Group g's squared distance from a singular position (kinematics.hpp's
 // measure) with its transfer functions: zero where the branch could flip.
+// Inline: the grid takes its value alone, and the transfer functions'
+// arithmetic drops out.
 template <class T>
-mech::linkage::Jet<T> margin2(const mech::linkage::Chain& c, int g, const mech::linkage::State<T>& st) {
+MECH_INLINE mech::linkage::Jet<T> margin2(const mech::linkage::Chain& c, int g, const mech::linkage::State<T>& st) {
   using mech::linkage::GroupType;
   using mech::linkage::Jet;
   const auto& gr = c.groups()[static_cast<size_t>(g)];

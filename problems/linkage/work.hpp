@@ -122,6 +122,15 @@ inline double turns_between(const mech::linkage::Load& l, double phi_a, double p
 
 }  // namespace detail
 
+// mean_load_torque's arcs' ends: their angles, load by load (load i's
+// from first[i] to first[i + 1]), and the chain at each.
+template <class S>
+struct ArcEnds {
+  std::vector<double> phi;
+  std::vector<size_t> first;
+  std::vector<mech::linkage::State<S>> at;
+};
+
 // The mean over a cycle of the loads' generalised force with its sign
 // reversed: the mean driving torque the loads ask for (dynamics.hpp's
 // load_power; springs, gravity and inertia give back what they take).
@@ -129,7 +138,8 @@ inline double turns_between(const mech::linkage::Load& l, double phi_a, double p
 // (zeros of its switch_rate, torque_kinks'); blocks: the chain at the n
 // grid angles, and states() the same as scalar states (GridStates: asked
 // only for a torque's turns); vd: v's values; sd, se: states to solve in;
-// at: the ends' states (sized here; their links alone are read); lanes:
+// ends: the arcs' ends (kept by the caller: no allocation once warm; the
+// states' links alone are read); lanes:
 // the chain on lanes at v; known(phi, st): the chain's links at phi into
 // st where the caller has them (the same bits as lanes'), else false.
 // Only where work_from_ends(c).
@@ -137,7 +147,7 @@ template <class S, class States, class Known>
 S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
                    const std::vector<std::pair<double, int>>& switches, int n, GridBlocks blocks, States&& states,
                    mech::linkage::State<double>& sd, mech::linkage::State<double>& se,
-                   std::vector<mech::linkage::State<S>>& at, mech::linkage::LaneSolver<S>& lanes, Known&& known) {
+                   ArcEnds<S>& arcs, mech::linkage::LaneSolver<S>& lanes, Known&& known) {
   using mech::linkage::Load;
   S work(0.0);
   // A load's work on one arc, over its efficiency.
@@ -148,8 +158,10 @@ S mean_load_torque(const mech::linkage::Chain& c, const S* v, const double* vd,
   // load that never turns: one arc, the whole cycle, from 0), and the
   // chain solved at each once, kLanes at a time: lane by lane solve's
   // values.
-  std::vector<double> ends;
-  std::vector<size_t> first(c.loads().size() + 1, 0);
+  std::vector<double>& ends = arcs.phi;
+  std::vector<size_t>& first = arcs.first;
+  std::vector<mech::linkage::State<S>>& at = arcs.at;
+  ends.clear(), first.assign(c.loads().size() + 1, 0);
   for (size_t i = 0; i < c.loads().size(); ++i) {
     if (mech::linkage::switching(c.loads()[i])) {
       for (const auto& [phi, load] : switches)
