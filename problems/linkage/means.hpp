@@ -273,7 +273,8 @@ S work_swing(const Description& d, const opt::Values<S>& v, const S& mean, const
 // The cycle means the wanted metrics ask for: Gauss-Legendre arcs between
 // the torque's kinks (2 mean_points() nodes a revolution, the chain kLanes nodes at a
 // time), the loads' work from its arcs' ends where it can, the energy on
-// the grid. Returns the mean kinetic energy (0 when not computed).
+// the grid (ws.wanted: the wanted metrics' indices in `metrics`). Returns
+// the mean kinetic energy (0 when not computed).
 template <class S, class W>
 S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_law,
             const std::vector<mech::NearPole>& near, const opt::Values<S>& v, MetricSink<S>& out, W& ws) {
@@ -295,8 +296,8 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   // free of the cancellation of a large periodic torque: exactly zero
   // without loads), the energy's.
   bool torque = false, work = false, energy = false, flywheel = false;
-  for (size_t m = 0; m < metrics.size(); ++m) {
-    if (!out.want(static_cast<int>(m)) || metrics[m].form < Form::mean) continue;
+  for (size_t m : ws.wanted) {
+    if (metrics[m].form < Form::mean) continue;
     if (metrics[m].q.kind == Kind::energy) energy = energy || metrics[m].form <= Form::k2;  // (k1, k2 too)
     else if (metrics[m].form == Form::flywheel || metrics[m].form == Form::swing) flywheel = work = true;
     else (metrics[m].form == Form::mean ? work : torque) = true;
@@ -354,9 +355,9 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
   S swing(0.0);
   add_jumps(js, mt, by_ends ? unused : ml);
   if (flywheel) swing = work_swing(d, v, ml.mean, kinks, js, near, kept.a, ws);
-  for (size_t m = 0; m < metrics.size(); ++m) {
+  for (size_t m : ws.wanted) {
     const Metric& mt_m = metrics[m];
-    if (!out.want(static_cast<int>(m)) || mt_m.form < Form::mean) continue;
+    if (mt_m.form < Form::mean) continue;
     using std::sqrt;
     if (mt_m.form >= Form::k1) continue;  // put by the caller
     if (mt_m.form == Form::swing)

@@ -296,11 +296,10 @@ inline constexpr bool has_lanes = !std::is_void_v<lanes_of<S>>;
 // lane of x is 0: the checks a model makes where a point may not exist.
 template <class S>
 bool positive_everywhere(const S& x) { return value(x) > 0; }
-inline bool positive_everywhere(const Lanes& x) {  // (one mask, no branch per lane)
-  const auto m = x.v > 0;
-  bool all = true;
-  for (int j = 0; j < kLanes; ++j) all &= m[j] != 0;
-  return all;
+inline bool positive_everywhere(const Lanes& x) {
+  for (int i = 0; i < kLanes; ++i)
+    if (!(x[i] > 0)) return false;
+  return true;
 }
 template <int N>
 bool positive_everywhere(const LaneDual<N>& x) { return positive_everywhere(x.v); }
