@@ -6,6 +6,8 @@
 // at most 3: rows 0-5 and 9-10). Counters: the first metric's value, equal on both rows. The
 // six-bars' and the shaper's rows compute what bench/peer_linkage.py (the
 // same solution in numpy) does, for the ratio against it.
+// bench/linkage_ratios.py runs the pairs' rows interleaved, many short
+// repetitions each, and prints their times' ratios (docs/performance.md).
 #include <benchmark/benchmark.h>
 
 #include <string>

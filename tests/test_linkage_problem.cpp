@@ -569,3 +569,47 @@ TEST(LinkageProblem, MeanTorqueFromTheArcsEndsIsGaussOfThePower) {
 }
 
 }  // namespace
+
+// A workspace keeps the evaluation's plan (the wanted metrics and the
+// quantities they ask) while the same metrics are wanted: evaluations
+// that change the wanted set on one workspace, values and gradients,
+// give the bits of a fresh workspace each time.
+TEST(LinkageProblem, AKeptWorkspaceFollowsTheWantedMetrics) {
+  const auto twin = opt::make_problem(
+      opt::ConfigNode::load(std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage/recuperative_drive.yaml"));
+  auto set_of = [&](const std::vector<std::string>& names) {
+    opt::MetricSet s;
+    for (const auto& n : names) s.add(twin->metric_id(n));
+    return s;
+  };
+  const std::vector<opt::MetricSet> sets = {
+      set_of({"peak_drive_torque"}),
+      set_of({"peak_kinetic_energy", "mean_kinetic_energy", "k1", "k2", "k3", "peak_drive_torque",
+              "mean_drive_torque"}),
+      set_of({"cart1_stroke", "k2"}),
+      set_of({"peak_drive_torque"}),
+      opt::MetricSet::all()};
+  const Eigen::VectorXd x = twin->initial_point();
+  const auto kept = twin->make_workspace();
+  for (const bool gradient : {false, true}) {
+    for (size_t i = 0; i < sets.size(); ++i) {
+      opt::Evaluation warm, fresh;
+      twin->evaluate(x, sets[i], gradient, warm, *kept);
+      twin->evaluate(x, sets[i], gradient, fresh, *twin->make_workspace());
+      ASSERT_TRUE(fresh.ok()) << fresh.message;
+      ASSERT_EQ(warm.status, fresh.status);
+      int compared = 0;
+      for (size_t m = 0; m < fresh.values.size(); ++m) {
+        const auto id = static_cast<opt::MetricId>(m);
+        ASSERT_EQ(warm.has(id), fresh.has(id)) << "set " << i << ", metric " << m;
+        if (!fresh.has(id)) continue;
+        EXPECT_EQ(warm[id].value, fresh[id].value) << "set " << i << ", metric " << m;
+        if (gradient) {
+          EXPECT_EQ(warm[id].gradient, fresh[id].gradient) << "set " << i << ", metric " << m;
+        }
+        ++compared;
+      }
+      EXPECT_GE(compared, 1) << "set " << i;
+    }
+  }
+}
