@@ -132,6 +132,67 @@ TEST(LinkageLanes, TheGridsLanesAreTheScalarChainsBits) {
   }
 }
 
+// Jets of lower order (kinematics.hpp's LaneVelocity: velocities alone;
+// LanePosition: positions alone) leave the values and their design
+// derivatives as the full jets give them, bit for bit (forward mode: no
+// value reads a derivative in phi), and the derivatives they drop 0. A
+// second block solved without placing the ground again (ground false) is
+// the same bits as one solved afresh.
+TEST(LinkageLanes, LowerOrderJetsKeepTheValuesBits) {
+  using L = mech::LaneDual<2>;
+  using V = mech::linkage::velocity_lanes<L>;
+  using P = mech::linkage::position_lanes<L>;
+  static_assert(mech::linkage::kJetOrder<L> == 2 && mech::linkage::kJetOrder<V> == 1 &&
+                mech::linkage::kJetOrder<P> == 0);
+  int n = 0;
+  for (const auto& f : std::filesystem::directory_iterator(std::string(MECHOPT_SOURCE_DIR) + "/configs/linkage")) {
+    const auto d = problems::linkage::read_description(opt::ConfigNode::load(f.path().string()));
+    const Chain& c = d.chain;
+    const mech::linkage::LaneSolver<mech::DualN<2>> lanes(c, seeded<mech::DualN<2>>(c).data());
+    const std::vector<V> vv(lanes.v.begin(), lanes.v.end());
+    const std::vector<P> pv(lanes.v.begin(), lanes.v.end());
+    State<L> sl, fresh;
+    State<V> sv;
+    State<P> sp;
+    for (auto* st : {&sl, &fresh}) st->resize(c);
+    sv.resize(c), sp.resize(c);
+    bool first = true;
+    for (const Lanes& phi : {Lanes(Lanes::Raw{0.3, 1.7, 3.1, 5.5}), Lanes(Lanes::Raw{0.9, 2.4, 4.0, 6.1})}) {
+      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), sl, first);
+      mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), fresh);
+      mech::linkage::solve_lanes_at<V, false>(c, vv.data(), V(L(phi)), sv, first);
+      mech::linkage::solve_lanes_at<P, false>(c, pv.data(), P(L(phi)), sp, first);
+      first = false;
+      const std::string at = f.path().filename().string() + " at " + std::to_string(phi[0]);
+      auto same = [&](const Lanes& a, const Lanes& b, const std::string& what) {
+        for (int j = 0; j < mech::kLanes; ++j) EXPECT_EQ(a[j], b[j]) << at << " " << what << " lane " << j;
+      };
+      auto same_dual = [&](const L& a, const L& b, const std::string& what) {
+        same(a.v, b.v, what);
+        for (int i = 0; i < 2; ++i) same(a.d[i], b.d[i], what + " d/dv" + std::to_string(i));
+      };
+      for (size_t p = 0; p < c.point_names().size(); ++p) {
+        const std::string name = c.point_names()[p];
+        for (int k = 0; k < 2; ++k) {
+          const auto& full = k ? sl.point[p].y : sl.point[p].x;
+          const auto& afresh = k ? fresh.point[p].y : fresh.point[p].x;
+          const auto& vel = k ? sv.point[p].y : sv.point[p].x;
+          const auto& pos = k ? sp.point[p].y : sp.point[p].x;
+          const std::string what = name + (k ? ".y" : ".x");
+          same_dual(full.v, afresh.v, what), same_dual(full.d, afresh.d, what + "'");
+          same_dual(full.dd, afresh.dd, what + "''");
+          same_dual(vel.v, full.v, what + " (velocities)"), same_dual(vel.d, full.d, what + "' (velocities)");
+          same_dual(pos.v, full.v, what + " (positions)");
+          same_dual(vel.dd, L(0.0), what + "'' (velocities)");
+          same_dual(pos.d, L(0.0), what + "' (positions)"), same_dual(pos.dd, L(0.0), what + "'' (positions)");
+        }
+      }
+    }
+    ++n;
+  }
+  EXPECT_GE(n, 10);
+}
+
 TEST(LinkageLanes, ATableOverTheCrankAngleRowByLane) {
   const auto d = problems::linkage::read_description(opt::ConfigNode::parse(
       "problem: linkage\nmodel:\n"

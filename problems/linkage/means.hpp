@@ -90,6 +90,10 @@ struct ScalarScratch {
   // The chain on velocity lanes (energy_mean's gradient).
   std::vector<mech::linkage::velocity_lanes<mech::lanes_of<S>>> velocity_values;
   mech::linkage::State<mech::linkage::velocity_lanes<mech::lanes_of<S>>> at_velocity;
+  // ... on position lanes (values and their design derivatives alone):
+  // the coordinates' maxima, kept as at_maxima for the loads' arc ends.
+  std::vector<mech::linkage::position_lanes<mech::lanes_of<S>>> position_values;
+  SolvedBlocks<mech::linkage::position_lanes<mech::lanes_of<S>>> at_positions;
   std::vector<std::optional<S>> tops;    // per search, its maximum on S once taken
   std::vector<std::optional<S>> angles;  // ... a coordinate's, the angle of it
 };
@@ -167,6 +171,10 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
   const GridStates states = energies ? GridStates{} : ws.states();
   mech::Lanes sums(0.0);
   for (int k = 0; k < points; k += mech::kLanes) {
+    if (energies && s == 1 && k + mech::kLanes <= points) {  // (one load: lanes filled one by one stall)
+      sums += mech::load_lanes(energies + k);
+      continue;
+    }
     mech::Lanes e(0.0);
     for (int j = 0; j < std::min(mech::kLanes, points - k); ++j) {
       const size_t i = static_cast<size_t>((k + j) * s);
@@ -196,7 +204,7 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
       const int lanes_used = std::min(mech::kLanes, m - k);
       mech::Lanes phi;
       for (int j = 0; j < mech::kLanes; ++j) phi[j] = mech::kTwoPi * (k + std::min(j, lanes_used - 1)) / m;
-      mech::linkage::solve_lanes_at<V, false>(c, vv.data(), V(L(phi)), st);
+      mech::linkage::solve_lanes_at<V, false>(c, vv.data(), V(L(phi)), st, k == 0);
       grads += mech::first_lanes(L(L(mech::linkage::body_sums<V, true>(c, vv.data(), st).inertia / 2.0) * ww * ww),
                                  lanes_used);
     }
@@ -342,7 +350,7 @@ S put_means(const Description& d, const std::vector<Metric>& metrics, bool has_l
                                ws.sd, kept.e, kept.ends, lanes,
                                [&](double phi, mech::linkage::State<S>& to) {
                                  if constexpr (std::is_same_v<S, double>) return ws.searched.links_at(phi, to);
-                                 else return kept.at_maxima.links_at(phi, to);
+                                 else return kept.at_maxima.links_at(phi, to) || kept.at_positions.links_at(phi, to);
                                });
   } else if (work) {
     ml = mech::piecewise_means<S>(

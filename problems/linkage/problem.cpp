@@ -389,10 +389,14 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // coordinate's angle, at_angle's, into kept.angles[q]), else the chain
   // on S into kept.maxima[q] (kept.solved[q]) for dual_max. Not those at
   // a moving kink (at_max solves where it moves) nor a group kind's other
-  // than its largest (no metric takes them).
+  // than its largest (no metric takes them). Where no metric asks a
+  // coordinate's angle (a time ratio), the coordinates' maxima take the
+  // chain on position lanes (their values' design derivatives alone, the
+  // same bits), the rest on full jets.
   template <class S>
   void solve_maxima(const opt::Values<S>& v, size_t from, Workspace& ws, ScalarScratch<S>& kept) const {
     using L = mech::lanes_of<S>;
+    using P = mech::linkage::position_lanes<L>;
     const Chain& c = d_.chain;
     const size_t nq = ws.asked.size();
     if (kept.maxima.size() < nq) {
@@ -400,12 +404,18 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       for (auto& st : kept.maxima) st.resize(c);
     }
     auto& lanes = kept.lanes_at(c, v.data());
-    kept.at_maxima.clear();
-    std::array<size_t, mech::kLanes> block;
-    int m = 0;
-    auto run = [&] {
+    kept.at_maxima.clear(), kept.at_positions.clear();
+    bool angles = false;
+    for (size_t w : ws.wanted) angles = angles || metrics_[w].form == Form::ratio;
+    std::array<size_t, mech::kLanes> block, coords;
+    int m = 0, k = 0;
+    auto angles_of = [&](const std::array<size_t, mech::kLanes>& qs, int used) {
       mech::Lanes phi;
-      for (int j = 0; j < mech::kLanes; ++j) phi[j] = ws.searches[block[static_cast<size_t>(std::min(j, m - 1))]].phi;
+      for (int j = 0; j < mech::kLanes; ++j) phi[j] = ws.searches[qs[static_cast<size_t>(std::min(j, used - 1))]].phi;
+      return phi;
+    };
+    auto run = [&] {
+      const mech::Lanes phi = angles_of(block, m);
       auto& st = kept.at_maxima.next(c);
       mech::linkage::solve_lanes_at<L, false>(c, lanes.v.data(), L(phi), st);
       kept.at_maxima.keep(phi, m);
@@ -433,15 +443,35 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       }
       m = 0;
     };
+    auto run_positions = [&] {
+      auto& pv = kept.position_values;
+      if (pv.empty()) pv.assign(lanes.v.begin(), lanes.v.end());
+      const mech::Lanes phi = angles_of(coords, k);
+      auto& st = kept.at_positions.next(c);
+      mech::linkage::solve_lanes_at<P, false>(c, pv.data(), P(L(phi)), st);
+      kept.at_positions.keep(phi, k);
+      for (int j = 0; j < k; ++j) {
+        const size_t q = coords[static_cast<size_t>(j)];
+        kept.tops[q] = mech::LaneForm<S>::lane(coordinate_jet(ws.asked[q], st, ws).v, j);
+      }
+      k = 0;
+    };
+    kept.position_values.clear();
     for (size_t q = from; q < nq; ++q) {
-      const Kind k = ws.asked[q].kind;
-      const bool grouped = k == Kind::pressure || k == Kind::transmission;
-      if ((ws.held[q].first == kNone && moving_kink(ws, q)) || (grouped && search_of(ws, from, {k, kNone}) != q))
+      const Kind kind = ws.asked[q].kind;
+      const bool grouped = kind == Kind::pressure || kind == Kind::transmission;
+      if ((ws.held[q].first == kNone && moving_kink(ws, q)) || (grouped && search_of(ws, from, {kind, kNone}) != q))
         continue;
+      if ((kind == Kind::coordinate || kind == Kind::neg_coordinate) && !angles && ws.held[q].first == kNone) {
+        coords[static_cast<size_t>(k++)] = q;
+        if (k == mech::kLanes) run_positions();
+        continue;
+      }
       block[static_cast<size_t>(m++)] = q;
       if (m == mech::kLanes) run();
     }
     if (m) run();
+    if (k) run_positions();
   }
 
   // Runs searches [from, to) of ws (their quantities ws.asked[from, to)).
@@ -499,7 +529,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       // Block b of lane queries, at angles [first, first + kLanes) of
       // ws.lane_angles (first = b kLanes): the chain once at those angles,
       // each query's answer from its angle's lane. Its queries: block[i]
-      // for i in ws.by_block[from b's, ws.block_end[b]).
+      // for the i in ws.by_block from block b - 1's end (0 for the first)
+      // to ws.block_end[b].
       const auto& angles = ws.lane_angles;
       auto run_block = [&](size_t b) {
         const size_t first = b * mech::kLanes, m = std::min<size_t>(mech::kLanes, angles.size() - first);

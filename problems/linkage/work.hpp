@@ -139,7 +139,7 @@ struct ArcEnds {
 // grid angles, and states() the same as scalar states (GridStates: asked
 // only for a torque's turns); vd: v's values; sd, se: states to solve in;
 // ends: the arcs' ends (kept by the caller: no allocation once warm; the
-// states' links alone are read); lanes:
+// states' links' values alone are read, so position lanes serve); lanes:
 // the chain on lanes at v; known(phi, st): the chain's links at phi into
 // st where the caller has them (the same bits as lanes'), else false.
 // Only where work_from_ends(c).

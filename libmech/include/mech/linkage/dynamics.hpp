@@ -17,11 +17,14 @@
 
 namespace mech::linkage {
 
-// A link's mass, inertia about its centre and its centre's position jets.
+// A link's mass, inertia about its centre and its centre's position jets
+// (*G: a point of the state where the centre is one, else `own`; not
+// copied).
 template <class S>
 struct Inertial {
   S m, J;
-  Vec<S> G;
+  const Vec<S>* G;
+  Vec<S> own;
 };
 
 // False for a massless link.
@@ -33,14 +36,15 @@ bool inertial(const Link& l, const S* v, const State<S>& st, int k, Inertial<S>&
     const S& L = v[l.length];
     out.m = v[l.mass_per_length] * L;
     out.J = out.m * L * L / 12.0;
-    out.G = o + S(L / 2.0) * e;
+    out.own = o + S(L / 2.0) * e;
+    out.G = &out.own;
     return true;
   }
   if (l.mass == kNone) return false;
   out.m = v[l.mass];
   out.J = l.inertia == kNone ? S(0.0) : v[l.inertia];
-  out.G = o;
-  if (l.cg_u != kNone) out.G = out.G + v[l.cg_u] * e + v[l.cg_v] * rot90(e);
+  out.G = &o;
+  if (l.cg_u != kNone) out.own = o + v[l.cg_u] * e + v[l.cg_v] * rot90(e), out.G = &out.own;
   return true;
 }
 
@@ -276,7 +280,7 @@ BodySums<S> body_sums(const Chain& c, const S* v, const State<S>& st) {
   for (size_t k = 0; k < links.size(); ++k) {
     if (!inertial(links[k], v, st, static_cast<int>(k), b)) continue;
     const Jet<S> t = st.rates(static_cast<int>(k));
-    const Jet<S> &x = b.G.x, &y = b.G.y;
+    const Jet<S> &x = b.G->x, &y = b.G->y;
     out.inertia += b.m * (x.d * x.d + y.d * y.d) + b.J * t.d * t.d;
     if constexpr (kInertiaOnly) continue;
     out.half_slope += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;

@@ -17,11 +17,11 @@ struct Jet {
   S v, d, dd;  // f, df/dphi, d2f/dphi2
 };
 
-// Whether jets on S carry the first derivative alone (dd left 0): a
-// scalar type that says so (kinematics.hpp's LaneVelocity) asks for
-// velocities only, at about half the products.
+// The highest derivative in phi that jets on S carry (those above it left
+// 0): 2, or what a scalar type says (kinematics.hpp's LaneVelocity, 1:
+// velocities at about half the products; LanePosition, 0: positions alone).
 template <class S>
-inline constexpr bool kFirstOrder = false;
+inline constexpr int kJetOrder = 2;
 
 template <class S>
 MECH_INLINE Jet<S> constant(const S& x) {
@@ -30,28 +30,33 @@ MECH_INLINE Jet<S> constant(const S& x) {
 
 template <class S>
 MECH_INLINE Jet<S> operator+(const Jet<S>& a, const Jet<S>& b) {
-  if constexpr (kFirstOrder<S>) return {S(a.v + b.v), S(a.d + b.d), S(0.0)};
+  if constexpr (kJetOrder<S> == 0) return constant(S(a.v + b.v));
+  if constexpr (kJetOrder<S> == 1) return {S(a.v + b.v), S(a.d + b.d), S(0.0)};
   return {S(a.v + b.v), S(a.d + b.d), S(a.dd + b.dd)};
 }
 template <class S>
 MECH_INLINE Jet<S> operator-(const Jet<S>& a, const Jet<S>& b) {
-  if constexpr (kFirstOrder<S>) return {S(a.v - b.v), S(a.d - b.d), S(0.0)};
+  if constexpr (kJetOrder<S> == 0) return constant(S(a.v - b.v));
+  if constexpr (kJetOrder<S> == 1) return {S(a.v - b.v), S(a.d - b.d), S(0.0)};
   return {S(a.v - b.v), S(a.d - b.d), S(a.dd - b.dd)};
 }
 template <class S>
 MECH_INLINE Jet<S> operator-(const Jet<S>& a) {
+  if constexpr (kJetOrder<S> == 0) return constant(S(-a.v));
   return {S(-a.v), S(-a.d), S(-a.dd)};
 }
 // (f g)'' = f'' g + 2 f' g' + f g''
 template <class S>
 MECH_INLINE Jet<S> operator*(const Jet<S>& a, const Jet<S>& b) {
-  if constexpr (kFirstOrder<S>) return {S(a.v * b.v), S(a.d * b.v + a.v * b.d), S(0.0)};
+  if constexpr (kJetOrder<S> == 0) return constant(S(a.v * b.v));
+  if constexpr (kJetOrder<S> == 1) return {S(a.v * b.v), S(a.d * b.v + a.v * b.d), S(0.0)};
   return {S(a.v * b.v), S(a.d * b.v + a.v * b.d), S(a.dd * b.v + 2.0 * (a.d * b.d) + a.v * b.dd)};
 }
 // A jet times a constant (a number converts to S: S is not deduced from it).
 template <class S>
 MECH_INLINE Jet<S> operator*(const Jet<S>& a, const std::type_identity_t<S>& k) {
-  if constexpr (kFirstOrder<S>) return {S(a.v * k), S(a.d * k), S(0.0)};
+  if constexpr (kJetOrder<S> == 0) return constant(S(a.v * k));
+  if constexpr (kJetOrder<S> == 1) return {S(a.v * k), S(a.d * k), S(0.0)};
   return {S(a.v * k), S(a.d * k), S(a.dd * k)};
 }
 template <class S>
@@ -62,13 +67,15 @@ MECH_INLINE Jet<S> operator*(const std::type_identity_t<S>& k, const Jet<S>& a) 
 template <class S>
 MECH_INLINE Jet<S> operator/(const Jet<S>& a, const Jet<S>& b) {
   const S q = a.v / b.v;
+  if constexpr (kJetOrder<S> == 0) return constant(q);
   const S dq = (a.d - q * b.d) / b.v;
-  if constexpr (kFirstOrder<S>) return {q, dq, S(0.0)};
+  if constexpr (kJetOrder<S> == 1) return {q, dq, S(0.0)};
   return {q, dq, S((a.dd - 2.0 * (dq * b.d) - q * b.dd) / b.v)};
 }
 template <class S>
 MECH_INLINE Jet<S> operator/(const Jet<S>& a, const std::type_identity_t<S>& k) {
-  if constexpr (kFirstOrder<S>) return {S(a.v / k), S(a.d / k), S(0.0)};
+  if constexpr (kJetOrder<S> == 0) return constant(S(a.v / k));
+  if constexpr (kJetOrder<S> == 1) return {S(a.v / k), S(a.d / k), S(0.0)};
   return {S(a.v / k), S(a.d / k), S(a.dd / k)};
 }
 // r = sqrt(a): 2 r r' = a', 2 (r r'' + r'^2) = a''
@@ -76,8 +83,9 @@ template <class S>
 MECH_INLINE Jet<S> sqrt(const Jet<S>& a) {
   using std::sqrt;
   const S r = sqrt(a.v);
+  if constexpr (kJetOrder<S> == 0) return constant(r);
   const S dr = a.d / (2.0 * r);
-  if constexpr (kFirstOrder<S>) return {r, dr, S(0.0)};
+  if constexpr (kJetOrder<S> == 1) return {r, dr, S(0.0)};
   return {r, dr, S((a.dd - 2.0 * (dr * dr)) / (2.0 * r))};
 }
 template <class S>

@@ -15,34 +15,43 @@
 
 namespace mech::linkage {
 
-// A LaneDual whose jets carry velocities alone (jet.hpp's kFirstOrder:
-// their second derivatives left 0): what a kinetic energy's design
-// gradient needs, at about half a jet's products. Its arithmetic is
-// LaneDual's.
-template <int N>
-struct LaneVelocity : LaneDual<N> {
+// LaneDuals whose jets carry derivatives in phi up to kOrder alone (jet.hpp's
+// kJetOrder; the rest left 0): LaneVelocity (1), what a kinetic energy's
+// design gradient needs, at about half a jet's products; LanePosition
+// (0), a coordinate's design gradient at its maximum's angle. Their
+// arithmetic is LaneDual's.
+template <int N, int kOrder>
+struct LaneJets : LaneDual<N> {
   using LaneDual<N>::LaneDual;
-  LaneVelocity(const LaneDual<N>& x) : LaneDual<N>(x) {}  // NOLINT
+  LaneJets(const LaneDual<N>& x) : LaneDual<N>(x) {}  // NOLINT
 };
+template <int N, int kOrder>
+inline constexpr int kJetOrder<LaneJets<N, kOrder>> = kOrder;
 template <int N>
-inline constexpr bool kFirstOrder<LaneVelocity<N>> = true;
-// A lane form's velocity form (Lanes: itself).
+using LaneVelocity = LaneJets<N, 1>;
+template <int N>
+using LanePosition = LaneJets<N, 0>;
+// A lane form's velocity and position forms (Lanes: itself).
 template <class L>
 struct VelocityForm {
   using type = L;
+  using position = L;
 };
 template <int N>
 struct VelocityForm<LaneDual<N>> {
   using type = LaneVelocity<N>;
+  using position = LanePosition<N>;
 };
 template <class L>
 using velocity_lanes = typename VelocityForm<L>::type;
+template <class L>
+using position_lanes = typename VelocityForm<L>::position;
 
 }  // namespace mech::linkage
 
 namespace mech {
-template <int N>
-inline constexpr bool is_lanes<linkage::LaneVelocity<N>> = true;
+template <int N, int kOrder>
+inline constexpr bool is_lanes<linkage::LaneJets<N, kOrder>> = true;
 }  // namespace mech
 
 namespace mech::linkage {
@@ -86,6 +95,20 @@ struct State {
 
 namespace detail {
 
+// to = from; where jets on S carry fewer derivatives (kJetOrder), those
+// alone (the rest stay 0, as State's resize left them: no stores of
+// zeros).
+template <class S>
+MECH_INLINE void put(Jet<S>& to, const Jet<S>& from) {
+  to.v = from.v;
+  if constexpr (kJetOrder<S> >= 1) to.d = from.d;
+  if constexpr (kJetOrder<S> >= 2) to.dd = from.dd;
+}
+template <class S>
+MECH_INLINE void put(Vec<S>& to, const Vec<S>& from) {
+  put(to.x, from.x), put(to.y, from.y);
+}
+
 template <class S>
 Vec<S> constant_point(const S& x, const S& y) {
   return {constant(x), constant(y)};
@@ -97,19 +120,21 @@ void place_points(const Link& l, const S* v, State<S>& st, const Vec<S>& e) {
   const Vec<S>& o = st.point[static_cast<size_t>(l.origin)];
   const Vec<S> n = rot90(e);
   for (const LocalPoint& lp : l.points)
-    st.point[static_cast<size_t>(lp.point)] = o + v[lp.u] * e + v[lp.v] * n;
+    put(st.point[static_cast<size_t>(lp.point)], o + v[lp.u] * e + v[lp.v] * n);
 }
 
-// The ground points, then the crank at its axis e (with its transfer
-// functions) and the points on it.
+// The ground points (unless `ground` is false: st has them at v's values
+// already), then the crank at its axis e (with its transfer functions) and
+// the points on it.
 template <class S>
-void place_crank(const Chain& c, const S* v, State<S>& st, const Vec<S>& e) {
-  for (const auto& [p, xy] : c.ground_points())
-    st.point[static_cast<size_t>(p)] = constant_point(v[xy.first], v[xy.second]);
+void place_crank(const Chain& c, const S* v, State<S>& st, const Vec<S>& e, bool ground = true) {
+  if (ground)
+    for (const auto& [p, xy] : c.ground_points())
+      put(st.point[static_cast<size_t>(p)], constant_point(v[xy.first], v[xy.second]));
   const Crank& k = c.crank();
   const Link& l = c.links()[static_cast<size_t>(k.link)];
-  st.axis[static_cast<size_t>(k.link)] = e;
-  st.point[static_cast<size_t>(k.joint)] = st.point[static_cast<size_t>(k.pivot)] + v[l.length] * e;
+  put(st.axis[static_cast<size_t>(k.link)], e);
+  put(st.point[static_cast<size_t>(k.joint)], st.point[static_cast<size_t>(k.pivot)] + v[l.length] * e);
   place_points(l, v, st, e);
 }
 
@@ -284,8 +309,10 @@ inline bool solve_lanes_exact(const Chain& c, const Lanes* v, const Lanes& phi, 
 // phi: the slopes a third order needs; with design derivatives: a
 // gradient's), the crank's axis from cos and sin of its angle as solve's
 // on a Dual in phi: lane by lane solve's bits. Flattened as solve_lanes.
+// ground false: st has the ground points at v's values already (the
+// blocks of one design after its first).
 template <class L, bool kChecked = true>
-[[gnu::flatten]] bool solve_lanes_at(const Chain& c, const L* v, const L& phi, State<L>& st) {
+[[gnu::flatten]] bool solve_lanes_at(const Chain& c, const L* v, const L& phi, State<L>& st, bool ground = true) {
   static_assert(is_lanes<L>);
   st.failed = kNone;
   st.phi = phi;
@@ -293,7 +320,7 @@ template <class L, bool kChecked = true>
   const double sense = k.sense;
   L ct, sn;
   detail::crank_sin_cos(L(v[k.phase] + sense * phi), sn, ct);
-  detail::place_crank(c, v, st, detail::crank_axis(ct, sn, sense));
+  detail::place_crank(c, v, st, detail::crank_axis(ct, sn, sense), ground);
   return detail::solve_groups<L, kChecked>(c, v, st);
 }
 
@@ -328,19 +355,27 @@ struct LaneSolver {
   }
 };
 
-// Lane j of a state on lanes, as a state on its scalar S (sized for the
-// chain); kLinksOnly: its links' axes and slides alone (what a load's
-// coordinate reads), the rest left as it was.
-template <class S, bool kLinksOnly = false>
-void lane_state(const State<lanes_of<S>>& from, int j, State<S>& to) {
-  auto jet = [j](const Jet<lanes_of<S>>& a) {
+// Lane j of a state on lanes (S's lane form, or its velocity or position
+// form: the jets' derivatives it leaves 0), as a state on its scalar S
+// (sized for the chain); kLinksOnly: its links' axes' and slides' values
+// alone (what a load's coordinate change between two angles reads), the
+// rest left as it was.
+template <class S, bool kLinksOnly = false, class L = lanes_of<S>>
+void lane_state(const State<L>& from, int j, State<S>& to) {
+  if constexpr (kLinksOnly) {
+    for (size_t k = 0; k < from.axis.size(); ++k) {
+      to.axis[k].x.v = LaneForm<S>::lane(from.axis[k].x.v, j), to.axis[k].y.v = LaneForm<S>::lane(from.axis[k].y.v, j);
+      to.slide[k].v = LaneForm<S>::lane(from.slide[k].v, j);
+    }
+    return;
+  }
+  auto jet = [j](const Jet<L>& a) {
     return Jet<S>{LaneForm<S>::lane(a.v, j), LaneForm<S>::lane(a.d, j), LaneForm<S>::lane(a.dd, j)};
   };
   for (size_t k = 0; k < from.axis.size(); ++k) {
     to.axis[k] = {jet(from.axis[k].x), jet(from.axis[k].y)};
     to.slide[k] = jet(from.slide[k]);
   }
-  if constexpr (kLinksOnly) return;
   for (size_t p = 0; p < from.point.size(); ++p) to.point[p] = {jet(from.point[p].x), jet(from.point[p].y)};
   for (size_t g = 0; g < from.margin.size(); ++g) to.margin[g] = from.margin[g][j];
   to.failed = kNone;
@@ -388,8 +423,8 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
     };
     // The group's two links solved: their axes, then their points.
     auto place = [&](const Vec<S>& e1, const Vec<S>& e2) {
-      st.axis[static_cast<size_t>(gr.first)] = e1;
-      st.axis[static_cast<size_t>(gr.second)] = e2;
+      put(st.axis[static_cast<size_t>(gr.first)], e1);
+      put(st.axis[static_cast<size_t>(gr.second)], e2);
       detail::place_points(first, v, st, e1);
       detail::place_points(second, v, st, e2);
     };
@@ -406,7 +441,7 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
           if (!positive_everywhere(g2.v)) return st.failed = static_cast<int>(g), false;
         const Jet<S> gb = sqrt(g2) * double(gr.branch);
         const Vec<S> B = P + Vec<S>{f * d.x - gb * d.y, f * d.y + gb * d.x};
-        st.point[static_cast<size_t>(gr.joint)] = B;
+        put(st.point[static_cast<size_t>(gr.joint)], B);
         const Vec<S> e1 = (B - P) / a, e2 = (B - Q) / b;
         if constexpr (kChecked) st.margin[g] = abs(plain(cross(e1, e2).v));
         place(e1, e2);
@@ -431,8 +466,8 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
           if (!positive_everywhere(disc.v)) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = (fixed_line ? w.x * ux + w.y * uy : dot(w, u)) + sqrt(disc) * double(gr.branch);
         const Vec<S> B = fixed_line ? Vec<S>{T.x + s * ux, T.y + s * uy} : T + s * u;
-        st.point[static_cast<size_t>(gr.joint)] = B;
-        st.slide[static_cast<size_t>(gr.second)] = s;
+        put(st.point[static_cast<size_t>(gr.joint)], B);
+        put(st.slide[static_cast<size_t>(gr.second)], s);
         if constexpr (kChecked) st.margin[g] = sqrt(plain(disc.v)) / abs(plain(a));
         place((B - P) / a, u);
         break;
@@ -448,7 +483,7 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const Jet<S> s = sqrt(s2);
         const Vec<S> rd = rot90(d);
         const Vec<S> u{(s * d.x - offset * rd.x) / d2, (s * d.y - offset * rd.y) / d2};
-        st.slide[static_cast<size_t>(gr.first)] = s;
+        put(st.slide[static_cast<size_t>(gr.first)], s);
         if constexpr (kChecked) st.margin[g] = plain(s.v) / sqrt(plain(d2.v));
         place(u, u);
         break;
@@ -466,9 +501,9 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         if constexpr (kChecked)
           if (!positive_everywhere(abs(plain(det.v)))) return st.failed = static_cast<int>(g), false;
         const Jet<S> s = cross(q, w) / det, t = cross(u, q) / det;
-        st.point[static_cast<size_t>(gr.joint)] = P - t * w;
-        st.slide[static_cast<size_t>(gr.second)] = s;
-        st.slide[static_cast<size_t>(gr.first)] = t;
+        put(st.point[static_cast<size_t>(gr.joint)], P - t * w);
+        put(st.slide[static_cast<size_t>(gr.second)], s);
+        put(st.slide[static_cast<size_t>(gr.first)], t);
         if constexpr (kChecked) st.margin[g] = abs(plain(det.v));
         place(w, u);
         break;
@@ -484,9 +519,9 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         if constexpr (kChecked)
           if (!positive_everywhere(abs(plain(det.v)))) return st.failed = static_cast<int>(g), false;
         const Jet<S> s1 = cross(d, u2) / det, s2 = cross(d, u1) / det;
-        st.point[static_cast<size_t>(gr.joint)] = T1 + s1 * u1;
-        st.slide[static_cast<size_t>(gr.first)] = s1;
-        st.slide[static_cast<size_t>(gr.second)] = s2;
+        put(st.point[static_cast<size_t>(gr.joint)], T1 + s1 * u1);
+        put(st.slide[static_cast<size_t>(gr.first)], s1);
+        put(st.slide[static_cast<size_t>(gr.second)], s2);
         if constexpr (kChecked) st.margin[g] = abs(plain(det.v));
         place(u1, u2);
         break;

@@ -130,9 +130,9 @@ void reactions(const Chain& c, const Joints& j, const S* v, const State<S>& st, 
   Inertial<S> b;
   for (size_t k = 0; k < links.size(); ++k) {
     if (!inertial(links[k], v, st, static_cast<int>(k), b)) continue;
-    const S ix = -(b.m * w2 * b.G.x.dd), iy = -(b.m * w2 * b.G.y.dd), ia = -(b.J * w2 * st.rates(static_cast<int>(k)).dd);
-    r.shaking_x += ix, r.shaking_y += iy, r.shaking_m += ia + (b.G.x.v * iy - b.G.y.v * ix);
-    force(static_cast<int>(k), ix, S(iy - b.m * c.gravity()), b.G);
+    const S ix = -(b.m * w2 * b.G->x.dd), iy = -(b.m * w2 * b.G->y.dd), ia = -(b.J * w2 * st.rates(static_cast<int>(k)).dd);
+    r.shaking_x += ix, r.shaking_y += iy, r.shaking_m += ia + (b.G->x.v * iy - b.G->y.v * ix);
+    force(static_cast<int>(k), ix, S(iy - b.m * c.gravity()), *b.G);
     couple(static_cast<int>(k), ia);
   }
   // Loads and springs.
