@@ -114,6 +114,16 @@ inline bool grid_poles(std::span<const double> f, std::vector<mech::NearPole>& o
   const double h = mech::kTwoPi / n;
   const size_t first = out.size();
   for (int k = 0, before = n - 1; k < n; before = k++) {  // (no division per point)
+    if (k % mech::kLanes == 1 && k + mech::kLanes < n) {  // kLanes points at a time where none is a minimum
+      auto at = [&](int i) { return mech::load_lanes(&f[static_cast<size_t>(i)]).v; };
+      const auto low = (at(k) >= at(k - 1)) & (at(k) > at(k + 1));  // (b <= a and b < c below)
+      bool none = true;
+      for (int j = 0; j < mech::kLanes; ++j) none &= low[j] == 0;
+      if (none) {
+        k += mech::kLanes - 1;
+        continue;
+      }
+    }
     const int after = k + 1 == n ? 0 : k + 1;
     const double a = -f[static_cast<size_t>(before)], b = -f[static_cast<size_t>(k)],
                  c = -f[static_cast<size_t>(after)];
@@ -127,6 +137,14 @@ inline bool grid_poles(std::span<const double> f, std::vector<mech::NearPole>& o
     out.push_back({k * h - m1 / m2, width});
   }
   return true;
+}
+
+// The least asinh(width) of the poles, HUGE_VAL for none: the nearest's
+// (one call: asinh rises).
+inline double least_asinh_width(std::span<const mech::NearPole> near) {
+  double least = HUGE_VAL;
+  for (const mech::NearPole& p : near) least = std::min(least, p.width);
+  return std::asinh(least);
 }
 
 // The mean kinetic energy. It is smooth and periodic: the trapezoid
@@ -146,8 +164,7 @@ S energy_mean(const Description& d, const opt::Values<S>& v, const std::vector<m
   const mech::linkage::Chain& c = d.chain;
   const int n = static_cast<int>(ws.grid.size());
   const S& w = v[static_cast<size_t>(c.crank().speed)];
-  double a = HUGE_VAL;  // the least asinh(width)
-  for (const mech::NearPole& p : near) a = std::min(a, std::asinh(p.width));
+  const double a = least_asinh_width(near);
   if (n * a < 2 * mech::kPoleDigits) {
     const L ww = mech::LaneForm<S>::broadcast(S(w * w / 2.0));
     return mech::piecewise_means<S>(

@@ -391,8 +391,8 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
   // a moving kink (at_max solves where it moves) nor a group kind's other
   // than its largest (no metric takes them). Where no metric asks a
   // coordinate's angle (a time ratio), the coordinates' maxima take the
-  // chain on position lanes (their values' design derivatives alone, the
-  // same bits), the rest on full jets.
+  // full block's spare lanes, then the chain on position lanes (their
+  // values' design derivatives alone, the same bits); the rest full jets.
   template <class S>
   void solve_maxima(const opt::Values<S>& v, size_t from, Workspace& ws, ScalarScratch<S>& kept) const {
     using L = mech::lanes_of<S>;
@@ -470,6 +470,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
       block[static_cast<size_t>(m++)] = q;
       if (m == mech::kLanes) run();
     }
+    while (m && m < mech::kLanes && k) block[static_cast<size_t>(m++)] = coords[static_cast<size_t>(--k)];
     if (m) run();
     if (k) run_positions();
   }
@@ -649,8 +650,7 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     ws.near.clear();
     for (size_t g = 0; g < n_margins; ++g)
       if (!grid_poles(std::span<const double>(ws.grids.data() + g * n, n), ws.near)) return kAutoLast;
-    for (const mech::NearPole& p : ws.near)
-      if (static_cast<double>(n) * std::asinh(p.width) < 2 * mech::kPoleDigits) return kAutoLast;
+    if (static_cast<double>(n) * least_asinh_width(ws.near) < 2 * mech::kPoleDigits) return kAutoLast;
     ws.near_known = true;
     return static_cast<int>(n);
   }
@@ -728,8 +728,9 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
           mech::store_lanes(to, drive_quantity(a.kind, *dp, w), m);
           if (sloped) mech::store_lanes(slope, energy_slope(*dp, w), m);
         } else if (whole && mirror[q] < q) {  // a coordinate's other sign: its row's, negated
-          for (int j = 0; j < m; ++j) to[j] = -ws.grids[mirror[q] * un + static_cast<size_t>(k + j)];
-          for (int j = 0; j < m; ++j) slope[j] = -ws.slopes[mirror[q] * un + static_cast<size_t>(k + j)];
+          const size_t from = mirror[q] * un + static_cast<size_t>(k);  // (an earlier row: kLanes to read)
+          mech::store_lanes(to, -mech::load_lanes(ws.grids.data() + from), m);
+          mech::store_lanes(slope, -mech::load_lanes(ws.slopes.data() + from), m);
         } else if (whole && lane_kind(a.kind)) {
           mech::store_lanes(to, quantity(a, lanes.v.data(), st, ws), m);
           if (sloped) mech::store_lanes(slope, jet_slope(d_, a, lanes.v.data(), st), m);

@@ -19,17 +19,19 @@ namespace mech::linkage {
 
 // A link's mass, inertia about its centre and its centre's position jets
 // (*G: a point of the state where the centre is one, else `own`; not
-// copied).
+// copied). turns: J is given (a slider's or a point mass's is 0: the sums
+// skip its terms, the same bits).
 template <class S>
 struct Inertial {
   S m, J;
   const Vec<S>* G;
   Vec<S> own;
+  bool turns;
 };
 
 // False for a massless link.
 template <class S>
-bool inertial(const Link& l, const S* v, const State<S>& st, int k, Inertial<S>& out) {
+MECH_INLINE bool inertial(const Link& l, const S* v, const State<S>& st, int k, Inertial<S>& out) {
   const Vec<S>& o = st.point[static_cast<size_t>(l.origin)];
   const Vec<S>& e = st.axis[static_cast<size_t>(k)];
   if (l.mass_per_length != kNone) {
@@ -38,11 +40,13 @@ bool inertial(const Link& l, const S* v, const State<S>& st, int k, Inertial<S>&
     out.J = out.m * L * L / 12.0;
     out.own = o + S(L / 2.0) * e;
     out.G = &out.own;
+    out.turns = true;
     return true;
   }
   if (l.mass == kNone) return false;
   out.m = v[l.mass];
-  out.J = l.inertia == kNone ? S(0.0) : v[l.inertia];
+  out.turns = l.inertia != kNone;
+  out.J = out.turns ? v[l.inertia] : S(0.0);
   out.G = &o;
   if (l.cg_u != kNone) out.own = o + v[l.cg_u] * e + v[l.cg_v] * rot90(e), out.G = &out.own;
   return true;
@@ -135,11 +139,12 @@ bool load_action(const Chain& c, const Load& l, const S* v, const State<S>& st, 
   } else {
     size = interpolate(l, S(phi + (wrap_angle(value(phi)) - value(phi))));  // phi in [0, 2 pi)
   }
-  if (l.kind == Load::Kind::friction || l.opposing) {
-    const double r = sign_rate;  // -|size| |rate|: its sign against the rate's
-    size = S(-(abs(size) * double((r > 0) - (r < 0))));
-  }
+  // -|size| |rate| / eta: its sign against the rate's, the division before
+  // the sign (the same bits: off lane_load's chain through the rate).
+  const bool opposing = l.kind == Load::Kind::friction || l.opposing;
+  if (opposing) size = abs(size);
   if (l.efficiency != kNone) size = S(size / v[l.efficiency]);
+  if (opposing) size = S(-(size * double((sign_rate > 0) - (sign_rate < 0))));
   return true;
 }
 
@@ -210,15 +215,19 @@ void lane_load(const Chain& c, const Load& l, const L* v, const State<L>& st, co
     size = L(L(y0) + L(slope) * L((by_position ? coordinate : L(x)) - L(x0)));
     if (size1) slope1 = by_position ? L(L(slope) * coordinate1) : L(slope);
   }
-  if (l.kind == Load::Kind::friction || l.opposing) {  // -|size| sign(rate)
-    if (size1) {
-      slope1 = L(-(L(sign_of(lane_values(size))) * slope1 * L(sign)));
-    }
-    size = L(-(abs(size) * L(sign)));
+  // -|size| sign(rate) / eta, as load_action's: the division before the sign.
+  const bool opposing = l.kind == Load::Kind::friction || l.opposing;
+  if (opposing) {
+    if (size1) slope1 = L(L(sign_of(lane_values(size))) * slope1);
+    size = abs(size);
   }
   if (l.efficiency != kNone) {
     size = L(size / v[l.efficiency]);
     if (size1) slope1 = L(slope1 / v[l.efficiency]);
+  }
+  if (opposing) {
+    size = L(-(size * L(sign)));
+    if (size1) slope1 = L(-(slope1 * L(sign)));
   }
   if (size1) *size1 = slope1;
 }
@@ -281,9 +290,13 @@ BodySums<S> body_sums(const Chain& c, const S* v, const State<S>& st) {
     if (!inertial(links[k], v, st, static_cast<int>(k), b)) continue;
     const Jet<S> t = st.rates(static_cast<int>(k));
     const Jet<S> &x = b.G->x, &y = b.G->y;
-    out.inertia += b.m * (x.d * x.d + y.d * y.d) + b.J * t.d * t.d;
+    S inertia = b.m * (x.d * x.d + y.d * y.d);
+    if (b.turns) inertia += b.J * t.d * t.d;
+    out.inertia += inertia;
     if constexpr (kInertiaOnly) continue;
-    out.half_slope += b.m * (x.dd * x.d + y.dd * y.d) + b.J * t.dd * t.d;
+    S half = b.m * (x.dd * x.d + y.dd * y.d);
+    if (b.turns) half += b.J * t.dd * t.d;
+    out.half_slope += half;
     out.weight += b.m * y.d;
   }
   return out;

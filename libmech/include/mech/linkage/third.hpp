@@ -159,9 +159,10 @@ inline DriveSlope drive_slope(const Chain& c, const Lanes* v, const State<Lanes>
     const Jet<L> r = st.rates(static_cast<int>(k));
     const L t3 = L(e.x.d * e.y.dd - e.y.d * e.x.dd + e.x.v * e3.y - e.y.v * e3.x);
     const Jet<L> &x = b.G->x, &y = b.G->y;
-    inertia += b.m * (x.d * x.d + y.d * y.d) + b.J * r.d * r.d;  // (body_sums' terms)
-    half += b.m * (x.dd * x.d + y.dd * y.d) + b.J * r.dd * r.d;
-    half1 += b.m * (G3.x * x.d + G3.y * y.d + x.dd * x.dd + y.dd * y.dd) + b.J * (t3 * r.d + r.dd * r.dd);
+    L in = b.m * (x.d * x.d + y.d * y.d), h = b.m * (x.dd * x.d + y.dd * y.d),  // (body_sums' terms)
+        h1 = b.m * (G3.x * x.d + G3.y * y.d + x.dd * x.dd + y.dd * y.dd);
+    if (b.turns) in += b.J * r.d * r.d, h += b.J * r.dd * r.d, h1 += b.J * (t3 * r.d + r.dd * r.dd);
+    inertia += in, half += h, half1 += h1;
     weight += b.m * y.d;
     weight1 += b.m * y.dd;
   }
