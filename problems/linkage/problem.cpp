@@ -373,9 +373,10 @@ class LinkageProblem : public ModelProblem<LinkageProblem> {
     }
     if (load == kNone) return quantity(ws.asked[q], v.data(), solved_at(q), ws);
     // At a switch: phi - r / r' on S (r the load's switching rate, zero
-    // there), the load held.
+    // there: its value's residual left out, so phi's value is the
+    // search's, the same bits as without a gradient), the load held.
     const Jet<S> r = mech::linkage::switch_rate(c.loads()[static_cast<size_t>(load)], solved_at(q));
-    const S phi = S(at_phi - r.v / mech::value(r.d));
+    const S phi = S(at_phi - (r.v - mech::value(r.v)) / mech::value(r.d));
     mech::linkage::solve(c, v.data(), phi, ss);
     ss.held_load = load, ss.held_side = side;
     const S f = quantity(ws.asked[q], v.data(), ss, ws);

@@ -63,14 +63,16 @@ template <class S>
 MECH_INLINE Jet<S> operator*(const std::type_identity_t<S>& k, const Jet<S>& a) {
   return a * k;
 }
-// q = a / b: q' = (a' - q b') / b, q'' = (a'' - 2 q' b' - q b'') / b
+// q = a / b: q' = (a' - q b') / b, q'' = (a'' - 2 q' b' - q b'') / b, each
+// times 1 / b (one quotient: a lane dual's costs 1 + N divisions, a
+// product none), at every order (the same bits).
 template <class S>
 MECH_INLINE Jet<S> operator/(const Jet<S>& a, const Jet<S>& b) {
-  const S q = a.v / b.v;
+  const S ib = S(1.0 / b.v), q = a.v * ib;
   if constexpr (kJetOrder<S> == 0) return constant(q);
-  const S dq = (a.d - q * b.d) / b.v;
+  const S dq = (a.d - q * b.d) * ib;
   if constexpr (kJetOrder<S> == 1) return {q, dq, S(0.0)};
-  return {q, dq, S((a.dd - 2.0 * (dq * b.d) - q * b.dd) / b.v)};
+  return {q, dq, S((a.dd - 2.0 * (dq * b.d) - q * b.dd) * ib)};
 }
 template <class S>
 MECH_INLINE Jet<S> operator/(const Jet<S>& a, const std::type_identity_t<S>& k) {
@@ -78,15 +80,16 @@ MECH_INLINE Jet<S> operator/(const Jet<S>& a, const std::type_identity_t<S>& k) 
   if constexpr (kJetOrder<S> == 1) return {S(a.v / k), S(a.d / k), S(0.0)};
   return {S(a.v / k), S(a.d / k), S(a.dd / k)};
 }
-// r = sqrt(a): 2 r r' = a', 2 (r r'' + r'^2) = a''
+// r = sqrt(a): 2 r r' = a', 2 (r r'' + r'^2) = a'', each times 1 / (2 r)
+// (one quotient).
 template <class S>
 MECH_INLINE Jet<S> sqrt(const Jet<S>& a) {
   using std::sqrt;
   const S r = sqrt(a.v);
   if constexpr (kJetOrder<S> == 0) return constant(r);
-  const S dr = a.d / (2.0 * r);
+  const S ih = S(1.0 / (2.0 * r)), dr = a.d * ih;
   if constexpr (kJetOrder<S> == 1) return {r, dr, S(0.0)};
-  return {r, dr, S((a.dd - 2.0 * (dr * dr)) / (2.0 * r))};
+  return {r, dr, S((a.dd - 2.0 * (dr * dr)) * ih)};
 }
 template <class S>
 MECH_INLINE Jet<S> sin(const Jet<S>& a) {

@@ -442,7 +442,7 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         const Jet<S> gb = sqrt(g2) * double(gr.branch);
         const Vec<S> B = P + Vec<S>{f * d.x - gb * d.y, f * d.y + gb * d.x};
         put(st.point[static_cast<size_t>(gr.joint)], B);
-        const Vec<S> e1 = (B - P) / a, e2 = (B - Q) / b;
+        const Vec<S> e1 = S(1.0 / a) * (B - P), e2 = S(1.0 / b) * (B - Q);  // (one quotient each)
         if constexpr (kChecked) st.margin[g] = abs(plain(cross(e1, e2).v));
         place(e1, e2);
         break;
@@ -469,7 +469,7 @@ bool solve_groups(const Chain& c, const S* v, State<S>& st) {
         put(st.point[static_cast<size_t>(gr.joint)], B);
         put(st.slide[static_cast<size_t>(gr.second)], s);
         if constexpr (kChecked) st.margin[g] = sqrt(plain(disc.v)) / abs(plain(a));
-        place((B - P) / a, u);
+        place(S(1.0 / a) * (B - P), u);
         break;
       }
       case GroupType::RPR: {
